@@ -1,0 +1,71 @@
+//! Errors returned by the validating constructors. The hot path trusts
+//! validated values and never checks again.
+
+use core::fmt;
+
+/// An input value outside the model's domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum InputError {
+    /// `name` had `value`, outside `allowed`.
+    OutOfRange {
+        /// The parameter or angle (e.g. `"n"`, `"theta_i"`).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+        /// The allowed domain, in words.
+        allowed: &'static str,
+    },
+    /// Two slices that must have the same length did not.
+    LengthMismatch {
+        /// Length of the data slice.
+        data: usize,
+        /// Length of the prediction slice.
+        prediction: usize,
+    },
+    /// An error measure had nothing to measure (no terms, or ν = d − p ≤ 0).
+    NoDegreesOfFreedom {
+        /// Terms used.
+        terms: usize,
+        /// Model parameters.
+        params: usize,
+    },
+}
+
+impl fmt::Display for InputError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::OutOfRange {
+                name,
+                value,
+                allowed,
+            } => write!(f, "{name} = {value} is outside {allowed}"),
+            Self::LengthMismatch { data, prediction } => write!(
+                f,
+                "data has {data} values but the prediction has {prediction}"
+            ),
+            Self::NoDegreesOfFreedom { terms, params } => write!(
+                f,
+                "{terms} usable terms leave no degrees of freedom for {params} parameters"
+            ),
+        }
+    }
+}
+
+/// Checks `lo ≤ v ≤ hi` (false for NaN).
+pub(crate) fn check_range(
+    name: &'static str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    allowed: &'static str,
+) -> Result<f64, InputError> {
+    if v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(InputError::OutOfRange {
+            name,
+            value: v,
+            allowed,
+        })
+    }
+}

@@ -1,0 +1,230 @@
+//! Measurement geometry (conventions §1–§2): the angles of one measurement and
+//! the terms derived from them, computed once per scene and reused for every
+//! parameter set.
+
+use crate::error::InputError;
+use crate::lane::Lane;
+use core::f64::consts::{FRAC_PI_2, PI};
+
+/// The angles of one measurement in the paper's Beckmann geometry (radians):
+/// incident azimuth π, forward specular direction at `phi_s = 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Angles {
+    theta_i: f64,
+    theta_s: f64,
+    phi_s: f64,
+}
+
+impl Angles {
+    /// Validates `θi, θs ∈ [0, π/2]` and a finite `φs` (any value; it is
+    /// periodic). Returns [`InputError`] naming the offending angle otherwise.
+    pub fn new(theta_i: f64, theta_s: f64, phi_s: f64) -> Result<Self, InputError> {
+        let zenith = |name, v: f64| {
+            if (0.0..=FRAC_PI_2).contains(&v) {
+                Ok(v)
+            } else {
+                Err(InputError::OutOfRange {
+                    name,
+                    value: v,
+                    allowed: "[0, π/2]",
+                })
+            }
+        };
+        if !phi_s.is_finite() {
+            return Err(InputError::OutOfRange {
+                name: "phi_s",
+                value: phi_s,
+                allowed: "a finite angle",
+            });
+        }
+        Ok(Self {
+            theta_i: zenith("theta_i", theta_i)?,
+            theta_s: zenith("theta_s", theta_s)?,
+            phi_s,
+        })
+    }
+
+    /// Maps a CUReT row (`θv φv θi φi`, conventions §1) to the Beckmann
+    /// geometry: `θs = θv`, `φs = φv − φi − π` wrapped to `(−π, π]`.
+    pub fn from_curet(
+        theta_v: f64,
+        phi_v: f64,
+        theta_i: f64,
+        phi_i: f64,
+    ) -> Result<Self, InputError> {
+        Self::new(theta_i, theta_v, wrap_pi(phi_v - phi_i - PI))
+    }
+
+    /// Incident zenith angle θi.
+    #[must_use]
+    pub fn theta_i(&self) -> f64 {
+        self.theta_i
+    }
+    /// Scattering zenith angle θs.
+    #[must_use]
+    pub fn theta_s(&self) -> f64 {
+        self.theta_s
+    }
+    /// Scattering azimuth φs.
+    #[must_use]
+    pub fn phi_s(&self) -> f64 {
+        self.phi_s
+    }
+    /// The same measurement with `φs` negated (the model is symmetric in φs).
+    #[must_use]
+    pub fn mirrored(&self) -> Self {
+        Self {
+            phi_s: -self.phi_s,
+            ..*self
+        }
+    }
+}
+
+/// Wraps an angle to `(−π, π]`.
+#[must_use]
+pub fn wrap_pi(phi: f64) -> f64 {
+    let two_pi = 2.0 * PI;
+    let mut p = phi - two_pi * libm::floor(phi / two_pi);
+    // p in [0, 2π)
+    if p > PI {
+        p -= two_pi;
+    }
+    p
+}
+
+/// Sines and cosines of one measurement per lane, with the surface-term
+/// quantities of eqs. 1–2 derived from them (conventions §2, k = 1).
+#[derive(Clone, Copy, Debug)]
+pub struct Geometry<L> {
+    /// cos θi (clamped to `[0, 1]`).
+    pub cos_i: L,
+    /// sin θi.
+    pub sin_i: L,
+    /// cos θs (clamped to `[0, 1]`).
+    pub cos_s: L,
+    /// sin θs.
+    pub sin_s: L,
+    /// cos φs.
+    pub cos_phi: L,
+    /// sin φs.
+    pub sin_phi: L,
+    /// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²`.
+    pub vxy2: L,
+    /// `v_z² = (cos θi + cos θs)²` (conventions §2: `v_z = −(cos θi + cos θs)`).
+    pub vz2: L,
+    /// `cos θi / v_z²`, the leading factor of eqs. 1–2; 0 where `v_z = 0`
+    /// (both angles grazing: no irradiance).
+    pub lead: L,
+    /// `v_xy² / v_z²`, so that eqs. 1–2 use `x = ratio · (T/σ)²`; +∞ where `v_z = 0`.
+    pub ratio: L,
+}
+
+impl<L: Lane> Geometry<L> {
+    /// Geometry of lane `i` taken from `angles(i)`; trigonometry in `f64`
+    /// (libm), rounded once to the lane precision.
+    pub fn from_lanes(mut angles: impl FnMut(usize) -> Angles) -> Self {
+        let mut a = [Angles {
+            theta_i: 0.0,
+            theta_s: 0.0,
+            phi_s: 0.0,
+        }; 8];
+        for (i, slot) in a.iter_mut().enumerate().take(L::LANES) {
+            *slot = angles(i);
+        }
+        let cos01 = |v: f64| libm::cos(v).clamp(0.0, 1.0);
+        let sin01 = |v: f64| libm::sin(v).clamp(0.0, 1.0);
+        Self::from_trig(
+            L::from_f64_lanes(|i| cos01(a[i].theta_i)),
+            L::from_f64_lanes(|i| sin01(a[i].theta_i)),
+            L::from_f64_lanes(|i| cos01(a[i].theta_s)),
+            L::from_f64_lanes(|i| sin01(a[i].theta_s)),
+            L::from_f64_lanes(|i| libm::cos(a[i].phi_s)),
+            L::from_f64_lanes(|i| libm::sin(a[i].phi_s)),
+        )
+    }
+
+    /// The same measurement in every lane.
+    pub fn splat(angles: &Angles) -> Self {
+        Self::from_lanes(|_| *angles)
+    }
+
+    /// Derives `v_xy²`, `v_z²`, the leading factor and the ratio from the
+    /// sines and cosines (all in lane precision).
+    #[must_use]
+    pub fn from_trig(cos_i: L, sin_i: L, cos_s: L, sin_s: L, cos_phi: L, sin_phi: L) -> Self {
+        let dx = sin_i - sin_s * cos_phi;
+        let dy = sin_s * sin_phi;
+        let vxy2 = dx * dx + dy * dy;
+        let sz = cos_i + cos_s;
+        let vz2 = sz * sz;
+        let zero = L::c(0.0);
+        let lit = zero.lt(vz2);
+        // Guarded denominators: the unselected lanes never divide by zero.
+        let safe_vz2 = L::select(lit, vz2, L::c(1.0));
+        Self {
+            cos_i,
+            sin_i,
+            cos_s,
+            sin_s,
+            cos_phi,
+            sin_phi,
+            vxy2,
+            vz2,
+            lead: L::select(lit, cos_i / safe_vz2, zero),
+            ratio: L::select(lit, vxy2 / safe_vz2, L::c(f64::INFINITY)),
+        }
+    }
+
+    /// The geometry below the upper boundary for refractive index `n ≥ 1`
+    /// (conventions §3): Snell `sin θ′ = sin θ / n` for both zenith angles,
+    /// `φs` unchanged.
+    #[must_use]
+    pub fn refracted(&self, n: L) -> Self {
+        let one = L::c(1.0);
+        let si = self.sin_i / n;
+        let ss = self.sin_s / n;
+        let ci = (one - si * si).max(L::c(0.0)).sqrt();
+        let cs = (one - ss * ss).max(L::c(0.0)).sqrt();
+        Self::from_trig(ci, si, cs, ss, self.cos_phi, self.sin_phi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_pi_range() {
+        assert_eq!(wrap_pi(PI), PI);
+        assert!((wrap_pi(-PI) - PI).abs() < 1e-15);
+        assert!((wrap_pi(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
+        assert_eq!(wrap_pi(0.25), 0.25);
+    }
+
+    #[test]
+    fn curet_mirror_row_maps_to_forward_specular() {
+        // θv = θi, φv − φi = π: the mirror configuration has φs = 0.
+        let a = Angles::from_curet(0.5, PI, 0.5, 0.0).unwrap();
+        assert_eq!(a.phi_s(), 0.0);
+        let g = Geometry::<f64>::splat(&a);
+        assert!(g.vxy2.abs() < 1e-30);
+    }
+
+    #[test]
+    fn invalid_angles_are_rejected() {
+        assert!(Angles::new(-0.1, 0.0, 0.0).is_err());
+        assert!(Angles::new(0.0, 1.6, 0.0).is_err());
+        assert!(Angles::new(0.0, 0.0, f64::NAN).is_err());
+        assert!(Angles::new(f64::NAN, 0.0, 0.0).is_err());
+    }
+
+    #[test]
+    fn both_grazing_is_finite() {
+        let g = Geometry::<f32>::splat(&Angles::new(FRAC_PI_2, FRAC_PI_2, 0.0).unwrap());
+        assert!(g.lead.is_finite() && g.ratio.is_finite());
+        // Exactly zero cosines (v_z = 0): no irradiance, no division by zero.
+        let g = Geometry::<f32>::from_trig(0.0, 1.0, 0.0, 1.0, 1.0, 0.0);
+        assert_eq!(g.lead, 0.0);
+        assert_eq!(g.ratio, f32::INFINITY);
+    }
+}

@@ -1,0 +1,71 @@
+//! Surface radiance of a rough boundary (eqs. 1–2, conventions §2).
+
+use crate::exp::exp;
+use crate::geometry::Geometry;
+use crate::lane::Lane;
+
+/// The correlation function of the boundary roughness.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Correlation {
+    /// Gaussian correlation: eq. 1 (and eq. 12 below the surface).
+    Gaussian,
+    /// Exponential correlation: eq. 2 (and eq. 13 below the surface).
+    Exponential,
+}
+
+impl Correlation {
+    /// The roughness factor of eqs. 1–2 as a function of
+    /// `x = (T/σ)² v_xy² / v_z²`: Gaussian `exp(−x/4)`, Exponential
+    /// `(1 + x)^(−3/2)` (computed as `y·sqrt(y)`, `y = 1/(1 + x)`, so large
+    /// `x` gives 0, never ∞ or NaN).
+    #[inline]
+    #[must_use]
+    pub fn shape<L: Lane>(self, x: L) -> L {
+        match self {
+            Self::Gaussian => exp(x * L::c(-0.25)),
+            Self::Exponential => {
+                let y = L::c(1.0) / (L::c(1.0) + x);
+                y * y.sqrt()
+            }
+        }
+    }
+}
+
+/// `(T/σ)²` for an RMS slope `σ/T`; a search computes it once per slope.
+#[inline]
+#[must_use]
+pub fn inverse_slope_squared<L: Lane>(slope: L) -> L {
+    L::c(1.0) / (slope * slope)
+}
+
+/// Surface radiance `L^sf` (eq. 1 Gaussian, eq. 2 Exponential) with
+/// `K = k = 1`: `cos θi / v_z² · shape((T/σ)² v_xy² / v_z²)`.
+/// `inv_slope2` is [`inverse_slope_squared`] of σ/T.
+#[inline]
+#[must_use]
+pub fn surface_radiance<L: Lane>(g: &Geometry<L>, corr: Correlation, inv_slope2: L) -> L {
+    g.lead * corr.shape(g.ratio * inv_slope2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Angles;
+
+    #[test]
+    fn huge_x_gives_zero() {
+        for corr in [Correlation::Gaussian, Correlation::Exponential] {
+            assert_eq!(corr.shape(f32::INFINITY), 0.0);
+            assert!(corr.shape(1.0e30f32) < 1.0e-44);
+            assert_eq!(corr.shape(0.0f64), 1.0);
+        }
+    }
+
+    #[test]
+    fn mirror_direction_has_no_roughness_loss() {
+        let g = Geometry::<f64>::splat(&Angles::new(0.4, 0.4, 0.0).unwrap());
+        let l = surface_radiance(&g, Correlation::Gaussian, inverse_slope_squared(0.5));
+        let c = libm::cos(0.4);
+        assert!((l - c / (4.0 * c * c)).abs() < 1e-15);
+    }
+}
