@@ -28,16 +28,21 @@ pub fn fresnel_from_cosines<L: Lane>(cos_i: L, cos_t: L, r: L) -> L {
     L::select(r.eq(one), L::c(0.0), f)
 }
 
-/// Cosine of the transmitted angle by Snell's law, `cos θt = sqrt(1 − sin²θi / r²)`,
-/// and a mask of the lanes under total internal reflection (`sin θt > 1`),
-/// whose cosine is returned as 0 (eq. 7).
+/// Cosine of the transmitted angle by Snell's law (eq. 7) for an index ratio
+/// `r = n_t / n_i`, and a mask of the lanes under total internal reflection
+/// (`sin θt > 1`), whose cosine is returned as 0.
+///
+/// Evaluated as `cos θt = sqrt((r − 1)(r + 1) + cos²θi) / r`, which equals
+/// `sqrt(1 − sin²θi / r²)` but keeps full relative accuracy near grazing
+/// incidence and for `r` close to 1 (the naive form cancels catastrophically
+/// there). At `r = 1` it returns `cos θi` exactly.
 #[inline]
 #[must_use]
 pub fn refract_cos<L: Lane>(cos_i: L, r: L) -> (L, L::Mask) {
     let one = L::c(1.0);
-    let sin2_t = (one - cos_i * cos_i) / (r * r);
-    let tir = one.lt(sin2_t);
-    (L::select(tir, L::c(0.0), (one - sin2_t).sqrt()), tir)
+    let q = (r - one) * (r + one) + cos_i * cos_i;
+    let tir = q.lt(L::c(0.0));
+    (L::select(tir, L::c(0.0), q.sqrt() / r), tir)
 }
 
 /// Unpolarised Fresnel reflectance `f(α, r)` (eqs. 6–7) for a ray with

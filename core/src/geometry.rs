@@ -3,6 +3,7 @@
 //! parameter set.
 
 use crate::error::InputError;
+use crate::fresnel::refract_cos;
 use crate::lane::Lane;
 use core::f64::consts::{FRAC_PI_2, PI};
 
@@ -177,15 +178,13 @@ impl<L: Lane> Geometry<L> {
 
     /// The geometry below the upper boundary for refractive index `n ≥ 1`
     /// (conventions §3): Snell `sin θ′ = sin θ / n` for both zenith angles,
-    /// `φs` unchanged.
+    /// `φs` unchanged; the cosines come from [`refract_cos`], accurate near
+    /// grazing and for `n` close to 1.
     #[must_use]
     pub fn refracted(&self, n: L) -> Self {
-        let one = L::c(1.0);
-        let si = self.sin_i / n;
-        let ss = self.sin_s / n;
-        let ci = (one - si * si).max(L::c(0.0)).sqrt();
-        let cs = (one - ss * ss).max(L::c(0.0)).sqrt();
-        Self::from_trig(ci, si, cs, ss, self.cos_phi, self.sin_phi)
+        let (ci, _) = refract_cos(self.cos_i, n);
+        let (cs, _) = refract_cos(self.cos_s, n);
+        Self::from_trig(ci, self.sin_i / n, cs, self.sin_s / n, self.cos_phi, self.sin_phi)
     }
 }
 
