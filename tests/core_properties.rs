@@ -182,7 +182,10 @@ fn fresnel_fixed_cases() {
     assert!((fresnel(1.0f64, 1.5) - 0.04).abs() < 1e-17);
     for n in [1.1f64, 1.33, 1.5, 1.7, 2.0, 2.42] {
         let want = ((n - 1.0) / (n + 1.0)).powi(2);
-        assert!((fresnel(1.0f64, n) - want).abs() <= f64::EPSILON * want, "n = {n}");
+        assert!(
+            (fresnel(1.0f64, n) - want).abs() <= f64::EPSILON * want,
+            "n = {n}"
+        );
     }
     assert_eq!(fresnel(0.0f64, 1.5), 1.0);
     assert_eq!(fresnel(0.0f32, 1.5), 1.0);
@@ -198,7 +201,8 @@ fn fresnel_fixed_cases() {
 /// conventions §2–3 written with asin/sin/cos, not from this crate).
 #[test]
 fn hand_computed_radiance() {
-    let cases: [((f64, f64, f64), (f64, f64, f64, f64), Correlation, [f64; 7]); 3] = [
+    type Case = ((f64, f64, f64), (f64, f64, f64, f64), Correlation, [f64; 7]);
+    let cases: [Case; 3] = [
         (
             (0.3, 0.9, 2.1),
             (0.5, 0.4, 1.45, 0.3),
@@ -247,7 +251,13 @@ fn hand_computed_radiance() {
         let got = fields(&components(&g, corr, &Params::new(s, b, n, a).unwrap()));
         for k in 0..7 {
             let tol = 1e-13 * want[k].abs().max(1e-3);
-            assert!((got[k] - want[k]).abs() <= tol, "{}: {} vs {}", NAMES[k], got[k], want[k]);
+            assert!(
+                (got[k] - want[k]).abs() <= tol,
+                "{}: {} vs {}",
+                NAMES[k],
+                got[k],
+                want[k]
+            );
         }
     }
 }
@@ -277,22 +287,47 @@ fn hard_cases_are_finite() {
                         let c64 = fields(&components(&Geometry::<f64>::splat(&a), corr, p));
                         let c32 = fields(&components(&Geometry::<f32>::splat(&a), corr, p));
                         for k in 0..7 {
-                            assert!(c64[k].is_finite() && c64[k] >= 0.0, "{} f64 {a:?} {p:?}: {}", NAMES[k], c64[k]);
-                            assert!(c32[k].is_finite() && c32[k] >= 0.0, "{} f32 {a:?} {p:?}: {}", NAMES[k], c32[k]);
+                            assert!(
+                                c64[k].is_finite() && c64[k] >= 0.0,
+                                "{} f64 {a:?} {p:?}: {}",
+                                NAMES[k],
+                                c64[k]
+                            );
+                            assert!(
+                                c32[k].is_finite() && c32[k] >= 0.0,
+                                "{} f32 {a:?} {p:?}: {}",
+                                NAMES[k],
+                                c32[k]
+                            );
                         }
                     }
                 }
                 let j = jensen_radiance(&JensenGeometry::<f32>::from_lanes(|_| a), &jk);
                 let o = oren_nayar_radiance(&OrenNayarGeometry::<f32>::from_lanes(|_| a), &ok);
-                assert!(j.is_finite() && o.is_finite(), "{a:?}: jensen {j}, oren-nayar {o}");
+                assert!(
+                    j.is_finite() && o.is_finite(),
+                    "{a:?}: jensen {j}, oren-nayar {o}"
+                );
             }
         }
     }
     // a = 1 at normal incidence: the transmission, and so the subsurface term, is exactly 0.
     let g = Geometry::<f32>::splat(&Angles::new(0.0, 0.0, 0.0).unwrap());
-    let c = components(&g, Correlation::Gaussian, &Params::new(0.5, 1.0, 1.5, 1.0).unwrap());
+    let c = components(
+        &g,
+        Correlation::Gaussian,
+        &Params::new(0.5, 1.0, 1.5, 1.0).unwrap(),
+    );
     assert_eq!(c.subsurface, 0.0);
     // Very small slope away from the mirror: the Gaussian factor underflows to exactly 0.
     let g = Geometry::<f32>::splat(&Angles::new(0.2, 1.0, 2.0).unwrap());
-    assert_eq!(components(&g, Correlation::Gaussian, &Params::new(1e-3, 0.0, 1.3, 0.0).unwrap()).surface, 0.0);
+    assert_eq!(
+        components(
+            &g,
+            Correlation::Gaussian,
+            &Params::new(1e-3, 0.0, 1.3, 0.0).unwrap()
+        )
+        .surface,
+        0.0
+    );
 }

@@ -90,7 +90,11 @@ fn print_measured_error_maxima() {
     use proptest::strategy::ValueTree;
     use proptest::test_runner::TestRunner;
     let mut runner = TestRunner::deterministic();
-    let strat = (common::angles(), common::correlation(), common::paper_params());
+    let strat = (
+        common::angles(),
+        common::correlation(),
+        common::paper_params(),
+    );
     let mut max = [0.0f64; 7];
     for _ in 0..20_000 {
         let (a, corr, p) = strat.new_tree(&mut runner).unwrap().current();

@@ -184,7 +184,14 @@ impl<L: Lane> Geometry<L> {
     pub fn refracted(&self, n: L) -> Self {
         let (ci, _) = refract_cos(self.cos_i, n);
         let (cs, _) = refract_cos(self.cos_s, n);
-        Self::from_trig(ci, self.sin_i / n, cs, self.sin_s / n, self.cos_phi, self.sin_phi)
+        Self::from_trig(
+            ci,
+            self.sin_i / n,
+            cs,
+            self.sin_s / n,
+            self.cos_phi,
+            self.sin_phi,
+        )
     }
 }
 

@@ -253,8 +253,8 @@ impl Real for f64 {
     const EXP_DEGREE: usize = 13;
     const EXP_MIN: f64 = -708.0;
     const EXP_MAX: f64 = 709.0;
-    const LN2_HI: f64 = 6.931_471_803_691_238_164_90e-1;
-    const LN2_LO: f64 = 1.908_214_929_270_587_700_02e-10;
+    const LN2_HI: f64 = 6.931_471_803_691_238e-1;
+    const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
     const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
 }
 
