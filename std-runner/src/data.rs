@@ -1,0 +1,206 @@
+//! Reading CUReT-format files (conventions §1, §8): the geometry table
+//! (`table.txt`: `index θv φv θi φi`, radians) and BRDF tables (`abrdf.dat`,
+//! `rbrdf.dat`, `gbrdf.dat`, `bbrdf.dat`: `sample v1 … vN`). LF or CRLF line
+//! endings and a missing final newline are accepted; every other defect is an
+//! error naming the file, the line and the offending value.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// A defect in an input file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataError {
+    /// The file.
+    pub file: PathBuf,
+    /// 1-based line number (0: the file as a whole).
+    pub line: usize,
+    /// What is wrong, quoting the offending value.
+    pub message: String,
+}
+
+impl fmt::Display for DataError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.line == 0 {
+            write!(f, "{}: {}", self.file.display(), self.message)
+        } else {
+            write!(f, "{}:{}: {}", self.file.display(), self.line, self.message)
+        }
+    }
+}
+
+impl std::error::Error for DataError {}
+
+fn err(file: &Path, line: usize, message: impl Into<String>) -> DataError {
+    DataError {
+        file: file.to_path_buf(),
+        line,
+        message: message.into(),
+    }
+}
+
+/// The non-blank lines of a file with their 1-based numbers.
+fn read_lines(file: &Path) -> Result<Vec<(usize, String)>, DataError> {
+    let text = std::fs::read_to_string(file).map_err(|e| err(file, 0, format!("cannot read: {e}")))?;
+    let lines: Vec<(usize, String)> = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim_end_matches('\r').to_string()))
+        .filter(|(_, l)| !l.trim().is_empty())
+        .collect();
+    if lines.is_empty() {
+        return Err(err(file, 0, "the file is empty"));
+    }
+    Ok(lines)
+}
+
+/// Parses one whitespace-separated field as a finite number.
+fn number(file: &Path, line: usize, column: usize, field: &str) -> Result<f64, DataError> {
+    match field.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(v) => Err(err(file, line, format!("column {column}: value `{field}` is {v}, not a finite number"))),
+        Err(_) => Err(err(file, line, format!("column {column}: `{field}` is not a number"))),
+    }
+}
+
+/// One row of the geometry table.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TableRow {
+    /// 1-based measurement index.
+    pub index: usize,
+    /// View polar angle θv.
+    pub theta_v: f64,
+    /// View azimuth φv.
+    pub phi_v: f64,
+    /// Illumination polar angle θi.
+    pub theta_i: f64,
+    /// Illumination azimuth φi.
+    pub phi_i: f64,
+}
+
+/// Reads `table.txt`: exactly 5 columns per row, indices 1, 2, … in order,
+/// polar angles in [0, π/2], azimuths in [−2π, 2π].
+pub fn read_table(file: &Path) -> Result<Vec<TableRow>, DataError> {
+    let mut rows = Vec::new();
+    for (line, text) in read_lines(file)? {
+        let fields: Vec<&str> = text.split_whitespace().collect();
+        if fields.len() != 5 {
+            return Err(err(file, line, format!("expected 5 columns (index θv φv θi φi), found {}", fields.len())));
+        }
+        let index = fields[0]
+            .parse::<usize>()
+            .map_err(|_| err(file, line, format!("column 1: index `{}` is not a positive integer", fields[0])))?;
+        if index != rows.len() + 1 {
+            return Err(err(file, line, format!("column 1: index {index} out of order (expected {})", rows.len() + 1)));
+        }
+        let mut v = [0.0; 4];
+        for (c, slot) in v.iter_mut().enumerate() {
+            *slot = number(file, line, c + 2, fields[c + 1])?;
+        }
+        let polar_ok = |x: f64| (0.0..=std::f64::consts::FRAC_PI_2).contains(&x);
+        let azimuth_ok = |x: f64| x.abs() <= 2.0 * std::f64::consts::PI;
+        for (c, ok) in [(0, polar_ok(v[0])), (1, azimuth_ok(v[1])), (2, polar_ok(v[2])), (3, azimuth_ok(v[3]))] {
+            if !ok {
+                let what = if c % 2 == 0 { "polar angle outside [0, π/2]" } else { "azimuth outside [−2π, 2π]" };
+                return Err(err(file, line, format!("column {}: {} {what}", c + 2, v[c])));
+            }
+        }
+        rows.push(TableRow {
+            index,
+            theta_v: v[0],
+            phi_v: v[1],
+            theta_i: v[2],
+            phi_i: v[3],
+        });
+    }
+    Ok(rows)
+}
+
+/// One sample's row of a BRDF table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BrdfRow {
+    /// CUReT sample number.
+    pub sample: u32,
+    /// BRDF values, one per table row.
+    pub values: Vec<f64>,
+}
+
+/// Reads a BRDF table whose rows must each hold a sample number and exactly
+/// `measurements` values; sample numbers must be unique positive integers.
+pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, DataError> {
+    let mut rows: Vec<BrdfRow> = Vec::new();
+    for (line, text) in read_lines(file)? {
+        let fields: Vec<&str> = text.split_whitespace().collect();
+        if fields.len() != measurements + 1 {
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "expected a sample number and {measurements} values (one per table row), found {} values",
+                    fields.len().saturating_sub(1)
+                ),
+            ));
+        }
+        let sample = fields[0]
+            .parse::<u32>()
+            .ok()
+            .filter(|&s| s > 0)
+            .ok_or_else(|| err(file, line, format!("column 1: sample number `{}` is not a positive integer", fields[0])))?;
+        if rows.iter().any(|r| r.sample == sample) {
+            return Err(err(file, line, format!("column 1: sample {sample} appears twice")));
+        }
+        let values = fields[1..]
+            .iter()
+            .enumerate()
+            .map(|(c, f)| number(file, line, c + 2, f))
+            .collect::<Result<Vec<_>, _>>()?;
+        rows.push(BrdfRow { sample, values });
+    }
+    Ok(rows)
+}
+
+/// A colour channel of the CUReT BRDF files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Channel {
+    /// RGB average (`abrdf.dat`).
+    Avg,
+    /// Red (`rbrdf.dat`).
+    R,
+    /// Green (`gbrdf.dat`).
+    G,
+    /// Blue (`bbrdf.dat`).
+    B,
+}
+
+impl Channel {
+    /// All channels in output order.
+    pub const ALL: [Channel; 4] = [Channel::Avg, Channel::R, Channel::G, Channel::B];
+
+    /// The name used in output (`avg`, `r`, `g`, `b`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Avg => "avg",
+            Self::R => "r",
+            Self::G => "g",
+            Self::B => "b",
+        }
+    }
+
+    /// The CUReT file name.
+    pub fn file_name(self) -> &'static str {
+        match self {
+            Self::Avg => "abrdf.dat",
+            Self::R => "rbrdf.dat",
+            Self::G => "gbrdf.dat",
+            Self::B => "bbrdf.dat",
+        }
+    }
+
+    /// The channel of a BRDF file name (`rbrdf.dat` → r; anything else → avg).
+    pub fn from_file(path: &Path) -> Self {
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        Self::ALL
+            .into_iter()
+            .find(|c| c.file_name() == name)
+            .unwrap_or(Self::Avg)
+    }
+}

@@ -1,0 +1,11 @@
+//! # laminar-runner
+//!
+//! Fits measured BRDF data (CUReT format) with the absorptive scattering
+//! model of Dahlan & Hancock (ICPR 2016) and its baselines, by the paper's
+//! exhaustive grid search, and checks the SIMD path bit for bit against its
+//! scalar twin. The `laminar` binary is the command-line front end.
+
+pub mod data;
+pub mod grid;
+pub mod scene;
+pub mod search;
