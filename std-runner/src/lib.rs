@@ -9,3 +9,8 @@ pub mod data;
 pub mod grid;
 pub mod scene;
 pub mod search;
+pub mod fit;
+pub mod model;
+pub mod synthetic;
+pub mod report;
+pub mod selection;
