@@ -39,7 +39,10 @@ fn noiseless_synthetic_data_is_recovered_exactly() {
             let r = search(&scene, &grid, corr, path, &|| {});
             let (s, n, a, b) = point(&grid, r.best);
             assert!(
-                close(s, TRUTH.0, 1e-9) && close(b, TRUTH.1, 1e-9) && close(n, TRUTH.2, 1e-9) && close(a, TRUTH.3, 1e-9),
+                close(s, TRUTH.0, 1e-9)
+                    && close(b, TRUTH.1, 1e-9)
+                    && close(n, TRUTH.2, 1e-9)
+                    && close(a, TRUTH.3, 1e-9),
                 "{corr:?} {path:?}: got slope={s} beta={b} n={n} a={a}"
             );
             assert!(r.best_rms < 1e-3, "{path:?} rms {}", r.best_rms);
@@ -68,7 +71,17 @@ fn results_do_not_depend_on_thread_count() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| fit(&scene, "s", Channel::Avg, Model::Exp, &grid, Path::Simd, &|| {}))
+            .install(|| {
+                fit(
+                    &scene,
+                    "s",
+                    Channel::Avg,
+                    Model::Exp,
+                    &grid,
+                    Path::Simd,
+                    &|| {},
+                )
+            })
     };
     let one = run(1);
     assert_eq!(one, run(2));
@@ -85,8 +98,17 @@ fn simd_grid_equals_scalar_twin_bit_for_bit() {
         let scene = synthetic::default_scene();
         let simd = error_surface(&scene, &grid, corr, Path::Simd);
         let scalar = error_surface(&scene, &grid, corr, Path::Scalar);
-        let same = simd.iter().zip(&scalar).filter(|(a, b)| a.to_bits() == b.to_bits()).count();
-        assert_eq!(same, simd.len(), "{corr:?}: {same} of {} identical", simd.len());
+        let same = simd
+            .iter()
+            .zip(&scalar)
+            .filter(|(a, b)| a.to_bits() == b.to_bits())
+            .count();
+        assert_eq!(
+            same,
+            simd.len(),
+            "{corr:?}: {same} of {} identical",
+            simd.len()
+        );
         assert!(simd.iter().all(|v| v.is_finite()));
     }
 }
@@ -95,8 +117,24 @@ fn simd_grid_equals_scalar_twin_bit_for_bit() {
 fn ragheb_hancock_slice_equals_its_own_search() {
     let grid = test_grid();
     let scene = synthetic::default_scene();
-    let full = fit(&scene, "s", Channel::Avg, Model::Gauss, &grid, Path::Simd, &|| {});
-    let rh = fit(&scene, "s", Channel::Avg, Model::RhGauss, &grid, Path::Simd, &|| {});
+    let full = fit(
+        &scene,
+        "s",
+        Channel::Avg,
+        Model::Gauss,
+        &grid,
+        Path::Simd,
+        &|| {},
+    );
+    let rh = fit(
+        &scene,
+        "s",
+        Channel::Avg,
+        Model::RhGauss,
+        &grid,
+        Path::Simd,
+        &|| {},
+    );
     assert_eq!(full.rh.as_ref().unwrap().params, rh.best.params);
 }
 
@@ -108,14 +146,19 @@ fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {
     p
 }
 
-const TABLE: &str = "1 0.5 0.0 0.4 3.141593\r\n2 0.3 1.0 0.3 -2.141593\r\n3 0.2 0.5 0.6 0.1\r\n4 0.9 -1.0 0.1 2.0";
+const TABLE: &str =
+    "1 0.5 0.0 0.4 3.141593\r\n2 0.3 1.0 0.3 -2.141593\r\n3 0.2 0.5 0.6 0.1\r\n4 0.9 -1.0 0.1 2.0";
 
 #[test]
 fn crlf_and_missing_final_newline_are_accepted() {
     let d = tempfile::tempdir().unwrap();
     let t = read_table(&write(d.path(), "table.txt", TABLE)).unwrap();
     assert_eq!(t.len(), 4);
-    let b = read_brdf(&write(d.path(), "abrdf.dat", "1 0.1 0.2 0.3 0.4\n5 1 2 3 -4"), 4).unwrap();
+    let b = read_brdf(
+        &write(d.path(), "abrdf.dat", "1 0.1 0.2 0.3 0.4\n5 1 2 3 -4"),
+        4,
+    )
+    .unwrap();
     assert_eq!(b[1].sample, 5);
 }
 
@@ -133,14 +176,50 @@ fn bad_input_errors_name_file_line_and_value() {
     let d = tempfile::tempdir().unwrap();
     let p = d.path();
     let ok_brdf = "1 0.1 0.2 0.3 0.4\n";
-    expect_error(p, "1 0.5 0.0 0.4\n", ok_brdf, None, &["table.txt:1", "5 columns"]);
-    expect_error(p, "1 0.5 x 0.4 0\n", ok_brdf, None, &["table.txt:1", "`x` is not a number"]);
+    expect_error(
+        p,
+        "1 0.5 0.0 0.4\n",
+        ok_brdf,
+        None,
+        &["table.txt:1", "5 columns"],
+    );
+    expect_error(
+        p,
+        "1 0.5 x 0.4 0\n",
+        ok_brdf,
+        None,
+        &["table.txt:1", "`x` is not a number"],
+    );
     expect_error(p, "1 0.5 0 NaN 0\n", ok_brdf, None, &["table.txt:1", "NaN"]);
-    expect_error(p, "1 0.5 0 0.4 0\n2 2.0 0 0.4 0\n", "1 0.1 0.2\n", None, &["table.txt:2", "2 polar angle"]);
+    expect_error(
+        p,
+        "1 0.5 0 0.4 0\n2 2.0 0 0.4 0\n",
+        "1 0.1 0.2\n",
+        None,
+        &["table.txt:2", "2 polar angle"],
+    );
     expect_error(p, "", ok_brdf, None, &["table.txt", "empty"]);
-    expect_error(p, TABLE, "1 0.1 0.2 0.3\n", None, &["abrdf.dat:1", "found 3 values"]);
-    expect_error(p, TABLE, "1 0.1 0.2 0.3 inf\n", None, &["abrdf.dat:1", "column 5", "inf"]);
-    expect_error(p, TABLE, ok_brdf, Some(&[99]), &["abrdf.dat", "sample 99 not found"]);
+    expect_error(
+        p,
+        TABLE,
+        "1 0.1 0.2 0.3\n",
+        None,
+        &["abrdf.dat:1", "found 3 values"],
+    );
+    expect_error(
+        p,
+        TABLE,
+        "1 0.1 0.2 0.3 inf\n",
+        None,
+        &["abrdf.dat:1", "column 5", "inf"],
+    );
+    expect_error(
+        p,
+        TABLE,
+        ok_brdf,
+        Some(&[99]),
+        &["abrdf.dat", "sample 99 not found"],
+    );
     expect_error(p, TABLE, "\n\n", None, &["abrdf.dat", "empty"]);
     expect_error(p, TABLE, "x 1 2 3 4\n", None, &["abrdf.dat:1", "`x`"]);
 }
@@ -158,7 +237,9 @@ fn per_channel_files_are_read_and_fitted() {
     }
     write(d.path(), "table.txt", &table);
     for (k, name) in ["rbrdf.dat", "gbrdf.dat", "bbrdf.dat"].iter().enumerate() {
-        let values: Vec<String> = (0..12).map(|i| format!("{}", 0.1 + 0.01 * (i + k) as f64)).collect();
+        let values: Vec<String> = (0..12)
+            .map(|i| format!("{}", 0.1 + 0.01 * (i + k) as f64))
+            .collect();
         write(d.path(), name, &format!("4 {}\n", values.join(" ")));
     }
     let js = jobs(Some(d.path()), &[], Some(&[4])).unwrap();
@@ -171,7 +252,15 @@ fn per_channel_files_are_read_and_fitted() {
     };
     for j in &js {
         assert_eq!(j.scene.len(), 12);
-        let r = fit(&j.scene, &j.sample, j.channel, Model::Exp, &grid, Path::Simd, &|| {});
+        let r = fit(
+            &j.scene,
+            &j.sample,
+            j.channel,
+            Model::Exp,
+            &grid,
+            Path::Simd,
+            &|| {},
+        );
         assert!(r.best.rms.is_finite());
     }
 }
@@ -187,23 +276,54 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
         eprintln!("SKIPPED CUReT end-to-end test: CURET_DIR is not set");
         return;
     };
-    let js = jobs(Some(FsPath::new(&dir)), &[PathBuf::from("abrdf.dat")], Some(&PAPER_SAMPLES)).unwrap();
+    let js = jobs(
+        Some(FsPath::new(&dir)),
+        &[PathBuf::from("abrdf.dat")],
+        Some(&PAPER_SAMPLES),
+    )
+    .unwrap();
     assert_eq!(js.len(), 13);
     let grid = Grid::paper();
     let mut identical = 0usize;
     for j in &js {
         assert_eq!(j.scene.len(), 198, "sample {}", j.sample);
-        for (model, corr) in [(Model::Exp, Correlation::Exponential), (Model::Gauss, Correlation::Gaussian)] {
-            let r = fit(&j.scene, &j.sample, j.channel, model, &grid, Path::Simd, &|| {});
-            assert!(r.best.rms.is_finite() && r.best.rms < 5.0, "sample {} {model}: rms {}", j.sample, r.best.rms);
+        for (model, corr) in [
+            (Model::Exp, Correlation::Exponential),
+            (Model::Gauss, Correlation::Gaussian),
+        ] {
+            let r = fit(
+                &j.scene,
+                &j.sample,
+                j.channel,
+                model,
+                &grid,
+                Path::Simd,
+                &|| {},
+            );
+            assert!(
+                r.best.rms.is_finite() && r.best.rms < 5.0,
+                "sample {} {model}: rms {}",
+                j.sample,
+                r.best.rms
+            );
             let rh = r.rh.as_ref().expect("a axis has 0");
-            assert!(r.best.rms <= rh.rms + 1e-6, "absorptive fit worse than its a = 0 slice");
+            assert!(
+                r.best.rms <= rh.rms + 1e-6,
+                "absorptive fit worse than its a = 0 slice"
+            );
             let simd = error_surface(&j.scene, &grid, corr, Path::Simd);
             let scalar = error_surface(&j.scene, &grid, corr, Path::Scalar);
-            let same = simd.iter().zip(&scalar).filter(|(a, b)| a.to_bits() == b.to_bits()).count();
+            let same = simd
+                .iter()
+                .zip(&scalar)
+                .filter(|(a, b)| a.to_bits() == b.to_bits())
+                .count();
             assert_eq!(same, simd.len(), "sample {} {model}", j.sample);
             identical += same;
         }
     }
-    println!("CUReT parity: {identical} of {} grid values identical", 26 * grid.size());
+    println!(
+        "CUReT parity: {identical} of {} grid values identical",
+        26 * grid.size()
+    );
 }

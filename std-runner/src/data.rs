@@ -40,7 +40,8 @@ fn err(file: &Path, line: usize, message: impl Into<String>) -> DataError {
 
 /// The non-blank lines of a file with their 1-based numbers.
 fn read_lines(file: &Path) -> Result<Vec<(usize, String)>, DataError> {
-    let text = std::fs::read_to_string(file).map_err(|e| err(file, 0, format!("cannot read: {e}")))?;
+    let text =
+        std::fs::read_to_string(file).map_err(|e| err(file, 0, format!("cannot read: {e}")))?;
     let lines: Vec<(usize, String)> = text
         .lines()
         .enumerate()
@@ -57,8 +58,16 @@ fn read_lines(file: &Path) -> Result<Vec<(usize, String)>, DataError> {
 fn number(file: &Path, line: usize, column: usize, field: &str) -> Result<f64, DataError> {
     match field.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
-        Ok(v) => Err(err(file, line, format!("column {column}: value `{field}` is {v}, not a finite number"))),
-        Err(_) => Err(err(file, line, format!("column {column}: `{field}` is not a number"))),
+        Ok(v) => Err(err(
+            file,
+            line,
+            format!("column {column}: value `{field}` is {v}, not a finite number"),
+        )),
+        Err(_) => Err(err(
+            file,
+            line,
+            format!("column {column}: `{field}` is not a number"),
+        )),
     }
 }
 
@@ -84,13 +93,31 @@ pub fn read_table(file: &Path) -> Result<Vec<TableRow>, DataError> {
     for (line, text) in read_lines(file)? {
         let fields: Vec<&str> = text.split_whitespace().collect();
         if fields.len() != 5 {
-            return Err(err(file, line, format!("expected 5 columns (index θv φv θi φi), found {}", fields.len())));
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "expected 5 columns (index θv φv θi φi), found {}",
+                    fields.len()
+                ),
+            ));
         }
-        let index = fields[0]
-            .parse::<usize>()
-            .map_err(|_| err(file, line, format!("column 1: index `{}` is not a positive integer", fields[0])))?;
+        let index = fields[0].parse::<usize>().map_err(|_| {
+            err(
+                file,
+                line,
+                format!("column 1: index `{}` is not a positive integer", fields[0]),
+            )
+        })?;
         if index != rows.len() + 1 {
-            return Err(err(file, line, format!("column 1: index {index} out of order (expected {})", rows.len() + 1)));
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "column 1: index {index} out of order (expected {})",
+                    rows.len() + 1
+                ),
+            ));
         }
         let mut v = [0.0; 4];
         for (c, slot) in v.iter_mut().enumerate() {
@@ -98,10 +125,23 @@ pub fn read_table(file: &Path) -> Result<Vec<TableRow>, DataError> {
         }
         let polar_ok = |x: f64| (0.0..=std::f64::consts::FRAC_PI_2).contains(&x);
         let azimuth_ok = |x: f64| x.abs() <= 2.0 * std::f64::consts::PI;
-        for (c, ok) in [(0, polar_ok(v[0])), (1, azimuth_ok(v[1])), (2, polar_ok(v[2])), (3, azimuth_ok(v[3]))] {
+        for (c, ok) in [
+            (0, polar_ok(v[0])),
+            (1, azimuth_ok(v[1])),
+            (2, polar_ok(v[2])),
+            (3, azimuth_ok(v[3])),
+        ] {
             if !ok {
-                let what = if c % 2 == 0 { "polar angle outside [0, π/2]" } else { "azimuth outside [−2π, 2π]" };
-                return Err(err(file, line, format!("column {}: {} {what}", c + 2, v[c])));
+                let what = if c % 2 == 0 {
+                    "polar angle outside [0, π/2]"
+                } else {
+                    "azimuth outside [−2π, 2π]"
+                };
+                return Err(err(
+                    file,
+                    line,
+                    format!("column {}: {} {what}", c + 2, v[c]),
+                ));
             }
         }
         rows.push(TableRow {
@@ -144,9 +184,22 @@ pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, DataE
             .parse::<u32>()
             .ok()
             .filter(|&s| s > 0)
-            .ok_or_else(|| err(file, line, format!("column 1: sample number `{}` is not a positive integer", fields[0])))?;
+            .ok_or_else(|| {
+                err(
+                    file,
+                    line,
+                    format!(
+                        "column 1: sample number `{}` is not a positive integer",
+                        fields[0]
+                    ),
+                )
+            })?;
         if rows.iter().any(|r| r.sample == sample) {
-            return Err(err(file, line, format!("column 1: sample {sample} appears twice")));
+            return Err(err(
+                file,
+                line,
+                format!("column 1: sample {sample} appears twice"),
+            ));
         }
         let values = fields[1..]
             .iter()

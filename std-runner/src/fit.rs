@@ -42,7 +42,10 @@ impl Estimate {
 
     /// The value of a named parameter.
     pub fn get(&self, name: &str) -> Option<f64> {
-        self.params.iter().find(|(k, _)| *k == name).map(|(_, v)| *v)
+        self.params
+            .iter()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| *v)
     }
 }
 
@@ -86,7 +89,10 @@ fn layered_estimate(scene: &Scene, model: Model, grid: &Grid, flat: usize) -> Es
 
 /// Baseline grids (conventions §7).
 pub fn jensen_grid() -> (Axis, Axis) {
-    (Axis::stepped(0.01, 0.01, 100), Axis::stepped(0.01, 0.01, 100))
+    (
+        Axis::stepped(0.01, 0.01, 100),
+        Axis::stepped(0.01, 0.01, 100),
+    )
 }
 
 /// Oren–Nayar grid (conventions §7): σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
@@ -116,8 +122,10 @@ fn grid2<G: Sync>(
             best
         })
         .collect();
-    rows.into_iter()
-        .fold((f64::INFINITY, 0.0, 0.0), |b, r| if r.0 < b.0 { r } else { b })
+    rows.into_iter().fold(
+        (f64::INFINITY, 0.0, 0.0),
+        |b, r| if r.0 < b.0 { r } else { b },
+    )
 }
 
 /// Fits `model` to `scene`. Layered models use `grid` (a fixed at 0 for the
@@ -144,7 +152,11 @@ pub fn fit(
     };
     match model {
         Model::Exp | Model::Gauss | Model::RhExp | Model::RhGauss => {
-            let grid = if model.is_ragheb_hancock() { grid.ragheb_hancock() } else { grid.clone() };
+            let grid = if model.is_ragheb_hancock() {
+                grid.ragheb_hancock()
+            } else {
+                grid.clone()
+            };
             let corr = model.correlation().expect("layered model");
             let r = search(scene, &grid, corr, path, progress);
             let best = layered_estimate(scene, model, &grid, r.best);
@@ -152,30 +164,44 @@ pub fn fit(
                 None
             } else {
                 r.rh_best.map(|(flat, _)| {
-                    let rh_model = if model == Model::Exp { Model::RhExp } else { Model::RhGauss };
+                    let rh_model = if model == Model::Exp {
+                        Model::RhExp
+                    } else {
+                        Model::RhGauss
+                    };
                     layered_estimate(scene, rh_model, &grid, flat)
                 })
             };
             record(best, rh, r.best_rms, grid.size())
         }
         Model::Jensen => {
-            let geometry: Vec<JensenGeometry<f64>> =
-                scene.angles.iter().map(|a| JensenGeometry::from_lanes(|_| *a)).collect();
+            let geometry: Vec<JensenGeometry<f64>> = scene
+                .angles
+                .iter()
+                .map(|a| JensenGeometry::from_lanes(|_| *a))
+                .collect();
             let (sa, ss) = jensen_grid();
             let coefficients = |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain");
-            let (rms, x, y) = grid2(scene, &sa, &ss, &geometry, |g, x, y| predict_jensen(g, &coefficients(x, y)));
+            let (rms, x, y) = grid2(scene, &sa, &ss, &geometry, |g, x, y| {
+                predict_jensen(g, &coefficients(x, y))
+            });
             let prediction = predict_jensen(&geometry, &coefficients(x, y));
             let best = Estimate::new(scene, vec![("sigma_a", x), ("sigma_s", y)], &prediction, 2);
             progress();
             record(best, None, rms, sa.len() * ss.len())
         }
         Model::OrenNayar => {
-            let geometry: Vec<OrenNayarGeometry<f64>> =
-                scene.angles.iter().map(|a| OrenNayarGeometry::from_lanes(|_| *a)).collect();
+            let geometry: Vec<OrenNayarGeometry<f64>> = scene
+                .angles
+                .iter()
+                .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
+                .collect();
             let (sigma, rho) = oren_nayar_grid();
-            let coefficients = |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain");
-            let (rms, x, y) =
-                grid2(scene, &sigma, &rho, &geometry, |g, x, y| predict_oren_nayar(g, &coefficients(x, y)));
+            let coefficients =
+                |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain");
+            let (rms, x, y) = grid2(scene, &sigma, &rho, &geometry, |g, x, y| {
+                predict_oren_nayar(g, &coefficients(x, y))
+            });
             let prediction = predict_oren_nayar(&geometry, &coefficients(x, y));
             let best = Estimate::new(scene, vec![("sigma", x), ("rho", y)], &prediction, 2);
             progress();

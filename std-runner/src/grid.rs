@@ -41,17 +41,18 @@ impl Axis {
                 .ok_or_else(|| format!("`{s}` in axis `{text}` is not a finite number"))
         };
         match parts.as_slice() {
-            [v] => Ok(Self { values: vec![num(v)?] }),
+            [v] => Ok(Self {
+                values: vec![num(v)?],
+            }),
             [a, b, c] => {
-                let count: usize = c
-                    .trim()
-                    .parse()
-                    .ok()
-                    .filter(|&n| n >= 1)
-                    .ok_or_else(|| format!("count `{c}` in axis `{text}` is not a positive integer"))?;
+                let count: usize = c.trim().parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
+                    format!("count `{c}` in axis `{text}` is not a positive integer")
+                })?;
                 Ok(Self::linspace(num(a)?, num(b)?, count))
             }
-            _ => Err(format!("axis `{text}` is not `start:stop:count` or a single value")),
+            _ => Err(format!(
+                "axis `{text}` is not `start:stop:count` or a single value"
+            )),
         }
     }
 
@@ -112,7 +113,12 @@ impl Grid {
     /// Checks every value against the model's domain
     /// ([`laminar_core::Params::new`]).
     pub fn validate(&self) -> Result<(), String> {
-        for (name, axis) in [("slope", &self.slope), ("n", &self.n), ("a", &self.a), ("beta", &self.beta)] {
+        for (name, axis) in [
+            ("slope", &self.slope),
+            ("n", &self.n),
+            ("a", &self.a),
+            ("beta", &self.beta),
+        ] {
             if axis.is_empty() {
                 return Err(format!("axis {name} is empty"));
             }
@@ -121,7 +127,8 @@ impl Grid {
             for &n in &self.n.values {
                 for &a in &self.a.values {
                     for &b in &self.beta.values {
-                        laminar_core::Params::new(s, b, n, a).map_err(|e| format!("grid value: {e}"))?;
+                        laminar_core::Params::new(s, b, n, a)
+                            .map_err(|e| format!("grid value: {e}"))?;
                     }
                 }
             }

@@ -6,11 +6,11 @@
 //! scalar twin. The `laminar` binary is the command-line front end.
 
 pub mod data;
+pub mod fit;
 pub mod grid;
+pub mod model;
+pub mod report;
 pub mod scene;
 pub mod search;
-pub mod fit;
-pub mod model;
-pub mod synthetic;
-pub mod report;
 pub mod selection;
+pub mod synthetic;

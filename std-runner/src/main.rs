@@ -15,7 +15,11 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 #[derive(Parser)]
-#[command(name = "laminar", version, about = "Fit measured BRDF data with the absorptive scattering model for rough laminar surfaces (Dahlan & Hancock 2016)")]
+#[command(
+    name = "laminar",
+    version,
+    about = "Fit measured BRDF data with the absorptive scattering model for rough laminar surfaces (Dahlan & Hancock 2016)"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -55,7 +59,11 @@ struct Select {
     #[arg(long)]
     samples: Option<String>,
     /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar.
-    #[arg(long, value_delimiter = ',', default_value = "exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar"
+    )]
     models: Vec<Model>,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
@@ -77,7 +85,12 @@ struct Select {
 impl Select {
     fn grid(&self) -> Result<Grid, String> {
         let mut g = Grid::paper();
-        for (axis, given) in [(&mut g.slope, &self.slope), (&mut g.beta, &self.beta), (&mut g.n, &self.n), (&mut g.a, &self.a)] {
+        for (axis, given) in [
+            (&mut g.slope, &self.slope),
+            (&mut g.beta, &self.beta),
+            (&mut g.n, &self.n),
+            (&mut g.a, &self.a),
+        ] {
             if let Some(v) = given {
                 *axis = v.clone();
             }
@@ -145,13 +158,25 @@ struct EvalArgs {
     #[arg(long, conflicts_with_all = ["theta_i", "theta_s", "phi_s"])]
     geometry: Option<PathBuf>,
     /// Incident zenith θi.
-    #[arg(long, required_unless_present = "geometry", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        required_unless_present = "geometry",
+        allow_negative_numbers = true
+    )]
     theta_i: Option<f64>,
     /// Scattering zenith θs.
-    #[arg(long, required_unless_present = "geometry", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        required_unless_present = "geometry",
+        allow_negative_numbers = true
+    )]
     theta_s: Option<f64>,
     /// Scattering azimuth φs.
-    #[arg(long, required_unless_present = "geometry", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        required_unless_present = "geometry",
+        allow_negative_numbers = true
+    )]
     phi_s: Option<f64>,
 }
 
@@ -170,7 +195,11 @@ fn progress(len: u64, what: &str) -> ProgressBar {
 }
 
 fn shards(model: Model, grid: &Grid) -> u64 {
-    if model.correlation().is_some() { grid.slope.len() as u64 } else { 1 }
+    if model.correlation().is_some() {
+        grid.slope.len() as u64
+    } else {
+        1
+    }
 }
 
 fn report_time(command: &str, start: Instant, pairs: f64) {
@@ -183,13 +212,22 @@ fn report_time(command: &str, start: Instant, pairs: f64) {
 
 fn run_fits(select: &Select) -> Result<(Vec<FitRecord>, f64), String> {
     let (grid, jobs) = select.setup()?;
-    let total: u64 = jobs.len() as u64 * select.models.iter().map(|&m| shards(m, &grid)).sum::<u64>();
+    let total: u64 =
+        jobs.len() as u64 * select.models.iter().map(|&m| shards(m, &grid)).sum::<u64>();
     let bar = progress(total, "fit");
     let mut records = Vec::new();
     let mut pairs = 0.0;
     for job in &jobs {
         for &model in &select.models {
-            let r = fit(&job.scene, &job.sample, job.channel, model, &grid, SearchPath::Simd, &|| bar.inc(1));
+            let r = fit(
+                &job.scene,
+                &job.sample,
+                job.channel,
+                model,
+                &grid,
+                SearchPath::Simd,
+                &|| bar.inc(1),
+            );
             pairs += r.evaluated as f64 * r.measurements as f64;
             records.push(r);
         }
@@ -207,7 +245,8 @@ fn cmd_fit(select: &Select, format: Format, out: Option<&PathBuf>) -> Result<(),
         Format::Markdown => report::markdown(&records),
     };
     match out {
-        Some(path) => report::write_atomic(path, &text).map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
+        Some(path) => report::write_atomic(path, &text)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
         None => print!("{text}"),
     }
     if select.data.is_none() {
@@ -228,11 +267,21 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
     let mut pairs = 0.0;
     for job in &jobs {
         for &model in &select.models {
-            let Some(corr) = model.correlation() else { continue };
-            let g = if model.is_ragheb_hancock() { grid.ragheb_hancock() } else { grid.clone() };
+            let Some(corr) = model.correlation() else {
+                continue;
+            };
+            let g = if model.is_ragheb_hancock() {
+                grid.ragheb_hancock()
+            } else {
+                grid.clone()
+            };
             let simd = error_surface(&job.scene, &g, corr, SearchPath::Simd);
             let scalar = error_surface(&job.scene, &g, corr, SearchPath::Scalar);
-            let equal = simd.iter().zip(&scalar).filter(|(a, b)| a.to_bits() == b.to_bits()).count();
+            let equal = simd
+                .iter()
+                .zip(&scalar)
+                .filter(|(a, b)| a.to_bits() == b.to_bits())
+                .count();
             println!(
                 "sample {} channel {} model {}: {equal} of {} grid values identical",
                 job.sample,
@@ -260,15 +309,26 @@ fn read_geometry_csv(path: &PathBuf) -> Result<Vec<Angles>, String> {
         let line = i + 2;
         let rec = rec.map_err(|e| format!("{}:{line}: {e}", path.display()))?;
         if rec.len() != 3 {
-            return Err(format!("{}:{line}: expected 3 columns theta_i,theta_s,phi_s, found {}", path.display(), rec.len()));
+            return Err(format!(
+                "{}:{line}: expected 3 columns theta_i,theta_s,phi_s, found {}",
+                path.display(),
+                rec.len()
+            ));
         }
         let mut v = [0.0; 3];
         for (c, slot) in v.iter_mut().enumerate() {
-            *slot = rec[c]
-                .parse::<f64>()
-                .map_err(|_| format!("{}:{line}: column {}: `{}` is not a number", path.display(), c + 1, &rec[c]))?;
+            *slot = rec[c].parse::<f64>().map_err(|_| {
+                format!(
+                    "{}:{line}: column {}: `{}` is not a number",
+                    path.display(),
+                    c + 1,
+                    &rec[c]
+                )
+            })?;
         }
-        out.push(Angles::new(v[0], v[1], v[2]).map_err(|e| format!("{}:{line}: {e}", path.display()))?);
+        out.push(
+            Angles::new(v[0], v[1], v[2]).map_err(|e| format!("{}:{line}: {e}", path.display()))?,
+        );
     }
     if out.is_empty() {
         return Err(format!("{}: no geometry rows", path.display()));
@@ -278,11 +338,17 @@ fn read_geometry_csv(path: &PathBuf) -> Result<Vec<Angles>, String> {
 
 fn cmd_eval(args: &EvalArgs) -> Result<(), String> {
     let start = Instant::now();
-    let corr: Correlation = args
-        .model
-        .correlation()
-        .ok_or_else(|| format!("eval supports exp, gauss, rh-exp and rh-gauss, not {}", args.model))?;
-    let a = if args.model.is_ragheb_hancock() { 0.0 } else { args.a };
+    let corr: Correlation = args.model.correlation().ok_or_else(|| {
+        format!(
+            "eval supports exp, gauss, rh-exp and rh-gauss, not {}",
+            args.model
+        )
+    })?;
+    let a = if args.model.is_ragheb_hancock() {
+        0.0
+    } else {
+        args.a
+    };
     let p = Params::new(args.slope, args.beta, args.n, a).map_err(|e| e.to_string())?;
     let angles = match &args.geometry {
         Some(path) => read_geometry_csv(path)?,
@@ -294,20 +360,52 @@ fn cmd_eval(args: &EvalArgs) -> Result<(), String> {
         .map_err(|e| e.to_string())?],
     };
     let mut w = csv::Writer::from_writer(std::io::stdout());
-    let header = ["theta_i", "theta_s", "phi_s", "fresnel_in", "fresnel_out", "absorb_in", "absorb_out", "surface", "subsurface", "total"];
+    let header = [
+        "theta_i",
+        "theta_s",
+        "phi_s",
+        "fresnel_in",
+        "fresnel_out",
+        "absorb_in",
+        "absorb_out",
+        "surface",
+        "subsurface",
+        "total",
+    ];
     w.write_record(header).map_err(|e| e.to_string())?;
     for g in &angles {
         let v: [f64; 7] = match args.precision {
             Precision::F64 => {
                 let c = components(&Geometry::<f64>::splat(g), corr, &p);
-                [c.fresnel_in, c.fresnel_out, c.absorb_in, c.absorb_out, c.surface, c.subsurface, c.total]
+                [
+                    c.fresnel_in,
+                    c.fresnel_out,
+                    c.absorb_in,
+                    c.absorb_out,
+                    c.surface,
+                    c.subsurface,
+                    c.total,
+                ]
             }
             Precision::F32 => {
                 let c = components(&Geometry::<f32>::splat(g), corr, &p);
-                [c.fresnel_in, c.fresnel_out, c.absorb_in, c.absorb_out, c.surface, c.subsurface, c.total].map(f64::from)
+                [
+                    c.fresnel_in,
+                    c.fresnel_out,
+                    c.absorb_in,
+                    c.absorb_out,
+                    c.surface,
+                    c.subsurface,
+                    c.total,
+                ]
+                .map(f64::from)
             }
         };
-        let mut rec = vec![g.theta_i().to_string(), g.theta_s().to_string(), g.phi_s().to_string()];
+        let mut rec = vec![
+            g.theta_i().to_string(),
+            g.theta_s().to_string(),
+            g.phi_s().to_string(),
+        ];
         rec.extend(v.iter().map(|x| format!("{x:e}")));
         w.write_record(&rec).map_err(|e| e.to_string())?;
     }
@@ -319,7 +417,11 @@ fn cmd_eval(args: &EvalArgs) -> Result<(), String> {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Command::Fit { select, format, out } => cmd_fit(select, *format, out.as_ref()).map(|_| true),
+        Command::Fit {
+            select,
+            format,
+            out,
+        } => cmd_fit(select, *format, out.as_ref()).map(|_| true),
         Command::Parity { select } => cmd_parity(select),
         Command::Eval(args) => cmd_eval(args).map(|_| true),
     };

@@ -2,7 +2,9 @@
 
 use crate::scene::Scene;
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry};
+use laminar_core::baselines::oren_nayar::{
+    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
+};
 use laminar_core::measures::normalised_prediction;
 use laminar_core::{components, normalise_by_max, Correlation, Geometry, Normalisation, Params};
 use std::fmt;
@@ -27,7 +29,14 @@ pub enum Model {
 
 impl Model {
     /// Every model, in output order.
-    pub const ALL: [Model; 6] = [Model::Exp, Model::Gauss, Model::RhExp, Model::RhGauss, Model::Jensen, Model::OrenNayar];
+    pub const ALL: [Model; 6] = [
+        Model::Exp,
+        Model::Gauss,
+        Model::RhExp,
+        Model::RhGauss,
+        Model::Jensen,
+        Model::OrenNayar,
+    ];
 
     /// The command-line name.
     pub fn name(self) -> &'static str {
@@ -92,8 +101,15 @@ pub fn predict_layered(scene: &Scene, corr: Correlation, p: &Params) -> Vec<f64>
         })
         .unzip();
     let mut out = vec![0.0; scene.len()];
-    normalised_prediction(Normalisation::Paper, p.beta(), &mut surface, &mut subsurface, &scene.data, &mut out)
-        .expect("equal lengths by construction");
+    normalised_prediction(
+        Normalisation::Paper,
+        p.beta(),
+        &mut surface,
+        &mut subsurface,
+        &scene.data,
+        &mut out,
+    )
+    .expect("equal lengths by construction");
     out
 }
 
@@ -105,7 +121,10 @@ pub fn predict_jensen(geometry: &[JensenGeometry<f64>], k: &JensenCoefficients<f
 }
 
 /// Max-normalised f64 Oren–Nayar prediction (conventions §7) on precomputed geometry.
-pub fn predict_oren_nayar(geometry: &[OrenNayarGeometry<f64>], k: &OrenNayarCoefficients<f64>) -> Vec<f64> {
+pub fn predict_oren_nayar(
+    geometry: &[OrenNayarGeometry<f64>],
+    k: &OrenNayarCoefficients<f64>,
+) -> Vec<f64> {
     let mut v: Vec<f64> = geometry.iter().map(|g| oren_nayar_radiance(g, k)).collect();
     normalise_by_max(&mut v);
     v

@@ -63,7 +63,12 @@ pub fn json(records: &[FitRecord]) -> String {
         serde_json::Value::Object(
             e.params
                 .iter()
-                .map(|(k, v)| (k.to_string(), serde_json::json!(format_value(*v).parse::<f64>().unwrap_or(*v))))
+                .map(|(k, v)| {
+                    (
+                        k.to_string(),
+                        serde_json::json!(format_value(*v).parse::<f64>().unwrap_or(*v)),
+                    )
+                })
                 .collect(),
         )
     };
@@ -93,7 +98,11 @@ pub fn json(records: &[FitRecord]) -> String {
 
 /// A Markdown table from a header and rows.
 pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
-    let mut s = format!("| {} |\n|{}\n", header.join(" | "), " --- |".repeat(header.len()));
+    let mut s = format!(
+        "| {} |\n|{}\n",
+        header.join(" | "),
+        " --- |".repeat(header.len())
+    );
     for r in rows {
         s += &format!("| {} |\n", r.join(" | "));
     }
@@ -107,7 +116,14 @@ pub fn markdown(records: &[FitRecord]) -> String {
         .iter()
         .map(|r| {
             let full = row(r);
-            vec![full[0].clone(), full[1].clone(), full[2].clone(), format!("{:.4}", r.best.rms), opt(r.best.chi2.map(|c| c.per_dof)), full[7].clone()]
+            vec![
+                full[0].clone(),
+                full[1].clone(),
+                full[2].clone(),
+                format!("{:.4}", r.best.rms),
+                opt(r.best.chi2.map(|c| c.per_dof)),
+                full[7].clone(),
+            ]
         })
         .collect();
     markdown_table(&header, &rows)
@@ -115,7 +131,10 @@ pub fn markdown(records: &[FitRecord]) -> String {
 
 /// Writes `contents` to `path` whole or not at all (temporary file, then rename).
 pub fn write_atomic(path: &Path, contents: &str) -> std::io::Result<()> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
     let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
     let result = (|| {

@@ -53,7 +53,12 @@ impl Scene {
     }
 
     /// A scene from angles and un-normalised radiance.
-    pub fn from_radiance(angles: Vec<Angles>, mut radiance: Vec<f64>, rows: Vec<usize>, nonpositive: usize) -> Self {
+    pub fn from_radiance(
+        angles: Vec<Angles>,
+        mut radiance: Vec<f64>,
+        rows: Vec<usize>,
+        nonpositive: usize,
+    ) -> Self {
         normalise_by_max(&mut radiance);
         Self {
             angles,

@@ -15,8 +15,8 @@
 use crate::grid::Grid;
 use crate::scene::Scene;
 use laminar_core::{
-    absorption_factor, f32x8, inverse_slope_squared, mix, subsurface_base, surface_radiance, Correlation, Geometry,
-    Interface, Lane, Real,
+    absorption_factor, f32x8, inverse_slope_squared, mix, subsurface_base, surface_radiance,
+    Correlation, Geometry, Interface, Lane, Real,
 };
 use rayon::prelude::*;
 
@@ -94,7 +94,11 @@ impl<L: Lane> Packed<L> {
         let m = Self::max_of(values);
         let zero = L::Scalar::c(0.0);
         for v in values.iter_mut() {
-            *v = if m > zero { *v / L::splat(m) } else { L::c(0.0) };
+            *v = if m > zero {
+                *v / L::splat(m)
+            } else {
+                L::c(0.0)
+            };
         }
     }
 
@@ -109,8 +113,13 @@ impl<L: Lane> Packed<L> {
         let positive = m > L::Scalar::c(0.0);
         let m = L::splat(m);
         let mut acc = [L::c(0.0); WIDTH];
-        for (flat, ((s, u), chunk)) in surface.iter().zip(subsurface).zip(&self.chunks).enumerate() {
-            let p = if positive { mix(beta, *u, *s) / m } else { L::c(0.0) };
+        for (flat, ((s, u), chunk)) in surface.iter().zip(subsurface).zip(&self.chunks).enumerate()
+        {
+            let p = if positive {
+                mix(beta, *u, *s) / m
+            } else {
+                L::c(0.0)
+            };
             let e = chunk.data - p;
             let a = &mut acc[self.stream_of(flat)];
             *a = *a + e * e;
@@ -140,13 +149,25 @@ impl<L: Lane + Send + Sync> Tables<L> {
             .n
             .values
             .iter()
-            .map(|&n| packed.chunks.iter().map(|c| Interface::new(&c.geom, L::c(n))).collect())
+            .map(|&n| {
+                packed
+                    .chunks
+                    .iter()
+                    .map(|c| Interface::new(&c.geom, L::c(n)))
+                    .collect()
+            })
             .collect();
         let absorption = grid
             .a
             .values
             .iter()
-            .map(|&a| packed.chunks.iter().map(|c| absorption_factor(&c.geom, L::c(a))).collect())
+            .map(|&a| {
+                packed
+                    .chunks
+                    .iter()
+                    .map(|c| absorption_factor(&c.geom, L::c(a)))
+                    .collect()
+            })
             .collect();
         Self {
             packed,
@@ -156,7 +177,13 @@ impl<L: Lane + Send + Sync> Tables<L> {
     }
 
     /// Visits every (n, a, β) of slope index `i_s` in loop order with its RMS.
-    fn shard(&self, grid: &Grid, corr: Correlation, i_s: usize, mut visit: impl FnMut(usize, L::Scalar)) {
+    fn shard(
+        &self,
+        grid: &Grid,
+        corr: Correlation,
+        i_s: usize,
+        mut visit: impl FnMut(usize, L::Scalar),
+    ) {
         let chunks = &self.packed.chunks;
         let inv_s2 = inverse_slope_squared(L::c(grid.slope.values[i_s]));
         let mut surface: Vec<L> = chunks
@@ -178,7 +205,10 @@ impl<L: Lane + Send + Sync> Tables<L> {
                 }
                 Packed::normalise(&mut subsurface);
                 for (i_b, &beta) in betas.iter().enumerate() {
-                    visit(grid.flat(i_s, i_n, i_a, i_b), self.packed.rms(&surface, &subsurface, beta));
+                    visit(
+                        grid.flat(i_s, i_n, i_a, i_b),
+                        self.packed.rms(&surface, &subsurface, beta),
+                    );
                 }
             }
         }
@@ -197,19 +227,27 @@ pub struct SearchResult {
     pub rh_best: Option<(usize, f64)>,
 }
 
+/// A grid point's flat index and RMS.
+type Candidate = Option<(usize, f64)>;
+
 /// Strictly-better update (keeps the smallest flat index on ties).
-fn better(current: Option<(usize, f64)>, flat: usize, rms: f64) -> Option<(usize, f64)> {
+fn better(current: Candidate, flat: usize, rms: f64) -> Candidate {
     match current {
         Some((_, r)) if rms >= r => current,
         _ => Some((flat, rms)),
     }
 }
 
-fn search_with<L: Lane + Send + Sync>(scene: &Scene, grid: &Grid, corr: Correlation, progress: &(dyn Fn() + Sync)) -> SearchResult {
+fn search_with<L: Lane + Send + Sync>(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    progress: &(dyn Fn() + Sync),
+) -> SearchResult {
     let tables = Tables::<L>::new(scene, grid);
     let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
     let per_a = grid.beta.len();
-    let shards: Vec<(Option<(usize, f64)>, Option<(usize, f64)>)> = (0..grid.slope.len())
+    let shards: Vec<(Candidate, Candidate)> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
             let (mut best, mut rh) = (None, None);
@@ -243,7 +281,13 @@ fn search_with<L: Lane + Send + Sync>(scene: &Scene, grid: &Grid, corr: Correlat
 
 /// Runs the exhaustive search on `path`; `progress` is called once per σ/T
 /// shard. Deterministic whatever the thread count (conventions §6).
-pub fn search(scene: &Scene, grid: &Grid, corr: Correlation, path: Path, progress: &(dyn Fn() + Sync)) -> SearchResult {
+pub fn search(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    path: Path,
+    progress: &(dyn Fn() + Sync),
+) -> SearchResult {
     match path {
         Path::Simd => search_with::<f32x8>(scene, grid, corr, progress),
         Path::Scalar => search_with::<f32>(scene, grid, corr, progress),
@@ -257,9 +301,13 @@ pub fn error_surface(scene: &Scene, grid: &Grid, corr: Correlation, path: Path) 
         let tables = Tables::<L>::new(scene, grid);
         let per_slope = grid.size() / grid.slope.len();
         let mut out = vec![0.0; grid.size()];
-        out.par_chunks_mut(per_slope).enumerate().for_each(|(i_s, slice)| {
-            tables.shard(grid, corr, i_s, |flat, rms| slice[flat - i_s * per_slope] = rms.to_f64());
-        });
+        out.par_chunks_mut(per_slope)
+            .enumerate()
+            .for_each(|(i_s, slice)| {
+                tables.shard(grid, corr, i_s, |flat, rms| {
+                    slice[flat - i_s * per_slope] = rms.to_f64()
+                });
+            });
         out
     }
     match path {
@@ -277,5 +325,10 @@ pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
     let rest = rest / grid.a.len();
     let n = rest % grid.n.len();
     let s = rest / grid.n.len();
-    (grid.slope.values[s], grid.n.values[n], grid.a.values[a], grid.beta.values[b])
+    (
+        grid.slope.values[s],
+        grid.n.values[n],
+        grid.a.values[a],
+        grid.beta.values[b],
+    )
 }

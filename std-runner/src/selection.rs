@@ -39,7 +39,11 @@ pub fn parse_samples(text: &str) -> Result<Option<Vec<u32>>, String> {
 
 /// The jobs for `data` (or the synthetic scene when `None`), `brdf` files
 /// (default: every CUReT BRDF file present) and `samples` (`None`: all in the file).
-pub fn jobs(data: Option<&Path>, brdf: &[PathBuf], samples: Option<&[u32]>) -> Result<Vec<Job>, String> {
+pub fn jobs(
+    data: Option<&Path>,
+    brdf: &[PathBuf],
+    samples: Option<&[u32]>,
+) -> Result<Vec<Job>, String> {
     let Some(dir) = data else {
         if !brdf.is_empty() {
             return Err("--brdf needs --data DIR (or CURET_DIR) for the geometry table".into());
@@ -52,14 +56,27 @@ pub fn jobs(data: Option<&Path>, brdf: &[PathBuf], samples: Option<&[u32]>) -> R
     };
     let table = read_table(&dir.join("table.txt")).map_err(|e| e.to_string())?;
     let files: Vec<PathBuf> = if brdf.is_empty() {
-        Channel::ALL.iter().map(|c| dir.join(c.file_name())).filter(|p| p.exists()).collect()
+        Channel::ALL
+            .iter()
+            .map(|c| dir.join(c.file_name()))
+            .filter(|p| p.exists())
+            .collect()
     } else {
         brdf.iter()
-            .map(|p| if p.exists() || p.is_absolute() { p.clone() } else { dir.join(p) })
+            .map(|p| {
+                if p.exists() || p.is_absolute() {
+                    p.clone()
+                } else {
+                    dir.join(p)
+                }
+            })
             .collect()
     };
     if files.is_empty() {
-        return Err(format!("{}: no BRDF file (abrdf.dat, rbrdf.dat, gbrdf.dat, bbrdf.dat) found", dir.display()));
+        return Err(format!(
+            "{}: no BRDF file (abrdf.dat, rbrdf.dat, gbrdf.dat, bbrdf.dat) found",
+            dir.display()
+        ));
     }
     let mut jobs = Vec::new();
     for file in &files {
