@@ -91,10 +91,17 @@ pub fn jobs(
                 .iter()
                 .find(|r| r.sample == sample)
                 .ok_or_else(|| format!("{}: sample {sample} not found", file.display()))?;
+            let scene = Scene::from_curet(&table, &row.values);
+            if scene.is_empty() {
+                return Err(format!(
+                    "{}: every row of the geometry table is specular; nothing to fit",
+                    dir.display()
+                ));
+            }
             jobs.push(Job {
                 sample: sample.to_string(),
                 channel,
-                scene: Scene::from_curet(&table, &row.values),
+                scene,
             });
         }
     }
