@@ -17,26 +17,10 @@ use laminar_core::{f32x8, inverse_slope_squared};
 use proptest::prelude::*;
 
 fn fields<L: Copy>(c: &Components<L>) -> [L; 7] {
-    [
-        c.fresnel_in,
-        c.fresnel_out,
-        c.absorb_in,
-        c.absorb_out,
-        c.surface,
-        c.subsurface,
-        c.total,
-    ]
+    c.to_array()
 }
 
-const NAMES: [&str; 7] = [
-    "fresnel_in",
-    "fresnel_out",
-    "absorb_in",
-    "absorb_out",
-    "surface",
-    "subsurface",
-    "total",
-];
+const NAMES: [&str; 7] = Components::<f32>::NAMES;
 
 /// Asserts lane `i` of a vector equals the scalar, bit for bit.
 fn same_bits(v: f32x8, i: usize, s: f32) -> bool {

@@ -78,6 +78,33 @@ pub struct Components<L> {
     pub total: L,
 }
 
+impl<L: Copy> Components<L> {
+    /// Field names in [`Components::to_array`] order (the `laminar eval` CSV columns).
+    pub const NAMES: [&'static str; 7] = [
+        "fresnel_in",
+        "fresnel_out",
+        "absorb_in",
+        "absorb_out",
+        "surface",
+        "subsurface",
+        "total",
+    ];
+
+    /// The seven fields in [`Components::NAMES`] order.
+    #[must_use]
+    pub fn to_array(&self) -> [L; 7] {
+        [
+            self.fresnel_in,
+            self.fresnel_out,
+            self.absorb_in,
+            self.absorb_out,
+            self.surface,
+            self.subsurface,
+            self.total,
+        ]
+    }
+}
+
 /// Total radiance `β L^sb + (1 − β) L^sf` (eq. 8) from its two components.
 #[inline]
 #[must_use]

@@ -2,7 +2,7 @@
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
-use laminar_core::{components, Angles, Correlation, Geometry, Params};
+use laminar_core::{components, Angles, Components, Correlation, Geometry, Params};
 use laminar_runner::fit::{fit, FitRecord};
 use laminar_runner::grid::{Axis, Grid};
 use laminar_runner::model::Model;
@@ -360,18 +360,9 @@ fn cmd_eval(args: &EvalArgs) -> Result<(), String> {
         .map_err(|e| e.to_string())?],
     };
     let mut w = csv::Writer::from_writer(std::io::stdout());
-    let header = [
-        "theta_i",
-        "theta_s",
-        "phi_s",
-        "fresnel_in",
-        "fresnel_out",
-        "absorb_in",
-        "absorb_out",
-        "surface",
-        "subsurface",
-        "total",
-    ];
+    let header = ["theta_i", "theta_s", "phi_s"]
+        .into_iter()
+        .chain(Components::<f64>::NAMES);
     w.write_record(header).map_err(|e| e.to_string())?;
     for g in &angles {
         let v: [f64; 7] = match args.precision {
