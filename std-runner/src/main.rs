@@ -366,31 +366,10 @@ fn cmd_eval(args: &EvalArgs) -> Result<(), String> {
     w.write_record(header).map_err(|e| e.to_string())?;
     for g in &angles {
         let v: [f64; 7] = match args.precision {
-            Precision::F64 => {
-                let c = components(&Geometry::<f64>::splat(g), corr, &p);
-                [
-                    c.fresnel_in,
-                    c.fresnel_out,
-                    c.absorb_in,
-                    c.absorb_out,
-                    c.surface,
-                    c.subsurface,
-                    c.total,
-                ]
-            }
-            Precision::F32 => {
-                let c = components(&Geometry::<f32>::splat(g), corr, &p);
-                [
-                    c.fresnel_in,
-                    c.fresnel_out,
-                    c.absorb_in,
-                    c.absorb_out,
-                    c.surface,
-                    c.subsurface,
-                    c.total,
-                ]
-                .map(f64::from)
-            }
+            Precision::F64 => components(&Geometry::<f64>::splat(g), corr, &p).to_array(),
+            Precision::F32 => components(&Geometry::<f32>::splat(g), corr, &p)
+                .to_array()
+                .map(f64::from),
         };
         let mut rec = vec![
             g.theta_i().to_string(),

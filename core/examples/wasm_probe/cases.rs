@@ -85,18 +85,8 @@ fn eval<L: Lane>(ix: &Index, angles_of_lane: impl Fn(usize) -> Angles + Copy) ->
     let sigma = [0.0, 0.3, 1.0, 0.5, 0.05, 0.8][ix.p as usize];
     let rho = [0.02, 0.5, 1.0, 0.3, 0.9, 0.7][ix.p as usize];
     match ix.out {
-        0..=6 => {
-            let c = components(&Geometry::<L>::from_lanes(angles_of_lane), ix.corr, &p);
-            [
-                c.fresnel_in,
-                c.fresnel_out,
-                c.absorb_in,
-                c.absorb_out,
-                c.surface,
-                c.subsurface,
-                c.total,
-            ][ix.out as usize]
-        }
+        0..=6 => components(&Geometry::<L>::from_lanes(angles_of_lane), ix.corr, &p).to_array()
+            [ix.out as usize],
         7 => {
             let k = JensenCoefficients::<L::Scalar>::new(p.beta().max(0.01), p.a().max(0.01))
                 .unwrap_or_else(|_| unreachable!());
