@@ -303,6 +303,27 @@ impl Lane for f32x8 {
         let bits: i32x8 = (n.round_int() + i32x8::splat(127)) << 23;
         f32x8::from_bits(bits.cast_unsigned())
     }
+    /// On x86 one `maxps`: `rhs.fast_max(self)` is `rhs > self ? rhs : self`,
+    /// which is the trait's `self < rhs ? rhs : self` for every input, ±0
+    /// and NaN included (both comparisons are false on NaN and on ties).
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    ))]
+    #[inline]
+    fn max(self, rhs: Self) -> Self {
+        rhs.fast_max(self)
+    }
+    /// On x86 one `minps`: `rhs.fast_min(self)` is `rhs < self ? rhs : self`,
+    /// exactly the trait's definition.
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse"
+    ))]
+    #[inline]
+    fn min(self, rhs: Self) -> Self {
+        rhs.fast_min(self)
+    }
 }
 
 #[cfg(test)]
@@ -329,5 +350,30 @@ mod tests {
         assert_eq!(v.lane(3).to_bits(), Lane::max(p, m).to_bits());
         let v = <f32x8 as Lane>::min(f32x8::splat(m), f32x8::splat(p));
         assert_eq!(v.lane(0).to_bits(), Lane::min(m, p).to_bits());
+    }
+
+    #[test]
+    fn min_max_agree_with_scalar_on_every_special_pair() {
+        let specials = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::NAN,
+            -f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MIN_POSITIVE,
+            3.5,
+        ];
+        for &x in &specials {
+            for &y in &specials {
+                let (vx, vy) = (f32x8::splat(x), f32x8::splat(y));
+                let max = <f32x8 as Lane>::max(vx, vy).lane(5);
+                let min = <f32x8 as Lane>::min(vx, vy).lane(2);
+                assert_eq!(max.to_bits(), Lane::max(x, y).to_bits(), "max({x}, {y})");
+                assert_eq!(min.to_bits(), Lane::min(x, y).to_bits(), "min({x}, {y})");
+            }
+        }
     }
 }

@@ -65,6 +65,10 @@ struct Select {
         default_value = "exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar"
     )]
     models: Vec<Model>,
+    /// Search path METHOD-ARITH: direct|onepass|envelope - f32x8|f32|f64.
+    /// `parity` compares the f32x8 and f32 twins of its method.
+    #[arg(long, default_value_t = SearchPath::DEFAULT)]
+    path: SearchPath,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
@@ -225,7 +229,7 @@ fn run_fits(select: &Select) -> Result<(Vec<FitRecord>, f64), String> {
                 job.channel,
                 model,
                 &grid,
-                SearchPath::Simd,
+                select.path,
                 &|| bar.inc(1),
             );
             pairs += r.evaluated as f64 * r.measurements as f64;
@@ -275,15 +279,16 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
             } else {
                 grid.clone()
             };
-            let simd = error_surface(&job.scene, &g, corr, SearchPath::Simd);
-            let scalar = error_surface(&job.scene, &g, corr, SearchPath::Scalar);
+            let (simd_path, scalar_path) = select.path.twins();
+            let simd = error_surface(&job.scene, &g, corr, simd_path);
+            let scalar = error_surface(&job.scene, &g, corr, scalar_path);
             let equal = simd
                 .iter()
                 .zip(&scalar)
                 .filter(|(a, b)| a.to_bits() == b.to_bits())
                 .count();
             println!(
-                "sample {} channel {} model {}: {equal} of {} grid values identical",
+                "sample {} channel {} model {} ({simd_path} vs {scalar_path}): {equal} of {} grid values identical",
                 job.sample,
                 job.channel.name(),
                 model.name(),

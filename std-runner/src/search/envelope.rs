@@ -1,0 +1,117 @@
+//! Path 3, the closed-form β sweep. For the paper normalisation (conventions
+//! §4), with `X = (1 − β) S + β U` and `M(β) = max_k X_k`,
+//!
+//! `Σ (D − X/M)² = Σ D² − 2 (Σ X D) / M + (Σ X²) / M²`, where
+//! `Σ X D = (1 − β) Σ S D + β Σ U D` and
+//! `Σ X² = (1 − β)² Σ S² + 2 β (1 − β) Σ S U + β² Σ U²`,
+//!
+//! so six sums over the measurements (three per σ/T, three per (σ/T, n, a))
+//! give the error of every β. `M(β)` is the upper envelope of the lines
+//! `β ↦ (1 − β) S_k + β U_k`; on β ∈ [0, 1] only measurements on the Pareto
+//! front of `(S_k, U_k)` can attain it (a dominated point's mix is never
+//! larger, even after rounding, since every operation rounds monotonically),
+//! and the front is found in O(K) per (σ/T, n, a) from the order of `S`,
+//! which is sorted once per σ/T. Each β then costs O(front) instead of O(K).
+//!
+//! `S` and `U` are computed in the lane precision of the path (that is what
+//! the f32 variants trade for speed); they are widened exactly, and the sums,
+//! the envelope and the error are evaluated in `f64` in measurement order, so
+//! the `f32x8` path and its scalar twin agree bit for bit. The sums are exact
+//! enough in `f64` that the cancellation in the formula above (about 100× on
+//! CUReT fits) costs nothing visible.
+
+use super::packed::Packed;
+use laminar_core::{mix, Lane};
+
+/// Per-σ/T quantities: the widened surface term, its order, its sums.
+pub struct SurfaceSums {
+    s: Vec<f64>,
+    d: Vec<f64>,
+    /// Measurements by decreasing `S` (ties: increasing index).
+    order: Vec<usize>,
+    ss: f64,
+    sd: f64,
+    dd: f64,
+}
+
+impl SurfaceSums {
+    /// Widens `surface` and computes `Σ S²`, `Σ S D`, `Σ D²`.
+    pub fn new<L: Lane>(packed: &Packed<L>, surface: &[L]) -> Self {
+        let mut s = vec![0.0; packed.k];
+        let mut d = vec![0.0; packed.k];
+        packed.widen(surface, &mut s);
+        packed.widen(&packed.data, &mut d);
+        let mut order: Vec<usize> = (0..packed.k).collect();
+        order.sort_by(|&a, &b| s[b].total_cmp(&s[a]).then(a.cmp(&b)));
+        let ss = s.iter().map(|v| v * v).sum();
+        let sd = s.iter().zip(&d).map(|(a, b)| a * b).sum();
+        let dd = d.iter().map(|v| v * v).sum();
+        Self {
+            s,
+            d,
+            order,
+            ss,
+            sd,
+            dd,
+        }
+    }
+}
+
+/// Reusable per-shard buffers.
+#[derive(Default)]
+pub struct Scratch {
+    u: Vec<f64>,
+    /// The Pareto front as `(S_k, U_k)`, by decreasing `S` and increasing `U`.
+    front: Vec<(f64, f64)>,
+    /// Total front size over the sweeps (for the report).
+    pub front_total: usize,
+    /// Number of sweeps.
+    pub sweeps: usize,
+}
+
+/// Calls `visit(i_b, rms)` for every β of `betas`, in order, for one
+/// (σ/T, n, a) with normalised subsurface `subsurface`.
+pub fn sweep<L: Lane>(
+    packed: &Packed<L>,
+    surface: &SurfaceSums,
+    subsurface: &[L],
+    betas: &[f64],
+    scratch: &mut Scratch,
+    mut visit: impl FnMut(usize, f64),
+) {
+    let k = packed.k;
+    scratch.u.resize(k, 0.0);
+    packed.widen(subsurface, &mut scratch.u);
+    let u = &scratch.u;
+    let (mut uu, mut us, mut ud) = (0.0, 0.0, 0.0);
+    for i in 0..k {
+        uu += u[i] * u[i];
+        us += surface.s[i] * u[i];
+        ud += surface.d[i] * u[i];
+    }
+    scratch.front.clear();
+    let mut top = f64::NEG_INFINITY;
+    for &i in &surface.order {
+        if u[i] > top {
+            top = u[i];
+            scratch.front.push((surface.s[i], u[i]));
+        }
+    }
+    scratch.front_total += scratch.front.len();
+    scratch.sweeps += 1;
+    for (i_b, &beta) in betas.iter().enumerate() {
+        let m = scratch
+            .front
+            .iter()
+            .fold(0.0_f64, |m, &(s, u)| m.max(mix(beta, u, s)));
+        let e = if m > 0.0 {
+            let w = 1.0 - beta;
+            let xd = w * surface.sd + beta * ud;
+            let xx = w * w * surface.ss + 2.0 * beta * w * us + beta * beta * uu;
+            surface.dd - 2.0 * xd / m + xx / (m * m)
+        } else {
+            surface.dd
+        };
+        visit(i_b, 100.0 * e.max(0.0).sqrt() / k as f64);
+    }
+}

@@ -1,0 +1,209 @@
+//! A scene packed for the search: measurements in chunks of `L::LANES`, laid
+//! out so that every path sees each measurement at the same *global lane*,
+//! and the hoisted terms of the model (geometry once per scene, [`Interface`]
+//! once per (scene, n), absorption factor once per (scene, a)).
+
+use crate::grid::Grid;
+use crate::scene::Scene;
+use laminar_core::{
+    absorption_factor, inverse_slope_squared, subsurface_base, surface_radiance, Correlation,
+    Geometry, Interface, Lane, Real,
+};
+
+/// Global lanes: the lanes of the widest path, and the number of partial
+/// sums every path keeps, so that a scalar twin adds in the SIMD order.
+pub const WIDTH: usize = 8;
+
+/// Measurement `k` sits in chunk `k / WIDTH`, at global lane `k % WIDTH` =
+/// `stream · L::LANES + lane`. Chunks are stream-major: flat chunk index
+/// `stream · per_stream + chunk`. With `f32x8` there is one stream; with a
+/// scalar type there are eight, one per global lane.
+pub struct Packed<L> {
+    /// Geometry of each chunk (padding lanes repeat the last measurement).
+    pub geom: Vec<Geometry<L>>,
+    /// Normalised data `D` (0 in padding lanes).
+    pub data: Vec<L>,
+    /// 1 for a real measurement, 0 for padding.
+    pub valid: Vec<L>,
+    /// Chunks per stream.
+    pub per_stream: usize,
+    /// Number of measurements K.
+    pub k: usize,
+}
+
+impl<L: Lane> Packed<L> {
+    /// Packs `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        let streams = WIDTH / L::LANES;
+        let per_stream = scene.len().div_ceil(WIDTH);
+        let last = scene.len().saturating_sub(1);
+        let (mut geom, mut data, mut valid) = (Vec::new(), Vec::new(), Vec::new());
+        for s in 0..streams {
+            for c in 0..per_stream {
+                let k = move |lane: usize| c * WIDTH + s * L::LANES + lane;
+                geom.push(Geometry::from_lanes(|lane| scene.angles[k(lane).min(last)]));
+                data.push(L::from_f64_lanes(|lane| {
+                    scene.data.get(k(lane)).copied().unwrap_or(0.0)
+                }));
+                valid.push(L::from_f64_lanes(|lane| {
+                    if k(lane) < scene.len() {
+                        1.0
+                    } else {
+                        0.0
+                    }
+                }));
+            }
+        }
+        Self {
+            geom,
+            data,
+            valid,
+            per_stream,
+            k: scene.len(),
+        }
+    }
+
+    /// Number of streams (`WIDTH / L::LANES`).
+    pub fn streams(&self) -> usize {
+        WIDTH / L::LANES
+    }
+
+    /// Measurement index of lane `lane` of flat chunk `flat`, if not padding.
+    pub fn measurement(&self, flat: usize, lane: usize) -> Option<usize> {
+        let (s, c) = (flat / self.per_stream, flat % self.per_stream);
+        let k = c * WIDTH + s * L::LANES + lane;
+        (k < self.k).then_some(k)
+    }
+
+    /// The lane values of `values` widened to `f64`, in measurement order.
+    pub fn widen(&self, values: &[L], out: &mut [f64]) {
+        for (flat, v) in values.iter().enumerate() {
+            for lane in 0..L::LANES {
+                if let Some(k) = self.measurement(flat, lane) {
+                    out[k] = v.lane(lane).to_f64();
+                }
+            }
+        }
+    }
+
+    /// `Δ_RMS` (eq. 15) from the sum of squared residuals `e`, clamped at 0.
+    pub fn rms_from_sum(&self, e: L::Scalar) -> L::Scalar {
+        let e = e.max(L::Scalar::c(0.0));
+        L::Scalar::c(100.0) * e.sqrt() / L::Scalar::c(self.k as f64)
+    }
+}
+
+/// Largest lane value of `values` (exact, so order does not matter); 0 when
+/// every value is ≤ 0.
+pub fn max_of<L: Lane>(values: &[L]) -> L::Scalar {
+    let mut m = L::c(0.0);
+    for v in values {
+        m = m.max(*v);
+    }
+    lane_max(m)
+}
+
+/// Largest lane of one vector, at least 0.
+pub fn lane_max<L: Lane>(v: L) -> L::Scalar {
+    (0..L::LANES).fold(L::Scalar::c(0.0), |m, lane| m.max(v.lane(lane)))
+}
+
+/// `Σ` over the eight global lanes of per-stream partial sums, in a fixed order.
+pub fn lane_sum<L: Lane>(partial: &[L]) -> L::Scalar {
+    (0..WIDTH).fold(L::Scalar::c(0.0), |sum, g| {
+        sum + partial[g / L::LANES].lane(g % L::LANES)
+    })
+}
+
+/// `values / max(values)`, or zeros when the max is ≤ 0 (conventions §4).
+pub fn normalise<L: Lane>(values: &mut [L]) {
+    let m = max_of(values);
+    let zero = L::Scalar::c(0.0);
+    for v in values.iter_mut() {
+        *v = if m > zero {
+            *v / L::splat(m)
+        } else {
+            L::c(0.0)
+        };
+    }
+}
+
+/// Per-scene tables shared by every σ/T shard of the hoisted paths.
+pub struct Tables<L> {
+    /// The packed scene.
+    pub packed: Packed<L>,
+    /// `interfaces[n][flat chunk]`.
+    interfaces: Vec<Vec<Interface<L>>>,
+    /// `absorption[a][flat chunk]`.
+    absorption: Vec<Vec<L>>,
+}
+
+impl<L: Lane> Tables<L> {
+    /// Hoists the per-scene, per-(scene, n) and per-(scene, a) terms.
+    pub fn new(scene: &Scene, grid: &Grid) -> Self {
+        let packed = Packed::<L>::new(scene);
+        let interfaces = grid
+            .n
+            .values
+            .iter()
+            .map(|&n| {
+                packed
+                    .geom
+                    .iter()
+                    .map(|g| Interface::new(g, L::c(n)))
+                    .collect()
+            })
+            .collect();
+        let absorption = grid
+            .a
+            .values
+            .iter()
+            .map(|&a| {
+                packed
+                    .geom
+                    .iter()
+                    .map(|g| absorption_factor(g, L::c(a)))
+                    .collect()
+            })
+            .collect();
+        Self {
+            packed,
+            interfaces,
+            absorption,
+        }
+    }
+
+    /// The normalised surface term `S` (eqs. 1–2, conventions §4) at σ/T = `slope`.
+    pub fn surface(&self, corr: Correlation, slope: f64) -> Vec<L> {
+        let inv_s2 = inverse_slope_squared(L::c(slope));
+        let mut s: Vec<L> = (self.packed.geom.iter().zip(&self.packed.valid))
+            .map(|(g, v)| surface_radiance(g, corr, inv_s2) * *v)
+            .collect();
+        normalise(&mut s);
+        s
+    }
+
+    /// Calls `visit(i_n, i_a, U)` with the normalised subsurface term `U`
+    /// (eqs. 3–5, 12–14) of every (n, a) at σ/T = `slope`, in loop order.
+    pub fn for_each_subsurface(
+        &self,
+        corr: Correlation,
+        slope: f64,
+        mut visit: impl FnMut(usize, usize, &[L]),
+    ) {
+        let inv_s2 = inverse_slope_squared(L::c(slope));
+        let mut u = vec![L::c(0.0); self.packed.geom.len()];
+        for (i_n, ifaces) in self.interfaces.iter().enumerate() {
+            let base: Vec<L> = (ifaces.iter().zip(&self.packed.valid))
+                .map(|(f, v)| subsurface_base(f, corr, inv_s2) * *v)
+                .collect();
+            for (i_a, att) in self.absorption.iter().enumerate() {
+                for ((u, b), f) in u.iter_mut().zip(&base).zip(att) {
+                    *u = *b * *f;
+                }
+                normalise(&mut u);
+                visit(i_n, i_a, &u);
+            }
+        }
+    }
+}
