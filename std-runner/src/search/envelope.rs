@@ -84,10 +84,10 @@ pub fn sweep<L: Lane>(
     packed.widen(subsurface, &mut scratch.u);
     let u = &scratch.u;
     let (mut uu, mut us, mut ud) = (0.0, 0.0, 0.0);
-    for i in 0..k {
-        uu += u[i] * u[i];
-        us += surface.s[i] * u[i];
-        ud += surface.d[i] * u[i];
+    for ((u, s), d) in u.iter().zip(&surface.s).zip(&surface.d) {
+        uu += u * u;
+        us += s * u;
+        ud += d * u;
     }
     scratch.front.clear();
     let mut top = f64::NEG_INFINITY;
