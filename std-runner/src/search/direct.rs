@@ -7,14 +7,10 @@ use super::packed::{lane_max, lane_sum, normalise, Packed, WIDTH};
 use crate::grid::Grid;
 use laminar_core::{components, mix, Correlation, Lane, Params};
 
-/// `Δ_RMS` (eq. 15) of the paper-normalised mix `β U + (1 − β) S` (conventions
-/// §4): one pass for the max of the mix, a second for the squared residuals.
-pub fn two_pass_rms<L: Lane>(
-    packed: &Packed<L>,
-    surface: &[L],
-    subsurface: &[L],
-    beta: L,
-) -> L::Scalar {
+/// The sum of squared residuals `Σ (D − P)²` of the paper-normalised mix
+/// `P = β U + (1 − β) S` (conventions §4; eq. 15 before the root): one pass
+/// for the max of the mix, a second for the residuals.
+pub fn two_pass_sum<L: Lane>(packed: &Packed<L>, surface: &[L], subsurface: &[L], beta: L) -> f64 {
     let mut m = L::c(0.0);
     for (s, u) in surface.iter().zip(subsurface) {
         m = m.max(mix(beta, *u, *s));
@@ -39,17 +35,18 @@ pub fn two_pass_rms<L: Lane>(
             *a = *a + e * e;
         }
     }
-    packed.rms_from_sum(lane_sum(&acc))
+    Packed::<L>::objective(lane_sum(&acc))
 }
 
-/// Visits every (n, a, β) of slope index `i_s` in loop order with its RMS,
+/// Visits every (n, a, β) of slope index `i_s` in loop order with its sum of
+/// squared residuals,
 /// evaluating the whole model for every parameter set.
 pub fn shard<L: Lane>(
     packed: &Packed<L>,
     grid: &Grid,
     corr: Correlation,
     i_s: usize,
-    mut visit: impl FnMut(usize, L::Scalar),
+    mut visit: impl FnMut(usize, f64),
 ) {
     let chunks = packed.geom.len();
     let (mut surface, mut subsurface) = (vec![L::c(0.0); chunks], vec![L::c(0.0); chunks]);
@@ -67,7 +64,7 @@ pub fn shard<L: Lane>(
                 normalise(&mut subsurface);
                 visit(
                     grid.flat(i_s, i_n, i_a, i_b),
-                    two_pass_rms(packed, &surface, &subsurface, L::c(beta)),
+                    two_pass_sum(packed, &surface, &subsurface, L::c(beta)),
                 );
             }
         }

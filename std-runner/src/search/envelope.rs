@@ -11,7 +11,12 @@
 //! front of `(S_k, U_k)` can attain it (a dominated point's mix is never
 //! larger, even after rounding, since every operation rounds monotonically),
 //! and the front is found in O(K) per (σ/T, n, a) from the order of `S`,
-//! which is sorted once per σ/T. Each β then costs O(front) instead of O(K).
+//! which is sorted once per σ/T. Along the front the slopes `U_k − S_k`
+//! increase, so the upper hull of its lines is one monotone-stack pass, and a
+//! pointer walked along the hull gives `M(β)` in amortised O(1) per β
+//! (instead of O(K)). The hull drops lines that are never the maximum in
+//! exact arithmetic; after rounding `M` is the full max to within an ulp or
+//! two, which the tests against the direct path bound.
 //!
 //! `S` and `U` are computed in the lane precision of the path (that is what
 //! the f32 variants trade for speed); they are widened exactly, and the sums,
@@ -63,13 +68,15 @@ pub struct Scratch {
     u: Vec<f64>,
     /// The Pareto front as `(S_k, U_k)`, by decreasing `S` and increasing `U`.
     front: Vec<(f64, f64)>,
+    /// The upper hull of the front's lines, as `(S_k, U_k)`.
+    hull: Vec<(f64, f64)>,
     /// Total front size over the sweeps (for the report).
     pub front_total: usize,
     /// Number of sweeps.
     pub sweeps: usize,
 }
 
-/// Calls `visit(i_b, rms)` for every β of `betas`, in order, for one
+/// Calls `visit(i_b, Σ (D − P)²)` for every β of `betas`, in order, for one
 /// (σ/T, n, a) with normalised subsurface `subsurface`.
 pub fn sweep<L: Lane>(
     packed: &Packed<L>,
@@ -99,11 +106,18 @@ pub fn sweep<L: Lane>(
     }
     scratch.front_total += scratch.front.len();
     scratch.sweeps += 1;
+    upper_hull(&scratch.front, &mut scratch.hull);
+    let hull = &scratch.hull;
+    let mut p = 0;
     for (i_b, &beta) in betas.iter().enumerate() {
-        let m = scratch
-            .front
-            .iter()
-            .fold(0.0_f64, |m, &(s, u)| m.max(mix(beta, u, s)));
+        let value = |i: usize| mix(beta, hull[i].1, hull[i].0);
+        while p + 1 < hull.len() && value(p + 1) >= value(p) {
+            p += 1;
+        }
+        while p > 0 && value(p - 1) > value(p) {
+            p -= 1;
+        }
+        let m = value(p);
         let e = if m > 0.0 {
             let w = 1.0 - beta;
             let xd = w * surface.sd + beta * ud;
@@ -112,6 +126,24 @@ pub fn sweep<L: Lane>(
         } else {
             surface.dd
         };
-        visit(i_b, 100.0 * e.max(0.0).sqrt() / k as f64);
+        visit(i_b, e.max(0.0));
+    }
+}
+
+/// The upper envelope of the lines `β ↦ S + β (U − S)` of `front` (slopes
+/// strictly increasing), by the monotone-stack convex-hull pass: the middle of
+/// three lines goes when the outer two meet at or before where it meets the first.
+fn upper_hull(front: &[(f64, f64)], hull: &mut Vec<(f64, f64)>) {
+    hull.clear();
+    for &(s, u) in front {
+        while let [.., (s1, u1), (s2, u2)] = hull[..] {
+            let (b1, b2, b3) = (u1 - s1, u2 - s2, u - s);
+            if (s1 - s) * (b2 - b1) <= (s1 - s2) * (b3 - b1) {
+                hull.pop();
+            } else {
+                break;
+            }
+        }
+        hull.push((s, u));
     }
 }

@@ -23,7 +23,7 @@ pub mod packed;
 
 use crate::grid::Grid;
 use crate::scene::Scene;
-use laminar_core::{f32x8, Correlation, Lane, Real};
+use laminar_core::{f32x8, Correlation, Lane};
 use packed::{Packed, Tables};
 use rayon::prelude::*;
 use std::fmt;
@@ -136,8 +136,9 @@ impl<L: Lane> Prepared<L> {
         }
     }
 
-    /// Visits every (n, a, β) of slope index `i_s` in loop order with its RMS
-    /// (widened to `f64`); returns (total Pareto-front size, sweeps) for the
+    /// Visits every (n, a, β) of slope index `i_s` in loop order with its
+    /// objective, the sum of squared residuals `Σ (D − P)²` (eq. 15 before
+    /// the root, widened to `f64`); returns (total Pareto-front size, sweeps) for the
     /// envelope method, (0, 0) otherwise.
     fn shard(
         &self,
@@ -150,7 +151,7 @@ impl<L: Lane> Prepared<L> {
         let slope = grid.slope.values[i_s];
         let tables = match self {
             Self::Direct(packed) => {
-                direct::shard(packed, grid, corr, i_s, |f, r| visit(f, r.to_f64()));
+                direct::shard(packed, grid, corr, i_s, &mut visit);
                 return (0, 0);
             }
             Self::Hoisted(tables) => tables,
@@ -175,7 +176,7 @@ impl<L: Lane> Prepared<L> {
             let betas: Vec<L> = grid.beta.values.iter().map(|&b| L::c(b)).collect();
             tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
                 one_pass::sweep(packed, &surface, u, &betas, |i_b, r| {
-                    visit(grid.flat(i_s, i_n, i_a, i_b), r.to_f64())
+                    visit(grid.flat(i_s, i_n, i_a, i_b), r)
                 });
             });
             (0, 0)
@@ -197,10 +198,16 @@ pub struct SearchResult {
     pub mean_front: Option<f64>,
 }
 
-/// A grid point's flat index and RMS.
+/// `Δ_RMS` (eq. 15) from the sum of squared residuals `e` over `k` measurements.
+pub fn rms_of_sum(e: f64, k: usize) -> f64 {
+    100.0 * e.sqrt() / k as f64
+}
+
+/// A grid point's flat index and objective (sum of squared residuals).
 type Candidate = Option<(usize, f64)>;
 
-/// Strictly-better update (keeps the smallest flat index on ties).
+/// Strictly-better update (keeps the smallest flat index on ties of the
+/// objective; the RMS is a monotone function of it).
 fn better(current: Candidate, flat: usize, rms: f64) -> Candidate {
     match current {
         Some((_, r)) if rms >= r => current,
@@ -229,10 +236,10 @@ fn search_with<L: Lane + Send + Sync>(
         .into_par_iter()
         .map(|i_s| {
             let (mut best, mut rh) = (None, None);
-            let front = prepared.shard(method, grid, corr, i_s, |flat, rms| {
-                best = better(best, flat, rms);
+            let front = prepared.shard(method, grid, corr, i_s, |flat, e| {
+                best = better(best, flat, e);
                 if zero_a == Some((flat / per_a) % grid.a.len()) {
-                    rh = better(rh, flat, rms);
+                    rh = better(rh, flat, e);
                 }
             });
             progress();
@@ -249,11 +256,11 @@ fn search_with<L: Lane + Send + Sync>(
         }
         front = (front.0 + s.front.0, front.1 + s.front.1);
     }
-    let (best, best_rms) = best.unwrap_or((0, f64::INFINITY));
+    let (best, best_sum) = best.unwrap_or((0, f64::INFINITY));
     SearchResult {
         best,
-        best_rms,
-        rh_best: rh,
+        best_rms: rms_of_sum(best_sum, scene.len()),
+        rh_best: rh.map(|(flat, e)| (flat, rms_of_sum(e, scene.len()))),
         mean_front: (front.1 > 0).then(|| front.0 as f64 / front.1 as f64),
     }
 }
@@ -288,8 +295,8 @@ pub fn error_surface(scene: &Scene, grid: &Grid, corr: Correlation, path: Path) 
         out.par_chunks_mut(per_slope)
             .enumerate()
             .for_each(|(i_s, slice)| {
-                prepared.shard(method, grid, corr, i_s, |flat, rms| {
-                    slice[flat - i_s * per_slope] = rms
+                prepared.shard(method, grid, corr, i_s, |flat, e| {
+                    slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });
         out

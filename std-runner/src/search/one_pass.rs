@@ -23,14 +23,14 @@ struct Sums<L> {
     xx: L,
 }
 
-/// Calls `visit(i_b, rms)` for every β of `betas`, in order, for one
+/// Calls `visit(i_b, Σ (D − P)²)` for every β of `betas`, in order, for one
 /// (σ/T, n, a) with normalised surface `surface` and subsurface `subsurface`.
 pub fn sweep<L: Lane>(
     packed: &Packed<L>,
     surface: &[L],
     subsurface: &[L],
     betas: &[L],
-    mut visit: impl FnMut(usize, L::Scalar),
+    mut visit: impl FnMut(usize, f64),
 ) {
     let zero = L::Scalar::c(0.0);
     let one = L::Scalar::c(1.0);
@@ -79,6 +79,6 @@ pub fn sweep<L: Lane>(
             // Every X is 0, so P = 0 and r = D.
             rr
         };
-        visit(i_b, packed.rms_from_sum(e));
+        visit(i_b, Packed::<L>::objective(e));
     }
 }

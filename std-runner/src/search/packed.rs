@@ -68,28 +68,22 @@ impl<L: Lane> Packed<L> {
         WIDTH / L::LANES
     }
 
-    /// Measurement index of lane `lane` of flat chunk `flat`, if not padding.
-    pub fn measurement(&self, flat: usize, lane: usize) -> Option<usize> {
-        let (s, c) = (flat / self.per_stream, flat % self.per_stream);
-        let k = c * WIDTH + s * L::LANES + lane;
-        (k < self.k).then_some(k)
-    }
-
     /// The lane values of `values` widened to `f64`, in measurement order.
     pub fn widen(&self, values: &[L], out: &mut [f64]) {
-        for (flat, v) in values.iter().enumerate() {
-            for lane in 0..L::LANES {
-                if let Some(k) = self.measurement(flat, lane) {
-                    out[k] = v.lane(lane).to_f64();
+        for (s, stream) in values.chunks_exact(self.per_stream).enumerate() {
+            for (c, v) in stream.iter().enumerate() {
+                let first = c * WIDTH + s * L::LANES;
+                for lane in 0..L::LANES.min(self.k.saturating_sub(first)) {
+                    out[first + lane] = v.lane(lane).to_f64();
                 }
             }
         }
     }
 
-    /// `Δ_RMS` (eq. 15) from the sum of squared residuals `e`, clamped at 0.
-    pub fn rms_from_sum(&self, e: L::Scalar) -> L::Scalar {
-        let e = e.max(L::Scalar::c(0.0));
-        L::Scalar::c(100.0) * e.sqrt() / L::Scalar::c(self.k as f64)
+    /// The sum of squared residuals `e` clamped at 0 and widened to `f64`:
+    /// what every method hands to the search.
+    pub fn objective(e: L::Scalar) -> f64 {
+        e.max(L::Scalar::c(0.0)).to_f64()
     }
 }
 
