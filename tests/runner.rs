@@ -8,7 +8,7 @@ use laminar_runner::fit::fit;
 use laminar_runner::grid::{Axis, Grid};
 use laminar_runner::model::Model;
 use laminar_runner::search::{error_surface, point, search, Arith, Method, Path};
-use laminar_runner::selection::{jobs, PAPER_SAMPLES};
+use laminar_runner::selection::{jobs, Job, PAPER_SAMPLES};
 use laminar_runner::synthetic;
 use std::path::{Path as FsPath, PathBuf};
 
@@ -131,9 +131,7 @@ fn results_do_not_depend_on_thread_count() {
             .unwrap()
             .install(|| {
                 fit(
-                    &scene,
-                    "s",
-                    Channel::Avg,
+                    &Job::new("s", Channel::Avg, scene.clone()),
                     Model::Exp,
                     &grid,
                     Path::DEFAULT,
@@ -184,18 +182,14 @@ fn ragheb_hancock_slice_equals_its_own_search() {
     let grid = test_grid();
     let scene = synthetic::default_scene();
     let full = fit(
-        &scene,
-        "s",
-        Channel::Avg,
+        &Job::new("s", Channel::Avg, scene.clone()),
         Model::Gauss,
         &grid,
         Path::DEFAULT,
         &|| {},
     );
     let rh = fit(
-        &scene,
-        "s",
-        Channel::Avg,
+        &Job::new("s", Channel::Avg, scene.clone()),
         Model::RhGauss,
         &grid,
         Path::DEFAULT,
@@ -318,15 +312,7 @@ fn per_channel_files_are_read_and_fitted() {
     };
     for j in &js {
         assert_eq!(j.scene.len(), 12);
-        let r = fit(
-            &j.scene,
-            &j.sample,
-            j.channel,
-            Model::Exp,
-            &grid,
-            Path::DEFAULT,
-            &|| {},
-        );
+        let r = fit(j, Model::Exp, &grid, Path::DEFAULT, &|| {});
         assert!(r.best.rms.is_finite());
     }
 }
@@ -357,15 +343,7 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
             (Model::Exp, Correlation::Exponential),
             (Model::Gauss, Correlation::Gaussian),
         ] {
-            let r = fit(
-                &j.scene,
-                &j.sample,
-                j.channel,
-                model,
-                &grid,
-                Path::DEFAULT,
-                &|| {},
-            );
+            let r = fit(j, model, &grid, Path::DEFAULT, &|| {});
             assert!(
                 r.best.rms.is_finite() && r.best.rms < 5.0,
                 "sample {} {model}: rms {}",
@@ -395,4 +373,117 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
         "CUReT parity: {identical} of {} grid values identical",
         2 * 26 * grid.size()
     );
+}
+
+/// A CUReT-format directory of `rows` synthetic geometries with samples 19
+/// and 21 in `abrdf.dat` and `rbrdf.dat` (radiance made by the exp model).
+fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
+    let d = tempfile::tempdir().unwrap();
+    let angles = synthetic::geometries();
+    let mut table = String::new();
+    for (i, a) in angles.iter().take(rows).enumerate() {
+        let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
+        table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
+    }
+    write(d.path(), "table.txt", &table);
+    for (file, scale) in [("abrdf.dat", 1.0), ("rbrdf.dat", 0.7)] {
+        let mut text = String::new();
+        for (sample, beta) in [(19, 0.3), (21, 0.5)] {
+            let p = Params::new(1.48, beta, 1.44, 0.2).unwrap();
+            let values: Vec<String> = angles[..rows]
+                .iter()
+                .map(|a| {
+                    let g = laminar_core::Geometry::<f64>::splat(a);
+                    let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
+                    // BRDF = radiance / cos θi (conventions §4).
+                    format!("{:.6}", scale * l / a.theta_i().cos())
+                })
+                .collect();
+            text += &format!("{sample} {}\n", values.join(" "));
+        }
+        write(d.path(), file, &text);
+    }
+    d
+}
+
+#[test]
+fn reproduce_writes_every_table_and_figure() {
+    use laminar_runner::reproduce::{reproduce, FITTED};
+    let d = synthetic_curet_dir(40);
+    write(d.path(), "op.dat", "21 0.6 0.25 1.0\n");
+    let js = jobs(Some(d.path()), &[], Some(&[19, 21])).unwrap();
+    assert_eq!(js.len(), 4, "2 samples × (avg, r)");
+    let grid = Grid {
+        slope: Axis::stepped(1.32, 0.08, 5),
+        a: Axis::stepped(0.0, 0.1, 5),
+        ..Grid::paper()
+    };
+    let out = d.path().join("out");
+    let r = reproduce(&js, &grid, Path::DEFAULT, &out, &|| {}).unwrap();
+    assert_eq!(r.records.len(), 4 * FITTED.len());
+    for name in [
+        "table2_rms",
+        "table3_exp_params",
+        "table4_gauss_params",
+        "table5_chi2",
+    ] {
+        let md = std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap();
+        let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+        assert!(md.starts_with("## Table "), "{name}");
+        // Header plus one row per (sample, channel).
+        assert_eq!(csv.lines().count(), 1 + 4, "{name}:\n{csv}");
+        assert!(csv.starts_with("sample,material,channel,"), "{name}");
+    }
+    let rms = std::fs::read_to_string(out.join("table2_rms.csv")).unwrap();
+    assert!(
+        rms.starts_with("sample,material,channel,exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar\n")
+    );
+    assert!(rms.contains("21,Sponge,r,"));
+    let fig2 = std::fs::read_to_string(out.join("fig2_transmission_absorption.svg")).unwrap();
+    assert!(fig2.contains("<svg") && fig2.contains("a = 0.5"));
+    // One data-against-model figure per model (6) and job of samples 19, 21.
+    let figures = r
+        .files
+        .iter()
+        .filter(|f| f.to_string_lossy().contains("fig_sample"))
+        .count();
+    assert_eq!(figures, 6 * 4);
+    assert!(out.join("fig_sample21_rh-gauss_r.svg").exists());
+    // op.dat supplies sample 21's avg Oren–Nayar parameters: no search there.
+    let on = |sample: &str, channel: Channel| {
+        r.records
+            .iter()
+            .find(|x| x.sample == sample && x.channel == channel && x.model == Model::OrenNayar)
+            .unwrap()
+    };
+    let given = on("21", Channel::Avg);
+    assert_eq!(given.evaluated, 1);
+    assert_eq!(given.best.get("sigma"), Some(0.25));
+    assert_eq!(given.best.get("rho"), Some(0.6));
+    assert!(
+        on("21", Channel::R).evaluated > 1,
+        "no opr.dat: grid search"
+    );
+    assert!(on("19", Channel::Avg).evaluated > 1, "19 not in op.dat");
+}
+
+#[test]
+fn bad_oren_nayar_files_name_file_line_and_value() {
+    let d = synthetic_curet_dir(12);
+    for (text, needles) in [
+        ("21 0.6 0.25\n", &["op.dat:1", "4 columns"][..]),
+        (
+            "21 0.6 20 1\n",
+            &["op.dat:1", "column 3", "`20`", "radians"],
+        ),
+        ("21 1.6 0.2 1\n", &["op.dat:1", "column 2", "`1.6`"]),
+        ("21 0.5 0.2 1\n21 0.5 0.2 1\n", &["op.dat:2", "twice"]),
+        ("21 0.5 x 1\n", &["op.dat:1", "`x` is not a number"]),
+    ] {
+        write(d.path(), "op.dat", text);
+        let e = jobs(Some(d.path()), &[], Some(&[21])).unwrap_err();
+        for n in needles {
+            assert!(e.contains(n), "error `{e}` lacks `{n}`");
+        }
+    }
 }

@@ -211,6 +211,87 @@ pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, DataE
     Ok(rows)
 }
 
+/// One row of a CUReT Oren–Nayar parameter file (`op.dat`, `opr.dat`,
+/// `opg.dat`, `opb.dat`; rows `sample rho sigma kd`, conventions §7).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrenNayarRow {
+    /// CUReT sample number.
+    pub sample: u32,
+    /// Albedo ρ ∈ [0, 1].
+    pub rho: f64,
+    /// Roughness σ in radians, ∈ [0, π/2].
+    pub sigma: f64,
+    /// Diffuse scale k_d (cancels under max normalisation; kept for output).
+    pub kd: f64,
+}
+
+/// Reads an Oren–Nayar parameter file; σ must be in radians (a value above
+/// π/2, as a file in degrees would have, is an error naming it).
+pub fn read_oren_nayar(file: &Path) -> Result<Vec<OrenNayarRow>, DataError> {
+    let mut rows: Vec<OrenNayarRow> = Vec::new();
+    for (line, text) in read_lines(file)? {
+        let fields: Vec<&str> = text.split_whitespace().collect();
+        if fields.len() != 4 {
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "expected 4 columns `sample rho sigma kd`, found {}",
+                    fields.len()
+                ),
+            ));
+        }
+        let sample = fields[0]
+            .parse::<u32>()
+            .ok()
+            .filter(|&s| s > 0)
+            .ok_or_else(|| {
+                err(
+                    file,
+                    line,
+                    format!(
+                        "column 1: sample number `{}` is not a positive integer",
+                        fields[0]
+                    ),
+                )
+            })?;
+        if rows.iter().any(|r| r.sample == sample) {
+            return Err(err(
+                file,
+                line,
+                format!("column 1: sample {sample} appears twice"),
+            ));
+        }
+        let rho = number(file, line, 2, fields[1])?;
+        let sigma = number(file, line, 3, fields[2])?;
+        let kd = number(file, line, 4, fields[3])?;
+        if !(0.0..=1.0).contains(&rho) {
+            return Err(err(
+                file,
+                line,
+                format!("column 2: rho `{}` is outside [0, 1]", fields[1]),
+            ));
+        }
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&sigma) {
+            return Err(err(
+                file,
+                line,
+                format!(
+                    "column 3: sigma `{}` is outside [0, π/2] radians (degrees are not accepted)",
+                    fields[2]
+                ),
+            ));
+        }
+        rows.push(OrenNayarRow {
+            sample,
+            rho,
+            sigma,
+            kd,
+        });
+    }
+    Ok(rows)
+}
+
 /// A colour channel of the CUReT BRDF files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Channel {
@@ -245,6 +326,16 @@ impl Channel {
             Self::R => "rbrdf.dat",
             Self::G => "gbrdf.dat",
             Self::B => "bbrdf.dat",
+        }
+    }
+
+    /// The CUReT Oren–Nayar parameter file of this channel.
+    pub fn oren_nayar_file_name(self) -> &'static str {
+        match self {
+            Self::Avg => "op.dat",
+            Self::R => "opr.dat",
+            Self::G => "opg.dat",
+            Self::B => "opb.dat",
         }
     }
 

@@ -6,6 +6,7 @@ use crate::grid::{Axis, Grid};
 use crate::model::{predict_jensen, predict_layered, predict_oren_nayar, Model};
 use crate::scene::Scene;
 use crate::search::{point, search, Path};
+use crate::selection::Job;
 use laminar_core::baselines::jensen::{JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{OrenNayarCoefficients, OrenNayarGeometry};
 use laminar_core::{chi_square_per_dof, rms_error, ChiSquare, Params};
@@ -100,6 +101,39 @@ pub fn oren_nayar_grid() -> (Axis, Axis) {
     (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
 }
 
+/// The f64 normalised prediction of `model` at `estimate` (for plots).
+pub fn prediction(scene: &Scene, model: Model, estimate: &Estimate) -> Vec<f64> {
+    let get = |name| estimate.get(name).unwrap_or(0.0);
+    match model.correlation() {
+        Some(corr) => match Params::new(get("slope"), get("beta"), get("n"), get("a")) {
+            Ok(p) => predict_layered(scene, corr, &p),
+            Err(_) => vec![0.0; scene.len()],
+        },
+        None if model == Model::Jensen => {
+            let geometry: Vec<JensenGeometry<f64>> = scene
+                .angles
+                .iter()
+                .map(|a| JensenGeometry::from_lanes(|_| *a))
+                .collect();
+            match JensenCoefficients::<f64>::new(get("sigma_a"), get("sigma_s")) {
+                Ok(k) => predict_jensen(&geometry, &k),
+                Err(_) => vec![0.0; scene.len()],
+            }
+        }
+        None => {
+            let geometry: Vec<OrenNayarGeometry<f64>> = scene
+                .angles
+                .iter()
+                .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
+                .collect();
+            match OrenNayarCoefficients::<f64>::new(get("sigma"), get("rho")) {
+                Ok(k) => predict_oren_nayar(&geometry, &k),
+                Err(_) => vec![0.0; scene.len()],
+            }
+        }
+    }
+}
+
 /// Exhaustive 2-D search in f64; ties keep the first point in row-major order.
 fn grid2<G: Sync>(
     scene: &Scene,
@@ -131,17 +165,16 @@ fn grid2<G: Sync>(
 /// Fits `model` to `scene`. Layered models use `grid` (a fixed at 0 for the
 /// Ragheb–Hancock variants) on `path`; `progress` is called once per shard.
 pub fn fit(
-    scene: &Scene,
-    sample: &str,
-    channel: Channel,
+    job: &Job,
     model: Model,
     grid: &Grid,
     path: Path,
     progress: &(dyn Fn() + Sync),
 ) -> FitRecord {
+    let scene = &job.scene;
     let record = |best, rh, search_rms, evaluated| FitRecord {
-        sample: sample.to_string(),
-        channel,
+        sample: job.sample.clone(),
+        channel: job.channel,
         model,
         best,
         rh,
@@ -196,16 +229,27 @@ pub fn fit(
                 .iter()
                 .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
                 .collect();
-            let (sigma, rho) = oren_nayar_grid();
             let coefficients =
-                |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain");
-            let (rms, x, y) = grid2(scene, &sigma, &rho, &geometry, |g, x, y| {
-                predict_oren_nayar(g, &coefficients(x, y))
-            });
+                |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("validated domain");
+            let (rms, x, y, evaluated) = match job.oren_nayar {
+                // The data set's own parameters (conventions §7): nothing to search.
+                Some(given) => {
+                    let p = predict_oren_nayar(&geometry, &coefficients(given.sigma, given.rho));
+                    let rms = rms_error(&scene.data, &p).unwrap_or(f64::NAN);
+                    (rms, given.sigma, given.rho, 1)
+                }
+                None => {
+                    let (sigma, rho) = oren_nayar_grid();
+                    let (rms, x, y) = grid2(scene, &sigma, &rho, &geometry, |g, x, y| {
+                        predict_oren_nayar(g, &coefficients(x, y))
+                    });
+                    (rms, x, y, sigma.len() * rho.len())
+                }
+            };
             let prediction = predict_oren_nayar(&geometry, &coefficients(x, y));
             let best = Estimate::new(scene, vec![("sigma", x), ("rho", y)], &prediction, 2);
             progress();
-            record(best, None, rms, sigma.len() * rho.len())
+            record(best, None, rms, evaluated)
         }
     }
 }

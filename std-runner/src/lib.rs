@@ -6,11 +6,14 @@
 //! scalar twin. The `laminar` binary is the command-line front end.
 
 pub mod data;
+pub mod figures;
 pub mod fit;
 pub mod grid;
 pub mod model;
 pub mod report;
+pub mod reproduce;
 pub mod scene;
 pub mod search;
 pub mod selection;
 pub mod synthetic;
+pub mod tables;

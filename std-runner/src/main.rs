@@ -6,9 +6,9 @@ use laminar_core::{components, Angles, Components, Correlation, Geometry, Params
 use laminar_runner::fit::{fit, FitRecord};
 use laminar_runner::grid::{Axis, Grid};
 use laminar_runner::model::Model;
-use laminar_runner::report;
 use laminar_runner::search::{error_surface, Path as SearchPath};
 use laminar_runner::selection::{jobs, parse_samples, Job, PAPER_SAMPLES};
+use laminar_runner::{report, reproduce};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -45,6 +45,14 @@ enum Command {
     },
     /// Evaluate the model at given geometries (radians), un-normalised, as CSV.
     Eval(EvalArgs),
+    /// Reproduce the paper's experiment: Tables II–V (Markdown, CSV) and figures (SVG).
+    Reproduce {
+        #[command(flatten)]
+        select: Select,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 #[derive(Args)]
@@ -223,15 +231,7 @@ fn run_fits(select: &Select) -> Result<(Vec<FitRecord>, f64), String> {
     let mut pairs = 0.0;
     for job in &jobs {
         for &model in &select.models {
-            let r = fit(
-                &job.scene,
-                &job.sample,
-                job.channel,
-                model,
-                &grid,
-                select.path,
-                &|| bar.inc(1),
-            );
+            let r = fit(job, model, &grid, select.path, &|| bar.inc(1));
             pairs += r.evaluated as f64 * r.measurements as f64;
             records.push(r);
         }
@@ -302,6 +302,33 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
     println!("parity: {same} of {all} grid values identical");
     report_time("parity", start, pairs);
     Ok(same == all)
+}
+
+fn cmd_reproduce(select: &Select, out: &std::path::Path) -> Result<(), String> {
+    let start = Instant::now();
+    if select.data.is_none() {
+        return Err(
+            "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),
+        );
+    }
+    let (grid, jobs) = select.setup()?;
+    let total = jobs.len() as u64
+        * reproduce::FITTED
+            .iter()
+            .map(|&m| shards(m, &grid))
+            .sum::<u64>();
+    let bar = progress(total, "reproduce");
+    let r = reproduce::reproduce(&jobs, &grid, select.path, out, &|| bar.inc(1))?;
+    bar.finish_and_clear();
+    eprintln!(
+        "reproduce: {} fits of {} jobs, {} files written to {}",
+        r.records.len(),
+        jobs.len(),
+        r.files.len(),
+        out.display()
+    );
+    report_time("reproduce", start, r.pairs);
+    Ok(())
 }
 
 fn read_geometry_csv(path: &PathBuf) -> Result<Vec<Angles>, String> {
@@ -399,6 +426,7 @@ fn main() -> ExitCode {
         } => cmd_fit(select, *format, out.as_ref()).map(|_| true),
         Command::Parity { select } => cmd_parity(select),
         Command::Eval(args) => cmd_eval(args).map(|_| true),
+        Command::Reproduce { select, out } => cmd_reproduce(select, out).map(|_| true),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

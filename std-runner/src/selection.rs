@@ -1,7 +1,7 @@
 //! Which data a command runs on: the built-in synthetic scene, or samples and
 //! channels of CUReT files in a directory.
 
-use crate::data::{read_brdf, read_table, Channel};
+use crate::data::{read_brdf, read_oren_nayar, read_table, Channel, OrenNayarRow};
 use crate::scene::Scene;
 use crate::synthetic;
 use std::path::{Path, PathBuf};
@@ -18,6 +18,42 @@ pub struct Job {
     pub channel: Channel,
     /// The scene.
     pub scene: Scene,
+    /// Oren–Nayar parameters given by the data set (`op.dat` and per-channel
+    /// files, conventions §7), used instead of the Oren–Nayar grid search.
+    pub oren_nayar: Option<OrenNayarRow>,
+}
+
+impl Job {
+    /// A job without given Oren–Nayar parameters.
+    pub fn new(sample: impl Into<String>, channel: Channel, scene: Scene) -> Self {
+        Self {
+            sample: sample.into(),
+            channel,
+            scene,
+            oren_nayar: None,
+        }
+    }
+}
+
+/// Material names of the paper's samples (conventions §8).
+pub fn material(sample: &str) -> &'static str {
+    match sample {
+        "1" => "Felt",
+        "3" => "Terry Cloth",
+        "7" => "Velvet",
+        "18" => "Rug-A",
+        "19" => "Rug-B",
+        "21" => "Sponge",
+        "25" => "Quarry Tile",
+        "48" => "Brown Bread",
+        "51" => "Corn Husk",
+        "52" => "White Bread",
+        "53" => "Soleirolia Plant",
+        "55" => "Orange Peel",
+        "61" => "Moss",
+        "synthetic" => "built-in synthetic scene",
+        _ => "",
+    }
 }
 
 /// Parses `--samples`: `all` or a comma-separated list of positive integers.
@@ -48,11 +84,11 @@ pub fn jobs(
         if !brdf.is_empty() {
             return Err("--brdf needs --data DIR (or CURET_DIR) for the geometry table".into());
         }
-        return Ok(vec![Job {
-            sample: "synthetic".into(),
-            channel: Channel::Avg,
-            scene: synthetic::default_scene(),
-        }]);
+        return Ok(vec![Job::new(
+            "synthetic",
+            Channel::Avg,
+            synthetic::default_scene(),
+        )]);
     };
     let table = read_table(&dir.join("table.txt")).map_err(|e| e.to_string())?;
     let files: Vec<PathBuf> = if brdf.is_empty() {
@@ -82,6 +118,12 @@ pub fn jobs(
     for file in &files {
         let rows = read_brdf(file, table.len()).map_err(|e| e.to_string())?;
         let channel = Channel::from_file(file);
+        let op_file = dir.join(channel.oren_nayar_file_name());
+        let op_rows = if op_file.exists() {
+            read_oren_nayar(&op_file).map_err(|e| e.to_string())?
+        } else {
+            Vec::new()
+        };
         let wanted: Vec<u32> = match samples {
             Some(s) => s.to_vec(),
             None => rows.iter().map(|r| r.sample).collect(),
@@ -102,6 +144,7 @@ pub fn jobs(
                 sample: sample.to_string(),
                 channel,
                 scene,
+                oren_nayar: op_rows.iter().find(|r| r.sample == sample).copied(),
             });
         }
     }

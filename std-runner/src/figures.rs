@@ -1,0 +1,112 @@
+//! SVG figures: the Fig. 2 transmission/absorption curves and the normalised
+//! data-against-model plots of Figs. 3–4, drawn with `plotters`.
+
+use laminar_core::energy_budget;
+use plotters::prelude::*;
+
+/// Absorption values drawn in Fig. 2.
+pub const FIG2_ABSORPTION: [f64; 5] = [0.0, 0.25, 0.5, 0.75, 1.0];
+/// Refractive index of Fig. 2.
+pub const FIG2_N: f64 = 1.7;
+
+fn failed(e: impl std::fmt::Display) -> String {
+    format!("drawing failed: {e}")
+}
+
+/// Fig. 2: transmission `T` (solid) and absorption `A` (dashed) against the
+/// incidence angle for n = 1.7 and each a of [`FIG2_ABSORPTION`] (eq. 9).
+pub fn energy_budget_svg() -> Result<String, String> {
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(
+                format!("Transmission and absorption, n = {FIG2_N}"),
+                ("sans-serif", 20),
+            )
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(0.0..90.0, 0.0..1.0)
+            .map_err(failed)?;
+        chart
+            .configure_mesh()
+            .x_desc("incidence angle θ (degrees)")
+            .y_desc("fraction of incident energy")
+            .draw()
+            .map_err(failed)?;
+        let angles: Vec<f64> = (0..=180).map(|i| i as f64 * 0.5).collect();
+        for (i, &a) in FIG2_ABSORPTION.iter().enumerate() {
+            let colour = Palette99::pick(i).to_rgba();
+            let budget = |deg: f64| energy_budget(deg.to_radians().cos(), FIG2_N, a);
+            chart
+                .draw_series(LineSeries::new(
+                    angles.iter().map(|&d| (d, budget(d).transmitted)),
+                    colour.stroke_width(2),
+                ))
+                .map_err(failed)?
+                .label(format!("T, a = {a}"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour));
+            chart
+                .draw_series(DashedLineSeries::new(
+                    angles.iter().map(|&d| (d, budget(d).absorbed)),
+                    6,
+                    4,
+                    colour.stroke_width(2),
+                ))
+                .map_err(failed)?
+                .label(format!("A, a = {a}"))
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 8, y)], colour));
+        }
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK)
+            .draw()
+            .map_err(failed)?;
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}
+
+/// Figs. 3–4 style: normalised measured radiance (x) against the model's
+/// normalised prediction (y), one point per kept measurement, with the line
+/// y = x of a perfect fit.
+pub fn data_vs_model_svg(title: &str, data: &[f64], model: &[f64]) -> Result<String, String> {
+    let top = data
+        .iter()
+        .chain(model)
+        .fold(1.0_f64, |m, &v| if v.is_finite() { m.max(v) } else { m });
+    let low = data.iter().chain(model).fold(0.0_f64, |m, &v| m.min(v));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (520, 520)).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 18))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(low..top * 1.02, low..top * 1.02)
+            .map_err(failed)?;
+        chart
+            .configure_mesh()
+            .x_desc("normalised measured radiance")
+            .y_desc("normalised model radiance")
+            .draw()
+            .map_err(failed)?;
+        chart
+            .draw_series(LineSeries::new([(low, low), (top, top)], BLACK.mix(0.5)))
+            .map_err(failed)?;
+        chart
+            .draw_series(
+                data.iter()
+                    .zip(model)
+                    .map(|(&d, &p)| Circle::new((d, p), 3, BLUE.filled())),
+            )
+            .map_err(failed)?;
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}
