@@ -15,5 +15,6 @@ pub mod reproduce;
 pub mod scene;
 pub mod search;
 pub mod selection;
+pub mod speed;
 pub mod synthetic;
 pub mod tables;

@@ -45,6 +45,9 @@ enum Command {
     },
     /// Evaluate the model at given geometries (radians), un-normalised, as CSV.
     Eval(EvalArgs),
+    /// Reports on the search paths.
+    #[command(subcommand)]
+    Report(ReportKind),
     /// Reproduce the paper's experiment: Tables II–V (Markdown, CSV) and figures (SVG).
     Reproduce {
         #[command(flatten)]
@@ -52,6 +55,22 @@ enum Command {
         /// Output directory (created if missing).
         #[arg(long)]
         out: PathBuf,
+    },
+}
+
+#[derive(Subcommand)]
+enum ReportKind {
+    /// Every search path on the selected fits (exp and gauss): pairs/s, speed-up
+    /// and error against the f64 reference, as a Markdown table.
+    SpeedVsError {
+        #[command(flatten)]
+        select: Select,
+        /// σ/T values of the grid slice the direct paths run on.
+        #[arg(long, default_value_t = 1)]
+        direct_slopes: usize,
+        /// Also write the table to FILE.
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
 }
 
@@ -304,6 +323,30 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
     Ok(same == all)
 }
 
+fn cmd_speed(select: &Select, direct_slopes: usize, out: Option<&PathBuf>) -> Result<(), String> {
+    let start = Instant::now();
+    let (grid, jobs) = select.setup()?;
+    let runs = jobs.len() as u64 * 2 * SearchPath::all().len() as u64;
+    let bar = progress(runs, "speed-vs-error");
+    let report = laminar_runner::speed::speed_vs_error(&jobs, &grid, direct_slopes, &|what| {
+        if what.ends_with("reference") {
+            bar.set_message(what.to_string());
+        } else {
+            bar.inc(1);
+        }
+    });
+    bar.finish_and_clear();
+    let text = report.markdown();
+    print!("{text}");
+    if let Some(path) = out {
+        report::write_atomic(path, &text)
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    }
+    let pairs: f64 = jobs.iter().map(|j| j.scene.len() as f64).sum::<f64>() * grid.size() as f64;
+    report_time("report speed-vs-error", start, pairs * 2.0);
+    Ok(())
+}
+
 fn cmd_reproduce(select: &Select, out: &std::path::Path) -> Result<(), String> {
     let start = Instant::now();
     if select.data.is_none() {
@@ -426,6 +469,11 @@ fn main() -> ExitCode {
         } => cmd_fit(select, *format, out.as_ref()).map(|_| true),
         Command::Parity { select } => cmd_parity(select),
         Command::Eval(args) => cmd_eval(args).map(|_| true),
+        Command::Report(ReportKind::SpeedVsError {
+            select,
+            direct_slopes,
+            out,
+        }) => cmd_speed(select, *direct_slopes, out.as_ref()).map(|_| true),
         Command::Reproduce { select, out } => cmd_reproduce(select, out).map(|_| true),
     };
     match result {
