@@ -71,6 +71,34 @@ fn number(file: &Path, line: usize, column: usize, field: &str) -> Result<f64, D
     }
 }
 
+/// Parses column 1 of a sample row: a positive integer not among `seen`.
+fn sample_number(
+    file: &Path,
+    line: usize,
+    field: &str,
+    mut seen: impl Iterator<Item = u32>,
+) -> Result<u32, DataError> {
+    let sample = field
+        .parse::<u32>()
+        .ok()
+        .filter(|&s| s > 0)
+        .ok_or_else(|| {
+            err(
+                file,
+                line,
+                format!("column 1: sample number `{field}` is not a positive integer"),
+            )
+        })?;
+    if seen.any(|s| s == sample) {
+        return Err(err(
+            file,
+            line,
+            format!("column 1: sample {sample} appears twice"),
+        ));
+    }
+    Ok(sample)
+}
+
 /// One row of the geometry table.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TableRow {
@@ -180,27 +208,7 @@ pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, DataE
                 ),
             ));
         }
-        let sample = fields[0]
-            .parse::<u32>()
-            .ok()
-            .filter(|&s| s > 0)
-            .ok_or_else(|| {
-                err(
-                    file,
-                    line,
-                    format!(
-                        "column 1: sample number `{}` is not a positive integer",
-                        fields[0]
-                    ),
-                )
-            })?;
-        if rows.iter().any(|r| r.sample == sample) {
-            return Err(err(
-                file,
-                line,
-                format!("column 1: sample {sample} appears twice"),
-            ));
-        }
+        let sample = sample_number(file, line, fields[0], rows.iter().map(|r| r.sample))?;
         let values = fields[1..]
             .iter()
             .enumerate()
@@ -241,27 +249,7 @@ pub fn read_oren_nayar(file: &Path) -> Result<Vec<OrenNayarRow>, DataError> {
                 ),
             ));
         }
-        let sample = fields[0]
-            .parse::<u32>()
-            .ok()
-            .filter(|&s| s > 0)
-            .ok_or_else(|| {
-                err(
-                    file,
-                    line,
-                    format!(
-                        "column 1: sample number `{}` is not a positive integer",
-                        fields[0]
-                    ),
-                )
-            })?;
-        if rows.iter().any(|r| r.sample == sample) {
-            return Err(err(
-                file,
-                line,
-                format!("column 1: sample {sample} appears twice"),
-            ));
-        }
+        let sample = sample_number(file, line, fields[0], rows.iter().map(|r| r.sample))?;
         let rho = number(file, line, 2, fields[1])?;
         let sigma = number(file, line, 3, fields[2])?;
         let kd = number(file, line, 4, fields[3])?;

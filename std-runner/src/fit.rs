@@ -101,6 +101,24 @@ pub fn oren_nayar_grid() -> (Axis, Axis) {
     (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
 }
 
+/// Jensen geometry of every kept measurement.
+fn jensen_geometry(scene: &Scene) -> Vec<JensenGeometry<f64>> {
+    scene
+        .angles
+        .iter()
+        .map(|a| JensenGeometry::from_lanes(|_| *a))
+        .collect()
+}
+
+/// Oren–Nayar geometry of every kept measurement.
+fn oren_nayar_geometry(scene: &Scene) -> Vec<OrenNayarGeometry<f64>> {
+    scene
+        .angles
+        .iter()
+        .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
+        .collect()
+}
+
 /// The f64 normalised prediction of `model` at `estimate` (for plots).
 pub fn prediction(scene: &Scene, model: Model, estimate: &Estimate) -> Vec<f64> {
     let get = |name| estimate.get(name).unwrap_or(0.0);
@@ -110,22 +128,14 @@ pub fn prediction(scene: &Scene, model: Model, estimate: &Estimate) -> Vec<f64> 
             Err(_) => vec![0.0; scene.len()],
         },
         None if model == Model::Jensen => {
-            let geometry: Vec<JensenGeometry<f64>> = scene
-                .angles
-                .iter()
-                .map(|a| JensenGeometry::from_lanes(|_| *a))
-                .collect();
+            let geometry = jensen_geometry(scene);
             match JensenCoefficients::<f64>::new(get("sigma_a"), get("sigma_s")) {
                 Ok(k) => predict_jensen(&geometry, &k),
                 Err(_) => vec![0.0; scene.len()],
             }
         }
         None => {
-            let geometry: Vec<OrenNayarGeometry<f64>> = scene
-                .angles
-                .iter()
-                .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
-                .collect();
+            let geometry = oren_nayar_geometry(scene);
             match OrenNayarCoefficients::<f64>::new(get("sigma"), get("rho")) {
                 Ok(k) => predict_oren_nayar(&geometry, &k),
                 Err(_) => vec![0.0; scene.len()],
@@ -208,11 +218,7 @@ pub fn fit(
             record(best, rh, r.best_rms, grid.size())
         }
         Model::Jensen => {
-            let geometry: Vec<JensenGeometry<f64>> = scene
-                .angles
-                .iter()
-                .map(|a| JensenGeometry::from_lanes(|_| *a))
-                .collect();
+            let geometry = jensen_geometry(scene);
             let (sa, ss) = jensen_grid();
             let coefficients = |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain");
             let (rms, x, y) = grid2(scene, &sa, &ss, &geometry, |g, x, y| {
@@ -224,11 +230,7 @@ pub fn fit(
             record(best, None, rms, sa.len() * ss.len())
         }
         Model::OrenNayar => {
-            let geometry: Vec<OrenNayarGeometry<f64>> = scene
-                .angles
-                .iter()
-                .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
-                .collect();
+            let geometry = oren_nayar_geometry(scene);
             let coefficients =
                 |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("validated domain");
             let (rms, x, y, evaluated) = match job.oren_nayar {

@@ -41,6 +41,8 @@ pub struct SpeedReport {
     pub reference_agreement: f64,
     /// Number of σ/T values of the direct slice.
     pub direct_slopes: usize,
+    /// Mean Pareto-front size of the envelope searches (exp, gauss).
+    pub mean_front: [Option<f64>; 2],
 }
 
 /// Index of the smallest value (first on ties).
@@ -84,8 +86,9 @@ pub fn speed_vs_error(
     let mut pairs = vec![0.0; paths.len()];
     let mut reference_agreement: f64 = 0.0;
     let whole_reference = Path::new(Method::OnePass, Arith::F64);
+    let mut mean_front = [None; 2];
     for job in jobs {
-        for model in [Model::Exp, Model::Gauss] {
+        for (i_model, model) in [Model::Exp, Model::Gauss].into_iter().enumerate() {
             let corr = model.correlation().expect("layered");
             progress(&format!("sample {} {model}: reference", job.sample));
             let reference = error_surface(&job.scene, grid, corr, whole_reference);
@@ -105,6 +108,9 @@ pub fn speed_vs_error(
                 let start = Instant::now();
                 let r = search(&job.scene, g, corr, path, &|| {});
                 seconds[i] += start.elapsed().as_secs_f64();
+                if path == Path::DEFAULT {
+                    mean_front[i_model] = r.mean_front;
+                }
                 pairs[i] += g.size() as f64 * job.scene.len() as f64;
                 let values = if path == whole_reference {
                     reference.clone()
@@ -135,6 +141,7 @@ pub fn speed_vs_error(
         rows,
         reference_agreement,
         direct_slopes: slice.slope.len(),
+        mean_front,
     }
 }
 
@@ -172,6 +179,11 @@ impl SpeedReport {
             "\nReference: `onepass-f64` over the whole grid; `direct-f64` agrees with it to {:.2e} (max |ΔRMS|) on the slice of the first {} σ/T value(s), where the direct paths were run.\n",
             self.reference_agreement, self.direct_slopes
         );
+        if let [Some(exp), Some(gauss)] = self.mean_front {
+            out += &format!(
+                "\nEnvelope: the Pareto front of (S, U) holds {exp:.1} measurements on average for exp, {gauss:.1} for gauss (last fit).\n"
+            );
+        }
         out
     }
 }

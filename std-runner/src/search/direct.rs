@@ -20,7 +20,7 @@ pub fn two_pass_sum<L: Lane>(packed: &Packed<L>, surface: &[L], subsurface: &[L]
     let m = L::splat(m);
     let mut acc = [L::c(0.0); WIDTH];
     for (stream, a) in acc.iter_mut().take(packed.streams()).enumerate() {
-        let range = stream * packed.per_stream..(stream + 1) * packed.per_stream;
+        let range = packed.stream(stream);
         for ((s, u), d) in surface[range.clone()]
             .iter()
             .zip(&subsurface[range.clone()])

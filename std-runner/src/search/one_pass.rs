@@ -49,7 +49,7 @@ pub fn sweep<L: Lane>(
             xx: L::c(0.0),
         }; WIDTH];
         for (stream, a) in acc.iter_mut().take(packed.streams()).enumerate() {
-            let range = stream * packed.per_stream..(stream + 1) * packed.per_stream;
+            let range = packed.stream(stream);
             for ((s, dl), d) in surface[range.clone()]
                 .iter()
                 .zip(&delta[range.clone()])

@@ -68,6 +68,11 @@ impl<L: Lane> Packed<L> {
         WIDTH / L::LANES
     }
 
+    /// The flat chunk indices of stream `stream`.
+    pub fn stream(&self, stream: usize) -> std::ops::Range<usize> {
+        stream * self.per_stream..(stream + 1) * self.per_stream
+    }
+
     /// The lane values of `values` widened to `f64`, in measurement order.
     pub fn widen(&self, values: &[L], out: &mut [f64]) {
         for (s, stream) in values.chunks_exact(self.per_stream).enumerate() {
