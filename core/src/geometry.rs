@@ -93,6 +93,22 @@ pub fn wrap_pi(phi: f64) -> f64 {
     p
 }
 
+/// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²` (conventions §2)
+/// in `f64`, free of cancellation: the x component is evaluated as
+/// `sin θi − sin θs + sin θs (1 − cos φs)
+///  = 2 cos((θi+θs)/2) sin((θi−θs)/2) + 2 sin θs sin²(φs/2)`,
+/// whose first term takes the exact difference `θi − θs` (Sterbenz) and
+/// whose second is never negative.
+fn vxy2(a: &Angles) -> f64 {
+    let sin_s = libm::sin(a.theta_s);
+    let half_phi = libm::sin(0.5 * a.phi_s);
+    let dx =
+        2.0 * libm::cos(0.5 * (a.theta_i + a.theta_s)) * libm::sin(0.5 * (a.theta_i - a.theta_s))
+            + 2.0 * sin_s * half_phi * half_phi;
+    let dy = sin_s * libm::sin(a.phi_s);
+    dx * dx + dy * dy
+}
+
 /// Sines and cosines of one measurement per lane, with the surface-term
 /// quantities of eqs. 1–2 derived from them (conventions §2, k = 1).
 #[derive(Clone, Copy, Debug)]
@@ -134,13 +150,14 @@ impl<L: Lane> Geometry<L> {
         }
         let cos01 = |v: f64| libm::cos(v).clamp(0.0, 1.0);
         let sin01 = |v: f64| libm::sin(v).clamp(0.0, 1.0);
-        Self::from_trig(
+        Self::from_parts(
             L::from_f64_lanes(|i| cos01(a[i].theta_i)),
             L::from_f64_lanes(|i| sin01(a[i].theta_i)),
             L::from_f64_lanes(|i| cos01(a[i].theta_s)),
             L::from_f64_lanes(|i| sin01(a[i].theta_s)),
             L::from_f64_lanes(|i| libm::cos(a[i].phi_s)),
             L::from_f64_lanes(|i| libm::sin(a[i].phi_s)),
+            L::from_f64_lanes(|i| vxy2(&a[i])),
         )
     }
 
@@ -149,13 +166,12 @@ impl<L: Lane> Geometry<L> {
         Self::from_lanes(|_| *angles)
     }
 
-    /// Derives `v_xy²`, `v_z²`, the leading factor and the ratio from the
-    /// sines and cosines (all in lane precision).
+    /// Derives `v_z²`, the leading factor and the ratio from the sines,
+    /// cosines and `v_xy²` (all in lane precision). `v_xy²` comes in
+    /// precomputed because it cancels near the forward-specular direction:
+    /// from rounded sines its relative error grows without bound there.
     #[must_use]
-    pub fn from_trig(cos_i: L, sin_i: L, cos_s: L, sin_s: L, cos_phi: L, sin_phi: L) -> Self {
-        let dx = sin_i - sin_s * cos_phi;
-        let dy = sin_s * sin_phi;
-        let vxy2 = dx * dx + dy * dy;
+    fn from_parts(cos_i: L, sin_i: L, cos_s: L, sin_s: L, cos_phi: L, sin_phi: L, vxy2: L) -> Self {
         let sz = cos_i + cos_s;
         let vz2 = sz * sz;
         let zero = L::c(0.0);
@@ -179,18 +195,21 @@ impl<L: Lane> Geometry<L> {
     /// The geometry below the upper boundary for refractive index `n ≥ 1`
     /// (conventions §3): Snell `sin θ′ = sin θ / n` for both zenith angles,
     /// `φs` unchanged; the cosines come from [`refract_cos`], accurate near
-    /// grazing and for `n` close to 1.
+    /// grazing and for `n` close to 1. Both sines shrink by `1/n`, so
+    /// `v_xy′ = v_xy / n` exactly: `v_xy′²` is scaled, not recomputed from
+    /// sines (which would cancel near the specular direction).
     #[must_use]
     pub fn refracted(&self, n: L) -> Self {
         let (ci, _) = refract_cos(self.cos_i, n);
         let (cs, _) = refract_cos(self.cos_s, n);
-        Self::from_trig(
+        Self::from_parts(
             ci,
             self.sin_i / n,
             cs,
             self.sin_s / n,
             self.cos_phi,
             self.sin_phi,
+            self.vxy2 / (n * n),
         )
     }
 }
@@ -229,7 +248,7 @@ mod tests {
         let g = Geometry::<f32>::splat(&Angles::new(FRAC_PI_2, FRAC_PI_2, 0.0).unwrap());
         assert!(g.lead.is_finite() && g.ratio.is_finite());
         // Exactly zero cosines (v_z = 0): no irradiance, no division by zero.
-        let g = Geometry::<f32>::from_trig(0.0, 1.0, 0.0, 1.0, 1.0, 0.0);
+        let g = Geometry::<f32>::from_parts(0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 0.0);
         assert_eq!(g.lead, 0.0);
         assert_eq!(g.ratio, f32::INFINITY);
     }
