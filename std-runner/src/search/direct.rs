@@ -38,15 +38,15 @@ pub fn two_pass_sum<L: Lane>(packed: &Packed<L>, surface: &[L], subsurface: &[L]
     Packed::<L>::objective(lane_sum(&acc))
 }
 
-/// Visits every (n, a, β) of slope index `i_s` in loop order with its sum of
-/// squared residuals,
-/// evaluating the whole model for every parameter set.
+/// Visits every (n, a, β) of slope index `i_s` in loop order as
+/// `visit(flat index, a index, Σ (D − P)²)`, evaluating the whole model for
+/// every parameter set.
 pub fn shard<L: Lane>(
     packed: &Packed<L>,
     grid: &Grid,
     corr: Correlation,
     i_s: usize,
-    mut visit: impl FnMut(usize, f64),
+    mut visit: impl FnMut(usize, usize, f64),
 ) {
     let chunks = packed.geom.len();
     let (mut surface, mut subsurface) = (vec![L::c(0.0); chunks], vec![L::c(0.0); chunks]);
@@ -64,6 +64,7 @@ pub fn shard<L: Lane>(
                 normalise(&mut subsurface);
                 visit(
                     grid.flat(i_s, i_n, i_a, i_b),
+                    i_a,
                     two_pass_sum(packed, &surface, &subsurface, L::c(beta)),
                 );
             }

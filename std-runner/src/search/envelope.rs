@@ -1,29 +1,31 @@
 //! Path 3, the closed-form β sweep. For the paper normalisation (conventions
-//! §4), with `X = (1 − β) S + β U` and `M(β) = max_k X_k`,
+//! §4), with `X = (1 − β) S + β U = S + β Δ` (`Δ = U − S`) and
+//! `M(β) = max_k X_k`,
 //!
-//! `Σ (D − X/M)² = Σ D² − 2 (Σ X D) / M + (Σ X²) / M²`, where
-//! `Σ X D = (1 − β) Σ S D + β Σ U D` and
-//! `Σ X² = (1 − β)² Σ S² + 2 β (1 − β) Σ S U + β² Σ U²`,
+//! `Σ (D − X/M)² = Σ D² + (Σ X² / M − 2 Σ X D) / M`, where
+//! `Σ X D = Σ S D + β Σ Δ D` and `Σ X² = Σ S² + β (2 Σ S Δ + β Σ Δ²)`,
 //!
 //! so six sums over the measurements (three per σ/T, three per (σ/T, n, a))
 //! give the error of every β. `M(β)` is the upper envelope of the lines
 //! `β ↦ (1 − β) S_k + β U_k`; on β ∈ [0, 1] only measurements on the Pareto
 //! front of `(S_k, U_k)` can attain it (a dominated point's mix is never
 //! larger, even after rounding, since every operation rounds monotonically),
-//! and the front is found in O(K) per (σ/T, n, a) from the order of `S`,
-//! which is sorted once per σ/T. Along the front the slopes `U_k − S_k`
-//! increase, so the upper hull of its lines is one monotone-stack pass, and a
-//! pointer walked along the hull gives `M(β)` in amortised O(1) per β
-//! (instead of O(K)). The hull drops lines that are never the maximum in
-//! exact arithmetic; after rounding `M` is the full max to within an ulp or
-//! two, which the tests against the direct path bound.
+//! and the front is found from the order of `S`, which is sorted once per
+//! σ/T; the walk stops at the first `U_k = 1` (U is normalised, so no later
+//! point can join). Along the front the slopes `U_k − S_k` increase, so the
+//! upper hull of its lines is one monotone-stack pass, and a pointer walked
+//! along the hull gives `M(β)` in amortised O(1) per β (instead of O(K)). The
+//! hull drops lines that are never the maximum in exact arithmetic; after
+//! rounding `M` is the full max to within an ulp or two, which the tests
+//! against the direct path bound.
 //!
 //! `S` and `U` are computed in the lane precision of the path (that is what
 //! the f32 variants trade for speed); they are widened exactly, and the sums,
 //! the envelope and the error are evaluated in `f64` in measurement order, so
-//! the `f32x8` path and its scalar twin agree bit for bit. The sums are exact
-//! enough in `f64` that the cancellation in the formula above (about 100× on
-//! CUReT fits) costs nothing visible.
+//! the `f32x8` path and its scalar twin agree bit for bit. The sums over `Δ`
+//! are formed from `Δ` itself, not as differences of sums over `U` and `S`,
+//! and the remaining cancellation in the formula above (about 100× on CUReT
+//! fits) costs nothing visible in `f64`.
 
 use super::packed::Packed;
 use laminar_core::{mix, Lane};
@@ -90,11 +92,13 @@ pub fn sweep<L: Lane>(
     scratch.u.resize(k, 0.0);
     packed.widen(subsurface, &mut scratch.u);
     let u = &scratch.u;
-    let (mut uu, mut us, mut ud) = (0.0, 0.0, 0.0);
+    // Σ Δ², Σ S Δ, Σ D Δ.
+    let (mut del_del, mut s_del, mut d_del) = (0.0, 0.0, 0.0);
     for ((u, s), d) in u.iter().zip(&surface.s).zip(&surface.d) {
-        uu += u * u;
-        us += s * u;
-        ud += d * u;
+        let del = u - s;
+        del_del += del * del;
+        s_del += s * del;
+        d_del += d * del;
     }
     scratch.front.clear();
     let mut top = f64::NEG_INFINITY;
@@ -102,6 +106,11 @@ pub fn sweep<L: Lane>(
         if u[i] > top {
             top = u[i];
             scratch.front.push((surface.s[i], u[i]));
+            if top >= 1.0 {
+                // U is normalised (no value above 1): no later point, with
+                // its smaller S, can join the front.
+                break;
+            }
         }
     }
     scratch.front_total += scratch.front.len();
@@ -119,10 +128,10 @@ pub fn sweep<L: Lane>(
         }
         let m = value(p);
         let e = if m > 0.0 {
-            let w = 1.0 - beta;
-            let xd = w * surface.sd + beta * ud;
-            let xx = w * w * surface.ss + 2.0 * beta * w * us + beta * beta * uu;
-            surface.dd - 2.0 * xd / m + xx / (m * m)
+            let inv = 1.0 / m;
+            let xd = surface.sd + beta * d_del;
+            let xx = surface.ss + beta * (2.0 * s_del + beta * del_del);
+            surface.dd + inv * (inv * xx - 2.0 * xd)
         } else {
             surface.dd
         };

@@ -136,9 +136,10 @@ impl<L: Lane> Prepared<L> {
         }
     }
 
-    /// Visits every (n, a, β) of slope index `i_s` in loop order with its
-    /// objective, the sum of squared residuals `Σ (D − P)²` (eq. 15 before
-    /// the root, widened to `f64`); returns (total Pareto-front size, sweeps) for the
+    /// Visits every (n, a, β) of slope index `i_s` in loop order as
+    /// `visit(flat index, a index, objective)`, the objective being the sum
+    /// of squared residuals `Σ (D − P)²` (eq. 15 before the root, widened to
+    /// `f64`); returns (total Pareto-front size, sweeps) for the
     /// envelope method, (0, 0) otherwise.
     fn shard(
         &self,
@@ -146,7 +147,7 @@ impl<L: Lane> Prepared<L> {
         grid: &Grid,
         corr: Correlation,
         i_s: usize,
-        mut visit: impl FnMut(usize, f64),
+        mut visit: impl FnMut(usize, usize, f64),
     ) -> (usize, usize) {
         let slope = grid.slope.values[i_s];
         let tables = match self {
@@ -168,7 +169,7 @@ impl<L: Lane> Prepared<L> {
                     u,
                     &grid.beta.values,
                     &mut scratch,
-                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), r),
+                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
                 );
             });
             (scratch.front_total, scratch.sweeps)
@@ -176,7 +177,7 @@ impl<L: Lane> Prepared<L> {
             let betas: Vec<L> = grid.beta.values.iter().map(|&b| L::c(b)).collect();
             tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
                 one_pass::sweep(packed, &surface, u, &betas, |i_b, r| {
-                    visit(grid.flat(i_s, i_n, i_a, i_b), r)
+                    visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r)
                 });
             });
             (0, 0)
@@ -231,14 +232,13 @@ fn search_with<L: Lane + Send + Sync>(
 ) -> SearchResult {
     let prepared = Prepared::<L>::new(scene, grid, method);
     let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
-    let per_a = grid.beta.len();
     let shards: Vec<ShardBest> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
             let (mut best, mut rh) = (None, None);
-            let front = prepared.shard(method, grid, corr, i_s, |flat, e| {
+            let front = prepared.shard(method, grid, corr, i_s, |flat, i_a, e| {
                 best = better(best, flat, e);
-                if zero_a == Some((flat / per_a) % grid.a.len()) {
+                if zero_a == Some(i_a) {
                     rh = better(rh, flat, e);
                 }
             });
@@ -295,7 +295,7 @@ pub fn error_surface(scene: &Scene, grid: &Grid, corr: Correlation, path: Path) 
         out.par_chunks_mut(per_slope)
             .enumerate()
             .for_each(|(i_s, slice)| {
-                prepared.shard(method, grid, corr, i_s, |flat, e| {
+                prepared.shard(method, grid, corr, i_s, |flat, _, e| {
                     slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });
