@@ -120,6 +120,51 @@ fn slightly_noisy_data_is_recovered_within_one_grid_step() {
     assert!(close(a, TRUTH.3, 0.1 + 1e-9), "a {a}");
 }
 
+/// The search's choice (and its a = 0 choice) is the first minimum of its
+/// own error surface, which never skips: the envelope search's lower-bound
+/// skipping loses nothing, on a good fit and on a poor one (Gaussian data
+/// fitted with the Exponential model).
+#[test]
+fn search_picks_the_minimum_of_its_error_surface() {
+    let first_min = |v: &[f64], keep: &dyn Fn(usize) -> bool| {
+        (0..v.len())
+            .filter(|&i| keep(i))
+            .fold(None, |b: Option<usize>, i| match b {
+                Some(j) if v[j] <= v[i] => Some(j),
+                _ => Some(i),
+            })
+            .unwrap()
+    };
+    let good = synthetic::scene(Correlation::Exponential, &truth(), 0.01, 11);
+    let poor = synthetic::scene(Correlation::Gaussian, &truth(), 0.01, 12);
+    for scene in [&good, &poor] {
+        for path in Path::all() {
+            let grid = if path.method == Method::Direct {
+                small_grid()
+            } else {
+                test_grid()
+            };
+            let corr = Correlation::Exponential;
+            let r = search(scene, &grid, corr, path, &|| {});
+            let surface = error_surface(scene, &grid, corr, path);
+            let want = first_min(&surface, &|_| true);
+            assert_eq!(r.best, want, "{path}");
+            assert_eq!(r.best_rms.to_bits(), surface[want].to_bits(), "{path}");
+            let on_zero_a = |i: usize| point(&grid, i).2 == 0.0;
+            let rh = first_min(&surface, &on_zero_a);
+            let (flat, rms) = r.rh_best.unwrap();
+            assert_eq!(
+                (flat, rms.to_bits()),
+                (rh, surface[rh].to_bits()),
+                "{path} a = 0"
+            );
+            if path.method == Method::Envelope {
+                assert!(r.pruned.unwrap() > 0.0, "{path}: nothing skipped");
+            }
+        }
+    }
+}
+
 #[test]
 fn results_do_not_depend_on_thread_count() {
     let grid = test_grid();
@@ -366,6 +411,16 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
                     .count();
                 assert_eq!(same, simd.len(), "sample {} {model} {method:?}", j.sample);
                 identical += same;
+                // The search (which may skip triples) finds the surface's minimum.
+                let found = search(&j.scene, &grid, corr, simd_path, &|| {});
+                let min = simd.iter().copied().fold(f64::INFINITY, f64::min);
+                assert_eq!(
+                    found.best_rms.to_bits(),
+                    min.to_bits(),
+                    "sample {} {model} {method:?}",
+                    j.sample
+                );
+                assert_eq!(simd[found.best].to_bits(), min.to_bits());
             }
         }
     }

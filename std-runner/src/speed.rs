@@ -43,6 +43,9 @@ pub struct SpeedReport {
     pub direct_slopes: usize,
     /// Mean Pareto-front size of the envelope searches (exp, gauss).
     pub mean_front: [Option<f64>; 2],
+    /// Fraction of the β sweeps the envelope searches skipped by their lower
+    /// bound (exp, gauss).
+    pub pruned: [Option<f64>; 2],
 }
 
 /// Index of the smallest value (first on ties).
@@ -87,6 +90,7 @@ pub fn speed_vs_error(
     let mut reference_agreement: f64 = 0.0;
     let whole_reference = Path::new(Method::OnePass, Arith::F64);
     let mut mean_front = [None; 2];
+    let mut pruned = [None; 2];
     for job in jobs {
         for (i_model, model) in [Model::Exp, Model::Gauss].into_iter().enumerate() {
             let corr = model.correlation().expect("layered");
@@ -110,6 +114,7 @@ pub fn speed_vs_error(
                 seconds[i] += start.elapsed().as_secs_f64();
                 if path == Path::DEFAULT {
                     mean_front[i_model] = r.mean_front;
+                    pruned[i_model] = r.pruned;
                 }
                 pairs[i] += g.size() as f64 * job.scene.len() as f64;
                 let values = if path == whole_reference {
@@ -142,6 +147,7 @@ pub fn speed_vs_error(
         reference_agreement,
         direct_slopes: slice.slope.len(),
         mean_front,
+        pruned,
     }
 }
 
@@ -182,6 +188,13 @@ impl SpeedReport {
         if let [Some(exp), Some(gauss)] = self.mean_front {
             out += &format!(
                 "\nEnvelope: the Pareto front of (S, U) holds {exp:.1} measurements on average for exp, {gauss:.1} for gauss (last fit).\n"
+            );
+        }
+        if let [Some(exp), Some(gauss)] = self.pruned {
+            out += &format!(
+                "Envelope searches skipped the β loop of {:.1}% (exp) and {:.1}% (gauss) of the (σ/T, n, a) triples by the lower bound (last fit); error surfaces never skip.\n",
+                100.0 * exp,
+                100.0 * gauss
             );
         }
         out

@@ -28,6 +28,7 @@ use packed::{Packed, Tables};
 use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// How the β loop of the search is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -139,21 +140,22 @@ impl<L: Lane> Prepared<L> {
     /// Visits every (n, a, β) of slope index `i_s` in loop order as
     /// `visit(flat index, a index, objective)`, the objective being the sum
     /// of squared residuals `Σ (D − P)²` (eq. 15 before the root, widened to
-    /// `f64`); returns (total Pareto-front size, sweeps) for the
-    /// envelope method, (0, 0) otherwise.
+    /// `f64`). The envelope method may skip an (n, a) whose every value is
+    /// certainly above `threshold(a index)`; the other methods visit all.
     fn shard(
         &self,
         method: Method,
         grid: &Grid,
         corr: Correlation,
         i_s: usize,
+        threshold: impl Fn(usize) -> f64,
         mut visit: impl FnMut(usize, usize, f64),
-    ) -> (usize, usize) {
+    ) -> SweepStats {
         let slope = grid.slope.values[i_s];
         let tables = match self {
             Self::Direct(packed) => {
                 direct::shard(packed, grid, corr, i_s, &mut visit);
-                return (0, 0);
+                return SweepStats::default();
             }
             Self::Hoisted(tables) => tables,
         };
@@ -168,11 +170,16 @@ impl<L: Lane> Prepared<L> {
                     &sums,
                     u,
                     &grid.beta.values,
+                    threshold(i_a),
                     &mut scratch,
                     |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
                 );
             });
-            (scratch.front_total, scratch.sweeps)
+            SweepStats {
+                front_total: scratch.front_total,
+                sweeps: scratch.sweeps,
+                pruned: scratch.pruned,
+            }
         } else {
             let betas: Vec<L> = grid.beta.values.iter().map(|&b| L::c(b)).collect();
             tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
@@ -180,8 +187,67 @@ impl<L: Lane> Prepared<L> {
                     visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r)
                 });
             });
-            (0, 0)
+            SweepStats::default()
         }
+    }
+}
+
+/// What the envelope method did in a shard (zeros for the other methods).
+#[derive(Debug, Clone, Copy, Default)]
+struct SweepStats {
+    /// Total Pareto-front size over the sweeps that ran.
+    front_total: usize,
+    /// Sweeps whose β loop ran.
+    sweeps: usize,
+    /// Sweeps skipped by the lower bound.
+    pruned: usize,
+}
+
+impl SweepStats {
+    fn add(self, o: Self) -> Self {
+        Self {
+            front_total: self.front_total + o.front_total,
+            sweeps: self.sweeps + o.sweeps,
+            pruned: self.pruned + o.pruned,
+        }
+    }
+}
+
+/// The best objective found so far by any shard of a search, overall and on
+/// the a = 0 slice, as `f64` bits (the objectives are never negative, so
+/// their bit patterns order like their values). Shards only ever lower them,
+/// and each is the value of a visited grid point, so it never falls below
+/// the final minimum: skipping a triple whose values all exceed it cannot
+/// change the result, whatever the thread timing.
+struct SharedBest {
+    best: AtomicU64,
+    rh: AtomicU64,
+    zero_a: Option<usize>,
+}
+
+impl SharedBest {
+    fn new(zero_a: Option<usize>) -> Self {
+        Self {
+            best: AtomicU64::new(f64::INFINITY.to_bits()),
+            rh: AtomicU64::new(f64::INFINITY.to_bits()),
+            zero_a,
+        }
+    }
+
+    /// A triple at a index `i_a` may be skipped when all its values exceed
+    /// this: the overall best, or on the a = 0 slice the (larger) best of
+    /// that slice, which the search also reports.
+    fn threshold(&self, i_a: usize) -> f64 {
+        let slot = if self.zero_a == Some(i_a) {
+            &self.rh
+        } else {
+            &self.best
+        };
+        f64::from_bits(slot.load(Ordering::Relaxed))
+    }
+
+    fn offer(slot: &AtomicU64, e: f64) {
+        slot.fetch_min(e.to_bits(), Ordering::Relaxed);
     }
 }
 
@@ -195,8 +261,13 @@ pub struct SearchResult {
     /// The minimum over the grid points with a = 0 (Ragheb–Hancock), if the
     /// a axis contains 0.
     pub rh_best: Option<(usize, f64)>,
-    /// Envelope method: mean size of the Pareto front of `(S_k, U_k)`.
+    /// Envelope method: mean size of the Pareto front of `(S_k, U_k)` over
+    /// the sweeps that ran.
     pub mean_front: Option<f64>,
+    /// Envelope method: fraction of the (σ/T, n, a) triples whose β loop the
+    /// lower bound skipped (varies a little with thread timing; the result
+    /// does not).
+    pub pruned: Option<f64>,
 }
 
 /// `Δ_RMS` (eq. 15) from the sum of squared residuals `e` over `k` measurements.
@@ -220,7 +291,7 @@ fn better(current: Candidate, flat: usize, rms: f64) -> Candidate {
 struct ShardBest {
     best: Candidate,
     rh: Candidate,
-    front: (usize, usize),
+    stats: SweepStats,
 }
 
 fn search_with<L: Lane + Send + Sync>(
@@ -232,21 +303,27 @@ fn search_with<L: Lane + Send + Sync>(
 ) -> SearchResult {
     let prepared = Prepared::<L>::new(scene, grid, method);
     let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
+    let shared = SharedBest::new(zero_a);
     let shards: Vec<ShardBest> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
-            let (mut best, mut rh) = (None, None);
-            let front = prepared.shard(method, grid, corr, i_s, |flat, i_a, e| {
-                best = better(best, flat, e);
-                if zero_a == Some(i_a) {
-                    rh = better(rh, flat, e);
+            let (mut best, mut rh): (Candidate, Candidate) = (None, None);
+            let threshold = |i_a| shared.threshold(i_a);
+            let stats = prepared.shard(method, grid, corr, i_s, threshold, |flat, i_a, e| {
+                if best.is_none_or(|(_, b)| e < b) {
+                    best = Some((flat, e));
+                    SharedBest::offer(&shared.best, e);
+                }
+                if zero_a == Some(i_a) && rh.is_none_or(|(_, b)| e < b) {
+                    rh = Some((flat, e));
+                    SharedBest::offer(&shared.rh, e);
                 }
             });
             progress();
-            ShardBest { best, rh, front }
+            ShardBest { best, rh, stats }
         })
         .collect();
-    let (mut best, mut rh, mut front) = (None, None, (0, 0));
+    let (mut best, mut rh, mut stats) = (None, None, SweepStats::default());
     for s in shards {
         if let Some((f, v)) = s.best {
             best = better(best, f, v);
@@ -254,14 +331,16 @@ fn search_with<L: Lane + Send + Sync>(
         if let Some((f, v)) = s.rh {
             rh = better(rh, f, v);
         }
-        front = (front.0 + s.front.0, front.1 + s.front.1);
+        stats = stats.add(s.stats);
     }
     let (best, best_sum) = best.unwrap_or((0, f64::INFINITY));
     SearchResult {
         best,
         best_rms: rms_of_sum(best_sum, scene.len()),
         rh_best: rh.map(|(flat, e)| (flat, rms_of_sum(e, scene.len()))),
-        mean_front: (front.1 > 0).then(|| front.0 as f64 / front.1 as f64),
+        mean_front: (stats.sweeps > 0).then(|| stats.front_total as f64 / stats.sweeps as f64),
+        pruned: (stats.sweeps + stats.pruned > 0)
+            .then(|| stats.pruned as f64 / (stats.sweeps + stats.pruned) as f64),
     }
 }
 
@@ -295,7 +374,8 @@ pub fn error_surface(scene: &Scene, grid: &Grid, corr: Correlation, path: Path) 
         out.par_chunks_mut(per_slope)
             .enumerate()
             .for_each(|(i_s, slice)| {
-                prepared.shard(method, grid, corr, i_s, |flat, _, e| {
+                let never = |_| f64::INFINITY;
+                prepared.shard(method, grid, corr, i_s, never, |flat, _, e| {
                     slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });
