@@ -11,7 +11,7 @@
 //! that `Σ D² − 2 Σ X D / M + Σ X² / M²` would be (about 100× cancellation
 //! on CUReT fits, fatal in `f32`).
 
-use super::packed::{global_max, lane_sum, Packed, WIDTH};
+use super::packed::{lane_max, lane_sum, Packed, WIDTH};
 use laminar_core::Lane;
 
 /// Per-stream accumulators of one pass.
@@ -63,7 +63,10 @@ pub fn sweep<L: Lane>(
                 a.xx = a.xx + x * x;
             }
         }
-        let m = global_max(&acc.map(|a| a.max));
+        let m = acc
+            .iter()
+            .take(packed.streams())
+            .fold(zero, |m, a| m.max(lane_max(a.max)));
         let rr = lane_sum(&acc.map(|a| a.rr));
         let e = if m > zero {
             let inv = one / m;

@@ -107,26 +107,11 @@ pub fn lane_max<L: Lane>(v: L) -> L::Scalar {
     (0..L::LANES).fold(L::Scalar::c(0.0), |m, lane| m.max(v.lane(lane)))
 }
 
-/// The eight global lanes of per-stream partial results (stream `g / LANES`,
-/// lane `g % LANES`), combined by a balanced tree: a fixed order, the same
-/// for every arithmetic, with a dependency chain of three steps, not seven.
-fn lane_tree<L: Lane>(partial: &[L], f: impl Fn(L::Scalar, L::Scalar) -> L::Scalar) -> L::Scalar {
-    let g = |g: usize| partial[g / L::LANES].lane(g % L::LANES);
-    f(
-        f(f(g(0), g(1)), f(g(2), g(3))),
-        f(f(g(4), g(5)), f(g(6), g(7))),
-    )
-}
-
 /// `Σ` over the eight global lanes of per-stream partial sums, in a fixed order.
 pub fn lane_sum<L: Lane>(partial: &[L]) -> L::Scalar {
-    lane_tree(partial, |a, b| a + b)
-}
-
-/// The largest of the eight global lanes of per-stream partial maxima, at
-/// least 0 (exact, so the order only sets the latency).
-pub fn global_max<L: Lane>(partial: &[L]) -> L::Scalar {
-    lane_tree(partial, |a, b| a.max(b)).max(L::Scalar::c(0.0))
+    (0..WIDTH).fold(L::Scalar::c(0.0), |sum, g| {
+        sum + partial[g / L::LANES].lane(g % L::LANES)
+    })
 }
 
 /// `values / max(values)`, or zeros when the max is ≤ 0 (conventions §4).
