@@ -85,17 +85,15 @@ struct Select {
     /// Samples: comma-separated numbers or `all` (default: the paper's 13).
     #[arg(long)]
     samples: Option<String>,
-    /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar"
-    )]
-    models: Vec<Model>,
-    /// Search path METHOD-ARITH: direct|onepass|envelope - f32x8|f32|f64.
+    /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen,
+    /// oren-nayar (default: all six; `fit` and `parity` only).
+    #[arg(long, value_delimiter = ',')]
+    models: Option<Vec<Model>>,
+    /// Search path METHOD-ARITH: direct|onepass|envelope - f32x8|f32|f64
+    /// (default: envelope-f32x8; not for `report`, which runs every path).
     /// `parity` compares the f32x8 and f32 twins of its method.
-    #[arg(long, default_value_t = SearchPath::DEFAULT)]
-    path: SearchPath,
+    #[arg(long)]
+    path: Option<SearchPath>,
     /// Worker threads (default: all cores). Results do not depend on it.
     #[arg(long)]
     threads: Option<usize>,
@@ -114,6 +112,40 @@ struct Select {
 }
 
 impl Select {
+    /// `--models`, or all six.
+    fn models(&self) -> Vec<Model> {
+        self.models.clone().unwrap_or_else(|| {
+            vec![
+                Model::Exp,
+                Model::Gauss,
+                Model::RhExp,
+                Model::RhGauss,
+                Model::Jensen,
+                Model::OrenNayar,
+            ]
+        })
+    }
+
+    /// `--path`, or the default path.
+    fn path(&self) -> SearchPath {
+        self.path.unwrap_or(SearchPath::DEFAULT)
+    }
+
+    /// An error when an option the command does not use was given.
+    fn reject(&self, command: &str, models: bool, path: bool) -> Result<(), String> {
+        if models && self.models.is_some() {
+            return Err(format!(
+                "{command} fits a fixed set of models (see --help); --models is not accepted"
+            ));
+        }
+        if path && self.path.is_some() {
+            return Err(format!(
+                "{command} runs every search path; --path is not accepted"
+            ));
+        }
+        Ok(())
+    }
+
     fn grid(&self) -> Result<Grid, String> {
         let mut g = Grid::paper();
         for (axis, given) in [
@@ -243,14 +275,18 @@ fn report_time(command: &str, start: Instant, pairs: f64) {
 
 fn run_fits(select: &Select) -> Result<(Vec<FitRecord>, f64), String> {
     let (grid, jobs) = select.setup()?;
-    let total: u64 =
-        jobs.len() as u64 * select.models.iter().map(|&m| shards(m, &grid)).sum::<u64>();
+    let total: u64 = jobs.len() as u64
+        * select
+            .models()
+            .iter()
+            .map(|&m| shards(m, &grid))
+            .sum::<u64>();
     let bar = progress(total, "fit");
     let mut records = Vec::new();
     let mut pairs = 0.0;
     for job in &jobs {
-        for &model in &select.models {
-            let r = fit(job, model, &grid, select.path, &|| bar.inc(1));
+        for &model in &select.models() {
+            let r = fit(job, model, &grid, select.path(), &|| bar.inc(1));
             pairs += r.evaluated as f64 * r.measurements as f64;
             records.push(r);
         }
@@ -289,7 +325,7 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
     let (mut same, mut all) = (0usize, 0usize);
     let mut pairs = 0.0;
     for job in &jobs {
-        for &model in &select.models {
+        for &model in &select.models() {
             let Some(corr) = model.correlation() else {
                 continue;
             };
@@ -298,7 +334,7 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
             } else {
                 grid.clone()
             };
-            let (simd_path, scalar_path) = select.path.twins();
+            let (simd_path, scalar_path) = select.path().twins();
             let simd = error_surface(&job.scene, &g, corr, simd_path);
             let scalar = error_surface(&job.scene, &g, corr, scalar_path);
             let equal = simd
@@ -325,6 +361,7 @@ fn cmd_parity(select: &Select) -> Result<bool, String> {
 
 fn cmd_speed(select: &Select, direct_slopes: usize, out: Option<&PathBuf>) -> Result<(), String> {
     let start = Instant::now();
+    select.reject("report speed-vs-error (exp and gauss)", true, true)?;
     let (grid, jobs) = select.setup()?;
     let runs = jobs.len() as u64 * 2 * SearchPath::all().len() as u64;
     let bar = progress(runs, "speed-vs-error");
@@ -349,6 +386,7 @@ fn cmd_speed(select: &Select, direct_slopes: usize, out: Option<&PathBuf>) -> Re
 
 fn cmd_reproduce(select: &Select, out: &std::path::Path) -> Result<(), String> {
     let start = Instant::now();
+    select.reject("reproduce", true, false)?;
     if select.data.is_none() {
         return Err(
             "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),
@@ -361,7 +399,7 @@ fn cmd_reproduce(select: &Select, out: &std::path::Path) -> Result<(), String> {
             .map(|&m| shards(m, &grid))
             .sum::<u64>();
     let bar = progress(total, "reproduce");
-    let r = reproduce::reproduce(&jobs, &grid, select.path, out, &|| bar.inc(1))?;
+    let r = reproduce::reproduce(&jobs, &grid, select.path(), out, &|| bar.inc(1))?;
     bar.finish_and_clear();
     eprintln!(
         "reproduce: {} fits of {} jobs, {} files written to {}",
