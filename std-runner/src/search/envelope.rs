@@ -35,41 +35,8 @@
 //! (parity, the speed report) never skip.
 
 use super::packed::Packed;
+use super::sums::{DeltaSums, SurfaceSums};
 use laminar_core::{mix, Lane};
-
-/// Per-σ/T quantities: the widened surface term, its order, its sums.
-pub struct SurfaceSums {
-    s: Vec<f64>,
-    d: Vec<f64>,
-    /// Measurements by decreasing `S` (ties: increasing index).
-    order: Vec<usize>,
-    ss: f64,
-    sd: f64,
-    dd: f64,
-}
-
-impl SurfaceSums {
-    /// Widens `surface` and computes `Σ S²`, `Σ S D`, `Σ D²`.
-    pub fn new<L: Lane>(packed: &Packed<L>, surface: &[L]) -> Self {
-        let mut s = vec![0.0; packed.k];
-        let mut d = vec![0.0; packed.k];
-        packed.widen(surface, &mut s);
-        packed.widen(&packed.data, &mut d);
-        let mut order: Vec<usize> = (0..packed.k).collect();
-        order.sort_by(|&a, &b| s[b].total_cmp(&s[a]).then(a.cmp(&b)));
-        let ss = s.iter().map(|v| v * v).sum();
-        let sd = s.iter().zip(&d).map(|(a, b)| a * b).sum();
-        let dd = d.iter().map(|v| v * v).sum();
-        Self {
-            s,
-            d,
-            order,
-            ss,
-            sd,
-            dd,
-        }
-    }
-}
 
 /// Reusable per-shard buffers.
 #[derive(Default)]
@@ -104,7 +71,7 @@ pub fn sweep<L: Lane>(
     scratch.u.resize(k, 0.0);
     packed.widen(subsurface, &mut scratch.u);
     let u = &scratch.u;
-    let sums = DeltaSums::new(u, surface);
+    let sums = DeltaSums::new(surface, |k| u[k] - surface.s[k]);
     if lower_bound(surface, &sums) > threshold {
         scratch.pruned += 1;
         return;
@@ -138,41 +105,12 @@ pub fn sweep<L: Lane>(
         let m = value(p);
         let e = if m > 0.0 {
             let inv = 1.0 / m;
-            let xd = surface.sd + beta * sums.d_del;
-            let xx = surface.ss + beta * (2.0 * sums.s_del + beta * sums.del_del);
+            let (xd, xx) = sums.mix(surface, beta);
             surface.dd + inv * (inv * xx - 2.0 * xd)
         } else {
             surface.dd
         };
         visit(i_b, e.max(0.0));
-    }
-}
-
-/// The per-(σ/T, n, a) sums over `Δ = U − S`.
-struct DeltaSums {
-    /// `Σ Δ²`.
-    del_del: f64,
-    /// `Σ S Δ`.
-    s_del: f64,
-    /// `Σ D Δ`.
-    d_del: f64,
-}
-
-impl DeltaSums {
-    /// The sums for the widened subsurface term `u`, in measurement order.
-    fn new(u: &[f64], surface: &SurfaceSums) -> Self {
-        let (mut del_del, mut s_del, mut d_del) = (0.0, 0.0, 0.0);
-        for ((u, s), d) in u.iter().zip(&surface.s).zip(&surface.d) {
-            let del = u - s;
-            del_del += del * del;
-            s_del += s * del;
-            d_del += d * del;
-        }
-        Self {
-            del_del,
-            s_del,
-            d_del,
-        }
     }
 }
 
@@ -264,7 +202,8 @@ mod tests {
                     |_, e| min = min.min(e),
                 );
                 assert_eq!(scratch.pruned, 0, "an infinite threshold skipped a sweep");
-                let bound = lower_bound(&sums, &DeltaSums::new(&scratch.u, &sums));
+                let bound =
+                    lower_bound(&sums, &DeltaSums::new(&sums, |k| scratch.u[k] - sums.s[k]));
                 assert!(bound <= min, "slope {slope}: bound {bound} > min {min}");
                 checked += 1;
                 useful += usize::from(bound > 0.5 * min);
@@ -319,7 +258,8 @@ mod tests {
                     |_, e| again.push(e),
                 );
                 assert_eq!(all, again, "skipped a triple that reaches the threshold");
-                let bound = lower_bound(&sums, &DeltaSums::new(&scratch.u, &sums));
+                let bound =
+                    lower_bound(&sums, &DeltaSums::new(&sums, |k| scratch.u[k] - sums.s[k]));
                 if bound > 0.0 {
                     let before = scratch.pruned;
                     sweep(

@@ -20,6 +20,7 @@ pub mod direct;
 pub mod envelope;
 pub mod one_pass;
 pub mod packed;
+pub mod sums;
 
 use crate::grid::Grid;
 use crate::scene::Scene;
@@ -162,7 +163,7 @@ impl<L: Lane> Prepared<L> {
         let surface = tables.surface(corr, slope);
         let packed = &tables.packed;
         if method == Method::Envelope {
-            let sums = envelope::SurfaceSums::new(packed, &surface);
+            let sums = sums::SurfaceSums::new(packed, &surface);
             let mut scratch = envelope::Scratch::default();
             tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
                 envelope::sweep(
@@ -181,11 +182,18 @@ impl<L: Lane> Prepared<L> {
                 pruned: scratch.pruned,
             }
         } else {
-            let betas: Vec<L> = grid.beta.values.iter().map(|&b| L::c(b)).collect();
+            let widened = sums::SurfaceSums::new(packed, &surface);
+            let mut scratch = one_pass::Scratch::default();
             tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
-                one_pass::sweep(packed, &surface, u, &betas, |i_b, r| {
-                    visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r)
-                });
+                one_pass::sweep(
+                    packed,
+                    &surface,
+                    &widened,
+                    u,
+                    &grid.beta.values,
+                    &mut scratch,
+                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
+                );
             });
             SweepStats::default()
         }
