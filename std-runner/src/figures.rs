@@ -18,9 +18,12 @@ fn failed(e: impl std::fmt::Display) -> String {
 pub fn energy_budget_svg() -> Result<String, String> {
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (820, 480)).into_drawing_area();
         root.fill(&WHITE).map_err(failed)?;
-        let mut chart = ChartBuilder::on(&root)
+        // The key goes beside the plot: inside, it would hide the curves,
+        // which fill the whole range.
+        let (plot, key) = root.split_horizontally(700);
+        let mut chart = ChartBuilder::on(&plot)
             .caption(
                 format!("Transmission and absorption, n = {FIG2_N}"),
                 ("sans-serif", 20),
@@ -37,6 +40,7 @@ pub fn energy_budget_svg() -> Result<String, String> {
             .draw()
             .map_err(failed)?;
         let angles: Vec<f64> = (0..=180).map(|i| i as f64 * 0.5).collect();
+        let text = ("sans-serif", 13).into_font();
         for (i, &a) in FIG2_ABSORPTION.iter().enumerate() {
             let colour = Palette99::pick(i).to_rgba();
             let budget = |deg: f64| energy_budget(deg.to_radians().cos(), FIG2_N, a);
@@ -45,9 +49,7 @@ pub fn energy_budget_svg() -> Result<String, String> {
                     angles.iter().map(|&d| (d, budget(d).transmitted)),
                     colour.stroke_width(2),
                 ))
-                .map_err(failed)?
-                .label(format!("T, a = {a}"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour));
+                .map_err(failed)?;
             chart
                 .draw_series(DashedLineSeries::new(
                     angles.iter().map(|&d| (d, budget(d).absorbed)),
@@ -55,16 +57,29 @@ pub fn energy_budget_svg() -> Result<String, String> {
                     4,
                     colour.stroke_width(2),
                 ))
-                .map_err(failed)?
-                .label(format!("A, a = {a}"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 8, y)], colour));
+                .map_err(failed)?;
+            for (j, name) in ["T", "A"].into_iter().enumerate() {
+                let y = 60 + 22 * (2 * i + j) as i32;
+                let segments: &[(i32, i32)] = if j == 0 {
+                    &[(0, 24)]
+                } else {
+                    &[(0, 8), (14, 24)]
+                };
+                for &(x0, x1) in segments {
+                    key.draw(&PathElement::new(
+                        [(4 + x0, y), (4 + x1, y)],
+                        colour.stroke_width(2),
+                    ))
+                    .map_err(failed)?;
+                }
+                key.draw(&Text::new(
+                    format!("{name}, a = {a}"),
+                    (34, y - 7),
+                    text.clone(),
+                ))
+                .map_err(failed)?;
+            }
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK)
-            .draw()
-            .map_err(failed)?;
         root.present().map_err(failed)?;
     }
     Ok(svg)

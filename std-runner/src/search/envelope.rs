@@ -29,7 +29,7 @@
 //!
 //! A search needs only the minimum, so before its β loop each (σ/T, n, a)
 //! is checked against a lower bound on its error over every β (see
-//! [`lower_bound`]); when the bound exceeds the best error found so far, no
+//! `lower_bound` below); when the bound exceeds the best error found so far, no
 //! β of the triple can win and the sweep is skipped. The bound is exact up
 //! to a stated margin, so skipping never changes the result; error surfaces
 //! (parity, the speed report) never skip.
@@ -56,7 +56,7 @@ pub struct Scratch {
 
 /// Calls `visit(i_b, Σ (D − P)²)` for every β of `betas`, in order, for one
 /// (σ/T, n, a) with normalised subsurface `subsurface`, unless every one of
-/// those values is certainly above `threshold` ([`lower_bound`]); then it
+/// those values is certainly above `threshold` (`lower_bound` below); then it
 /// visits nothing. `threshold = ∞` visits every β.
 pub fn sweep<L: Lane>(
     packed: &Packed<L>,
