@@ -109,22 +109,14 @@ fn vxy2(a: &Angles) -> f64 {
     dx * dx + dy * dy
 }
 
-/// Sines and cosines of one measurement per lane, with the surface-term
-/// quantities of eqs. 1–2 derived from them (conventions §2, k = 1).
+/// The zenith cosines of one measurement per lane, with the surface-term
+/// quantities of eqs. 1–2 derived from the angles (conventions §2, k = 1).
 #[derive(Clone, Copy, Debug)]
 pub struct Geometry<L> {
     /// cos θi (clamped to `[0, 1]`).
     pub cos_i: L,
-    /// sin θi.
-    pub sin_i: L,
     /// cos θs (clamped to `[0, 1]`).
     pub cos_s: L,
-    /// sin θs.
-    pub sin_s: L,
-    /// cos φs.
-    pub cos_phi: L,
-    /// sin φs.
-    pub sin_phi: L,
     /// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²`.
     pub vxy2: L,
     /// `v_z² = (cos θi + cos θs)²` (conventions §2: `v_z = −(cos θi + cos θs)`).
@@ -149,14 +141,9 @@ impl<L: Lane> Geometry<L> {
             *slot = angles(i);
         }
         let cos01 = |v: f64| libm::cos(v).clamp(0.0, 1.0);
-        let sin01 = |v: f64| libm::sin(v).clamp(0.0, 1.0);
         Self::from_parts(
             L::from_f64_lanes(|i| cos01(a[i].theta_i)),
-            L::from_f64_lanes(|i| sin01(a[i].theta_i)),
             L::from_f64_lanes(|i| cos01(a[i].theta_s)),
-            L::from_f64_lanes(|i| sin01(a[i].theta_s)),
-            L::from_f64_lanes(|i| libm::cos(a[i].phi_s)),
-            L::from_f64_lanes(|i| libm::sin(a[i].phi_s)),
             L::from_f64_lanes(|i| vxy2(&a[i])),
         )
     }
@@ -166,12 +153,12 @@ impl<L: Lane> Geometry<L> {
         Self::from_lanes(|_| *angles)
     }
 
-    /// Derives `v_z²`, the leading factor and the ratio from the sines,
-    /// cosines and `v_xy²` (all in lane precision). `v_xy²` comes in
-    /// precomputed because it cancels near the forward-specular direction:
-    /// from rounded sines its relative error grows without bound there.
+    /// Derives `v_z²`, the leading factor and the ratio from the cosines and
+    /// `v_xy²` (all in lane precision). `v_xy²` comes in precomputed because
+    /// it cancels near the forward-specular direction: from rounded sines
+    /// its relative error grows without bound there.
     #[must_use]
-    fn from_parts(cos_i: L, sin_i: L, cos_s: L, sin_s: L, cos_phi: L, sin_phi: L, vxy2: L) -> Self {
+    fn from_parts(cos_i: L, cos_s: L, vxy2: L) -> Self {
         let sz = cos_i + cos_s;
         let vz2 = sz * sz;
         let zero = L::c(0.0);
@@ -180,11 +167,7 @@ impl<L: Lane> Geometry<L> {
         let safe_vz2 = L::select(lit, vz2, L::c(1.0));
         Self {
             cos_i,
-            sin_i,
             cos_s,
-            sin_s,
-            cos_phi,
-            sin_phi,
             vxy2,
             vz2,
             lead: L::select(lit, cos_i / safe_vz2, zero),
@@ -202,15 +185,7 @@ impl<L: Lane> Geometry<L> {
     pub fn refracted(&self, n: L) -> Self {
         let (ci, _) = refract_cos(self.cos_i, n);
         let (cs, _) = refract_cos(self.cos_s, n);
-        Self::from_parts(
-            ci,
-            self.sin_i / n,
-            cs,
-            self.sin_s / n,
-            self.cos_phi,
-            self.sin_phi,
-            self.vxy2 / (n * n),
-        )
+        Self::from_parts(ci, cs, self.vxy2 / (n * n))
     }
 }
 
@@ -248,7 +223,7 @@ mod tests {
         let g = Geometry::<f32>::splat(&Angles::new(FRAC_PI_2, FRAC_PI_2, 0.0).unwrap());
         assert!(g.lead.is_finite() && g.ratio.is_finite());
         // Exactly zero cosines (v_z = 0): no irradiance, no division by zero.
-        let g = Geometry::<f32>::from_parts(0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 0.0);
+        let g = Geometry::<f32>::from_parts(0.0, 0.0, 0.0);
         assert_eq!(g.lead, 0.0);
         assert_eq!(g.ratio, f32::INFINITY);
     }
