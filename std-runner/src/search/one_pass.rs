@@ -93,11 +93,12 @@ pub fn sweep<L: Lane>(
         let rr = lane_sum(&acc.map(|a| a.rr)).to_f64();
         let e = if m > zero {
             let (c64, m64) = (c.to_f64(), m.to_f64());
-            let delta = c64 - 1.0 / m64;
+            // δ = c − 1/M.
+            let shift_error = c64 - 1.0 / m64;
             c = one / m;
             let (xd, xx) = hoisted.mix(widened, beta_lane.to_f64());
             let rx = xd - c64 * xx;
-            rr + 2.0 * delta * rx + delta * delta * xx
+            rr + 2.0 * shift_error * rx + shift_error * shift_error * xx
         } else {
             // Every X is 0, so P = 0 and r = D.
             rr
