@@ -114,16 +114,7 @@ struct Select {
 impl Select {
     /// `--models`, or all six.
     fn models(&self) -> Vec<Model> {
-        self.models.clone().unwrap_or_else(|| {
-            vec![
-                Model::Exp,
-                Model::Gauss,
-                Model::RhExp,
-                Model::RhGauss,
-                Model::Jensen,
-                Model::OrenNayar,
-            ]
-        })
+        self.models.clone().unwrap_or_else(|| Model::ALL.to_vec())
     }
 
     /// `--path`, or the default path.

@@ -168,6 +168,59 @@ mod tests {
     use crate::synthetic;
     use laminar_core::{f32x8, Correlation, Params};
 
+    /// A test grid: the paper's β axis, `slope = (first, last, count)` σ/T
+    /// values, and `n`, `a` values spread over their whole domain.
+    fn grid(slope: (f64, f64, usize), n: usize, a: usize) -> Grid {
+        Grid {
+            slope: Axis::linspace(slope.0, slope.1, slope.2),
+            n: Axis::linspace(1.0, 2.0, n),
+            a: Axis::linspace(0.0, 1.0, a),
+            ..Grid::paper()
+        }
+    }
+
+    /// Calls `f(σ/T, packed, surface sums, U, scratch)` for every (σ/T, n, a)
+    /// of `grid` on a noisy synthetic scene made by `corr` at `truth`.
+    fn each_triple<L: Lane>(
+        corr: Correlation,
+        truth: &Params,
+        seed: u64,
+        grid: &Grid,
+        mut f: impl FnMut(f64, &Packed<L>, &SurfaceSums, &[L], &mut Scratch),
+    ) {
+        let scene = synthetic::scene(corr, truth, 0.01, seed);
+        let tables = Tables::<L>::new(&scene, grid);
+        for &slope in &grid.slope.values {
+            let surface = tables.surface(corr, slope);
+            let sums = SurfaceSums::new(&tables.packed, &surface);
+            let mut scratch = Scratch::default();
+            tables.for_each_subsurface(corr, slope, |_, _, u| {
+                f(slope, &tables.packed, &sums, u, &mut scratch)
+            });
+        }
+    }
+
+    /// The values a sweep visits at `threshold`.
+    fn visited<L: Lane>(
+        packed: &Packed<L>,
+        sums: &SurfaceSums,
+        u: &[L],
+        betas: &[f64],
+        threshold: f64,
+        scratch: &mut Scratch,
+    ) -> Vec<f64> {
+        let mut out = Vec::new();
+        sweep(packed, sums, u, betas, threshold, scratch, |_, e| {
+            out.push(e)
+        });
+        out
+    }
+
+    /// The lower bound of the triple the last sweep widened into `scratch`.
+    fn bound_of(sums: &SurfaceSums, scratch: &Scratch) -> f64 {
+        lower_bound(sums, &DeltaSums::new(sums, |k| scratch.u[k] - sums.s[k]))
+    }
+
     /// Every (σ/T, n, a) of a grid that includes n = 1, a = 0 (where U = S
     /// and the bound must fall back) and poor fits far from the truth: the
     /// bound never exceeds any value the sweep computes, and it is not
@@ -176,39 +229,21 @@ mod tests {
     fn lower_bound_is_below_every_computed_error() {
         let corr = Correlation::Exponential;
         let truth = Params::new(1.48, 0.39, 1.44, 0.2).unwrap();
-        let scene = synthetic::scene(corr, &truth, 0.01, 3);
-        let grid = Grid {
-            slope: Axis::linspace(0.12, 4.04, 9),
-            n: Axis::linspace(1.0, 2.0, 6),
-            a: Axis::linspace(0.0, 1.0, 6),
-            ..Grid::paper()
-        };
-        let tables = Tables::<f32x8>::new(&scene, &grid);
+        let grid = grid((0.12, 4.04, 9), 6, 6);
         let (mut checked, mut useful) = (0, 0);
-        for &slope in &grid.slope.values {
-            let surface = tables.surface(corr, slope);
-            let sums = SurfaceSums::new(&tables.packed, &surface);
-            let mut scratch = Scratch::default();
-            tables.for_each_subsurface(corr, slope, |_, _, u| {
-                let mut min = f64::INFINITY;
-                let betas = &grid.beta.values;
-                sweep(
-                    &tables.packed,
-                    &sums,
-                    u,
-                    betas,
-                    f64::INFINITY,
-                    &mut scratch,
-                    |_, e| min = min.min(e),
-                );
-                assert_eq!(scratch.pruned, 0, "an infinite threshold skipped a sweep");
-                let bound =
-                    lower_bound(&sums, &DeltaSums::new(&sums, |k| scratch.u[k] - sums.s[k]));
-                assert!(bound <= min, "slope {slope}: bound {bound} > min {min}");
-                checked += 1;
-                useful += usize::from(bound > 0.5 * min);
-            });
-        }
+        each_triple::<f32x8>(corr, &truth, 3, &grid, |slope, packed, sums, u, scratch| {
+            let all = visited(packed, sums, u, &grid.beta.values, f64::INFINITY, scratch);
+            assert_eq!(
+                all.len(),
+                grid.beta.len(),
+                "an infinite threshold skipped a sweep"
+            );
+            let min = all.iter().copied().fold(f64::INFINITY, f64::min);
+            let bound = bound_of(sums, scratch);
+            assert!(bound <= min, "slope {slope}: bound {bound} > min {min}");
+            checked += 1;
+            useful += usize::from(bound > 0.5 * min);
+        });
         assert_eq!(checked, 9 * 6 * 6);
         assert!(
             useful > checked / 2,
@@ -222,58 +257,23 @@ mod tests {
     fn threshold_skips_only_triples_that_cannot_reach_it() {
         let corr = Correlation::Gaussian;
         let truth = Params::new(0.68, 0.5, 1.3, 0.4).unwrap();
-        let scene = synthetic::scene(corr, &truth, 0.01, 5);
-        let grid = Grid {
-            slope: Axis::linspace(0.2, 3.0, 5),
-            n: Axis::linspace(1.0, 2.0, 4),
-            a: Axis::linspace(0.0, 1.0, 4),
-            ..Grid::paper()
-        };
-        let tables = Tables::<f32>::new(&scene, &grid);
-        for &slope in &grid.slope.values {
-            let surface = tables.surface(corr, slope);
-            let sums = SurfaceSums::new(&tables.packed, &surface);
-            let mut scratch = Scratch::default();
-            tables.for_each_subsurface(corr, slope, |_, _, u| {
-                let betas = &grid.beta.values;
-                let mut all = Vec::new();
-                sweep(
-                    &tables.packed,
-                    &sums,
-                    u,
-                    betas,
-                    f64::INFINITY,
-                    &mut scratch,
-                    |_, e| all.push(e),
+        let grid = grid((0.2, 3.0, 5), 4, 4);
+        let betas = &grid.beta.values;
+        each_triple::<f32>(corr, &truth, 5, &grid, |_, packed, sums, u, scratch| {
+            let all = visited(packed, sums, u, betas, f64::INFINITY, scratch);
+            let min = all.iter().copied().fold(f64::INFINITY, f64::min);
+            let again = visited(packed, sums, u, betas, min, scratch);
+            assert_eq!(all, again, "skipped a triple that reaches the threshold");
+            let bound = bound_of(sums, scratch);
+            if bound > 0.0 {
+                let before = scratch.pruned;
+                let none = visited(packed, sums, u, betas, 0.5 * bound, scratch);
+                assert!(
+                    none.is_empty(),
+                    "visited a triple whose bound exceeds the threshold"
                 );
-                let min = all.iter().copied().fold(f64::INFINITY, f64::min);
-                let mut again = Vec::new();
-                sweep(
-                    &tables.packed,
-                    &sums,
-                    u,
-                    betas,
-                    min,
-                    &mut scratch,
-                    |_, e| again.push(e),
-                );
-                assert_eq!(all, again, "skipped a triple that reaches the threshold");
-                let bound =
-                    lower_bound(&sums, &DeltaSums::new(&sums, |k| scratch.u[k] - sums.s[k]));
-                if bound > 0.0 {
-                    let before = scratch.pruned;
-                    sweep(
-                        &tables.packed,
-                        &sums,
-                        u,
-                        betas,
-                        0.5 * bound,
-                        &mut scratch,
-                        |_, _| panic!("visited a triple whose bound exceeds the threshold"),
-                    );
-                    assert_eq!(scratch.pruned, before + 1);
-                }
-            });
-        }
+                assert_eq!(scratch.pruned, before + 1);
+            }
+        });
     }
 }
