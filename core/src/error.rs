@@ -51,6 +51,8 @@ impl fmt::Display for InputError {
     }
 }
 
+impl core::error::Error for InputError {}
+
 /// Checks `lo ≤ v ≤ hi` (false for NaN).
 pub(crate) fn check_range(
     name: &'static str,

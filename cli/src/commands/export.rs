@@ -1,0 +1,61 @@
+//! `laminar export`: a fitted model tabulated as a MERL file.
+
+use super::options::{check_out, report_time};
+use super::select::FitFileArgs;
+use clap::Args;
+use laminar_cli::CliError;
+use laminar_fit::MeasurementAngles;
+use laminar_io::merl::{write_merl, Merl, PLANE};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Tabulate a fitted model as a MERL isotropic BRDF file (.binary).
+///
+/// Every bin of the 90 × 90 × 180 table holds the model's BRDF at the bin's
+/// centre in index space: P · data_scale / cos θi, P the normalised
+/// prediction and data_scale the max the fit's measured radiance was divided
+/// by, so the table is in the units of the fitted data. The same value goes
+/// to the red, green and blue planes (each divided by its MERL scale); bins
+/// below the horizon hold −1 (not measured).
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    fit: FitFileArgs,
+    /// The MERL file to write.
+    #[arg(long)]
+    merl: PathBuf,
+}
+
+/// Runs `laminar export`.
+pub fn run(args: &ExportArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    check_out(Some(&args.merl))?;
+    let sel = args.fit.selected()?;
+    // Validate once, so that the per-bin evaluations cannot fail.
+    sel.fitted.predict(&[])?;
+    let table = Merl::tabulate(|theta_i, phi_i, theta_v, phi_v| {
+        let g = MeasurementAngles::Lab {
+            theta_i,
+            phi_i,
+            theta_v,
+            phi_v,
+        };
+        let brdf = g
+            .paper()
+            .ok()
+            .and_then(|a| sel.fitted.predict_radiance(&[a]).ok())
+            .map(|r| r[0] / theta_i.cos())
+            .unwrap_or(-1.0);
+        [brdf; 3]
+    });
+    write_merl(&args.merl, &table)?;
+    eprintln!(
+        "export: {} tabulated into {} ({} bins per channel)",
+        sel.label,
+        args.merl.display(),
+        PLANE
+    );
+    report_time("export", start, PLANE as f64);
+    Ok(())
+}

@@ -1,0 +1,105 @@
+//! `laminar fit`: fit models to measurements by exhaustive grid search.
+
+use super::options::{
+    check_out, emit, fitter, jobs, progress, report_time, ChannelArgs, CuretArgs, FileArgs,
+    GridArgs, PathArgs, ThreadArgs,
+};
+use clap::{Args, ValueEnum};
+use laminar_cli::reproduce::fit_job;
+use laminar_cli::CliError;
+use laminar_fit::{synthetic, Model};
+use laminar_io::fits;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Output formats of `fit`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum Format {
+    /// One row per fit (columns: see `laminar fit --help`).
+    Csv,
+    /// The fitted-model file: every fit with what `predict` and `export` need.
+    Json,
+    /// A Markdown table.
+    Markdown,
+}
+
+/// Fit models by exhaustive grid search.
+///
+/// Input: a measurement file (--measurements: CSV, or MERL with
+/// --sample-at), a CUReT directory (--data or CURET_DIR), or else the
+/// built-in synthetic scene. Values are BRDF unless --quantity radiance;
+/// BRDF is fitted as radiance BRDF·cos θi. Specular measurements are left
+/// out; data and model are each divided by their max (the paper
+/// normalisation; docs/conventions.md §4).
+///
+/// CSV columns: sample (CUReT sample number or file stem), channel, model,
+/// rms = Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K over the K kept measurements,
+/// chi2_dof = χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements
+/// with D > 0 divided by (chi2_used − p), chi2_left_out, params (β is the
+/// paper normalisation's balance; the JSON gives eq. 8's beta_eq8), rh_rms,
+/// rh_chi2_dof, rh_params (the Ragheb–Hancock best, a = 0, of the same
+/// search), measurements (K), nonpositive, search_rms (the search's own
+/// Δ_RMS in its precision). rms and chi2_dof are recomputed in f64.
+#[derive(Args, Debug)]
+#[command(verbatim_doc_comment)]
+pub struct FitArgs {
+    #[command(flatten)]
+    file: FileArgs,
+    #[command(flatten)]
+    channels: ChannelArgs,
+    #[command(flatten)]
+    curet: CuretArgs,
+    /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar (default: all six).
+    #[arg(long, value_delimiter = ',')]
+    models: Option<Vec<Model>>,
+    #[command(flatten)]
+    path: PathArgs,
+    #[command(flatten)]
+    threads: ThreadArgs,
+    #[command(flatten)]
+    grid: GridArgs,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
+    /// Write the output to FILE (whole or not at all) instead of stdout.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// Runs `laminar fit`.
+pub fn run(args: &FitArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    check_out(args.out.as_ref())?;
+    let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
+    let jobs = jobs(&args.file, &args.channels, &args.curet)?;
+    let models = args.models.clone().unwrap_or_else(|| Model::ALL.to_vec());
+    let total: u64 = jobs.len() as u64 * models.iter().map(|&m| fitter.shards(m)).sum::<u64>();
+    let bar = progress(total, "fit");
+    let tick = bar.clone();
+    let fitter = fitter.on_progress(move || tick.inc(1));
+    let mut records = Vec::new();
+    let mut pairs = 0.0;
+    for job in &jobs {
+        for &model in &models {
+            let r = fit_job(&fitter, job, model)?;
+            pairs += r.evaluated as f64 * r.measurements as f64;
+            records.push(r);
+        }
+    }
+    bar.finish_and_clear();
+    let text = match args.format {
+        Format::Csv => fits::csv(&records),
+        Format::Json => fits::json(&records),
+        Format::Markdown => fits::markdown(&records),
+    };
+    emit(args.out.as_ref(), &text)?;
+    if jobs.iter().any(|j| j.scene.sample == "synthetic") {
+        let (s, b, n, a) = synthetic::TRUE_PARAMS;
+        eprintln!(
+            "synthetic scene: true parameters slope={s};beta={b};n={n};a={a} (exp model, noise σ = {})",
+            synthetic::NOISE
+        );
+    }
+    report_time("fit", start, pairs);
+    Ok(())
+}

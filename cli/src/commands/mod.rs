@@ -1,0 +1,11 @@
+//! One module per subcommand, each with only its own options.
+
+pub mod eval;
+pub mod export;
+pub mod fit;
+pub mod options;
+pub mod parity;
+pub mod predict;
+pub mod report;
+pub mod reproduce;
+pub mod select;

@@ -1,0 +1,226 @@
+//! Option groups shared by several subcommands. Each subcommand flattens
+//! only the groups it uses, so `--help` lists only options it reads.
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use laminar_cli::selection::{
+    curet_jobs, parse_samples, synthetic_jobs, FileInput, InputFormat, Job, PAPER_SAMPLES,
+};
+use laminar_cli::CliError;
+use laminar_fit::search::Path as SearchPath;
+use laminar_fit::{Axis, Fitter, Grid, Quantity};
+use laminar_io::AngleUnit;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// A CUReT directory.
+#[derive(Args, Debug, Clone)]
+pub struct CuretArgs {
+    /// CUReT directory with table.txt and BRDF files (abrdf.dat, rbrdf.dat, …) [env: CURET_DIR].
+    #[arg(long, env = "CURET_DIR")]
+    pub data: Option<PathBuf>,
+    /// CUReT BRDF files to read (default: every abrdf/rbrdf/gbrdf/bbrdf.dat in --data).
+    #[arg(long, num_args = 1..)]
+    pub brdf: Vec<PathBuf>,
+    /// CUReT samples: comma-separated numbers or `all` (default: the paper's 13).
+    #[arg(long)]
+    pub samples: Option<String>,
+}
+
+impl CuretArgs {
+    /// The jobs of the directory, or `None` without `--data`.
+    pub fn jobs(&self) -> Result<Option<Vec<Job>>, CliError> {
+        let Some(dir) = &self.data else {
+            if !self.brdf.is_empty() || self.samples.is_some() {
+                return Err(CliError::Usage(
+                    "--brdf and --samples select from a CUReT directory: give --data DIR (or set CURET_DIR)".into(),
+                ));
+            }
+            return Ok(None);
+        };
+        let samples = match &self.samples {
+            Some(s) => parse_samples(s).map_err(|e| CliError::Usage(format!("--samples: {e}")))?,
+            None => Some(PAPER_SAMPLES.to_vec()),
+        };
+        curet_jobs(dir, &self.brdf, samples.as_deref()).map(Some)
+    }
+}
+
+/// A measurement file of any supported format.
+#[derive(Args, Debug, Clone)]
+pub struct FileArgs {
+    /// Measurement file: long-format CSV (.csv) or MERL (.binary, needs
+    /// --sample-at). Takes precedence over --data and CURET_DIR.
+    #[arg(long)]
+    pub measurements: Option<PathBuf>,
+    /// Format of --measurements (default: from the extension).
+    #[arg(long, value_enum, requires = "measurements")]
+    pub input_format: Option<InputFormat>,
+    /// Unit of the angles in CSV files (measurements and geometries).
+    #[arg(long, default_value_t = AngleUnit::Radians)]
+    pub angles: AngleUnit,
+    /// What the CSV values are: brdf (fitted as BRDF·cos θi) or radiance (fitted as given).
+    #[arg(long, default_value_t = Quantity::Brdf)]
+    pub quantity: Quantity,
+    /// Geometries to sample a MERL file at: CSV with columns
+    /// theta_i,phi_i,theta_v,phi_v (or theta_i,theta_s,phi_s).
+    #[arg(long)]
+    pub sample_at: Option<PathBuf>,
+}
+
+impl FileArgs {
+    /// The file input, or `None` without `--measurements`.
+    pub fn input(&self) -> Option<FileInput> {
+        self.measurements.as_ref().map(|path| FileInput {
+            path: path.clone(),
+            format: self.input_format,
+            angles: self.angles,
+            quantity: self.quantity,
+            sample_at: self.sample_at.clone(),
+        })
+    }
+}
+
+/// Channels of a measurement file.
+#[derive(Args, Debug, Clone)]
+pub struct ChannelArgs {
+    /// Channels of --measurements to use, comma-separated (default: every value column).
+    #[arg(long, value_delimiter = ',', requires = "measurements")]
+    pub channels: Option<Vec<String>>,
+}
+
+/// The jobs of a measurement file, else of a CUReT directory, else the
+/// built-in synthetic scene.
+pub fn jobs(
+    file: &FileArgs,
+    channels: &ChannelArgs,
+    curet: &CuretArgs,
+) -> Result<Vec<Job>, CliError> {
+    if let Some(input) = file.input() {
+        return input.jobs(channels.channels.as_deref());
+    }
+    if file.sample_at.is_some() {
+        return Err(CliError::Usage(
+            "--sample-at samples a MERL file: give --measurements FILE.binary".into(),
+        ));
+    }
+    Ok(curet.jobs()?.unwrap_or_else(synthetic_jobs))
+}
+
+/// The search grid of the layered models.
+#[derive(Args, Debug, Clone)]
+pub struct GridArgs {
+    /// σ/T axis `start:stop:count` or one value (paper: 0.12:4.04:50).
+    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    pub slope: Option<Axis>,
+    /// β axis (paper: 0.01:1:100).
+    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    pub beta: Option<Axis>,
+    /// n axis (paper: 1.3:1.5:11).
+    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    pub n: Option<Axis>,
+    /// a axis (paper: 0:1:101).
+    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    pub a: Option<Axis>,
+}
+
+impl GridArgs {
+    /// The paper grid with the given axes replaced, validated.
+    pub fn grid(&self) -> Result<Grid, CliError> {
+        let mut g = Grid::paper();
+        for (axis, given) in [
+            (&mut g.slope, &self.slope),
+            (&mut g.beta, &self.beta),
+            (&mut g.n, &self.n),
+            (&mut g.a, &self.a),
+        ] {
+            if let Some(v) = given {
+                *axis = v.clone();
+            }
+        }
+        g.validate()?;
+        Ok(g)
+    }
+}
+
+/// Worker threads.
+#[derive(Args, Debug, Clone)]
+pub struct ThreadArgs {
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// The search path.
+#[derive(Args, Debug, Clone)]
+pub struct PathArgs {
+    /// Search path METHOD-ARITH: METHOD direct|onepass|envelope, ARITH f32x8|f32|f64.
+    #[arg(long, default_value_t = SearchPath::DEFAULT)]
+    pub path: SearchPath,
+}
+
+/// A fitter on the grid with the threads and path given.
+pub fn fitter(grid: &GridArgs, threads: &ThreadArgs, path: SearchPath) -> Result<Fitter, CliError> {
+    let mut f = Fitter::new(grid.grid()?)?.path(path);
+    if let Some(t) = threads.threads {
+        f = f.threads(t)?;
+    }
+    Ok(f)
+}
+
+/// Sets the global thread pool (for work outside a [`Fitter`]).
+pub fn global_threads(threads: &ThreadArgs) -> Result<(), CliError> {
+    if let Some(t) = threads.threads {
+        if t == 0 {
+            return Err(CliError::Usage("--threads must be at least 1".into()));
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .map_err(|e| CliError::Usage(e.to_string()))?;
+    }
+    Ok(())
+}
+
+/// A progress bar on stderr when it is a terminal.
+pub fn progress(len: u64, what: &str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{msg} [{bar:40}] {pos}/{len} {elapsed_precise} eta {eta} ({per_sec})",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Prints elapsed time and throughput on stderr.
+pub fn report_time(command: &str, start: Instant, pairs: f64) {
+    let secs = start.elapsed().as_secs_f64();
+    eprintln!(
+        "{command}: {secs:.3} s elapsed, {:.3e} (parameter set, measurement) pairs/s",
+        pairs / secs.max(1e-9)
+    );
+}
+
+/// Checks `--out` before any work.
+pub fn check_out(out: Option<&PathBuf>) -> Result<(), CliError> {
+    if let Some(p) = out {
+        laminar_io::check_writable(p)?;
+    }
+    Ok(())
+}
+
+/// Writes `text` to `out` (whole or not at all), or prints it.
+pub fn emit(out: Option<&PathBuf>, text: &str) -> Result<(), CliError> {
+    match out {
+        Some(path) => laminar_io::write_atomic(path, text)?,
+        None => print!("{text}"),
+    }
+    Ok(())
+}

@@ -1,0 +1,98 @@
+//! Choosing one fitted model from a fitted-model file (`--fit`, `--select`).
+
+use clap::Args;
+use laminar_cli::CliError;
+use laminar_fit::FittedModel;
+use laminar_io::fits::{read_fits, FitEntry};
+use std::path::PathBuf;
+
+/// A fitted model from a file written by `laminar fit --format json`.
+#[derive(Args, Debug, Clone)]
+pub struct FitFileArgs {
+    /// Fitted-model file (`laminar fit --format json --out FIT.json`).
+    #[arg(long = "fit")]
+    pub file: PathBuf,
+    /// Which fit: SAMPLE/CHANNEL/MODEL, e.g. 21/avg/exp; rh-exp and rh-gauss
+    /// also select the Ragheb–Hancock best of an exp or gauss fit. Needed
+    /// when the file holds more than one fit.
+    #[arg(long)]
+    pub select: Option<String>,
+}
+
+/// A selected fit: its label, sample, channel and model.
+pub struct Selected {
+    /// `sample/channel/model`.
+    pub label: String,
+    /// The sample.
+    pub sample: String,
+    /// The channel.
+    pub channel: String,
+    /// The fitted model.
+    pub fitted: FittedModel,
+    /// The fit's own Δ_RMS.
+    pub rms: f64,
+}
+
+fn candidates(entries: &[FitEntry]) -> Vec<Selected> {
+    let mut out = Vec::new();
+    for e in entries {
+        out.push(Selected {
+            label: e.label(),
+            sample: e.sample.clone(),
+            channel: e.channel.clone(),
+            fitted: e.fitted,
+            rms: e.rms,
+        });
+        if let (Some(rh), Some(rh_model), Some(rms)) =
+            (e.rh_fitted, e.model.ragheb_hancock(), e.rh_rms)
+        {
+            out.push(Selected {
+                label: format!("{}/{}/{}", e.sample, e.channel, rh_model),
+                sample: e.sample.clone(),
+                channel: e.channel.clone(),
+                fitted: rh,
+                rms,
+            });
+        }
+    }
+    out
+}
+
+impl FitFileArgs {
+    /// Reads the file and picks the fit.
+    pub fn selected(&self) -> Result<Selected, CliError> {
+        let file = read_fits(&self.file)?;
+        if file.fits.is_empty() {
+            return Err(CliError::Usage(format!(
+                "{}: holds no fit",
+                self.file.display()
+            )));
+        }
+        let mut all = candidates(&file.fits);
+        let labels = || {
+            all.iter()
+                .map(|c| c.label.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let index = match &self.select {
+            None if file.fits.len() == 1 => 0,
+            None => {
+                return Err(CliError::Usage(format!(
+                    "{} holds {} fits; choose one with --select SAMPLE/CHANNEL/MODEL: {}",
+                    self.file.display(),
+                    file.fits.len(),
+                    labels()
+                )))
+            }
+            Some(s) => all.iter().position(|c| &c.label == s).ok_or_else(|| {
+                CliError::Usage(format!(
+                    "{}: no fit `{s}`; the file holds {}",
+                    self.file.display(),
+                    labels()
+                ))
+            })?,
+        };
+        Ok(all.swap_remove(index))
+    }
+}

@@ -1,0 +1,40 @@
+//! # laminar-cli
+//!
+//! The `laminar` command's building blocks: which data a command runs on
+//! ([`selection`]), the paper's experiment ([`reproduce`], [`tables`],
+//! [`figures`]) and the speed-against-error report ([`speed`]). The fitting
+//! itself is `laminar-fit`; files are read and written by `laminar-io`.
+
+pub mod figures;
+pub mod reproduce;
+pub mod selection;
+pub mod speed;
+pub mod tables;
+
+use thiserror::Error;
+
+/// Why a command failed (the binary prints it and exits with status 2).
+#[derive(Debug, Error)]
+pub enum CliError {
+    /// A file.
+    #[error(transparent)]
+    Read(#[from] laminar_io::ReadError),
+    /// A fit.
+    #[error(transparent)]
+    Fit(#[from] laminar_fit::FitError),
+    /// The grid.
+    #[error(transparent)]
+    Grid(#[from] laminar_fit::GridError),
+    /// A model or its parameters.
+    #[error(transparent)]
+    Model(#[from] laminar_fit::ModelError),
+    /// Measurements that cannot be fitted.
+    #[error(transparent)]
+    Measurements(#[from] laminar_fit::MeasurementError),
+    /// A figure could not be drawn.
+    #[error("drawing a figure: {0}")]
+    Figure(String),
+    /// Options that do not fit together.
+    #[error("{0}")]
+    Usage(String),
+}

@@ -1,0 +1,52 @@
+//! `laminar`: fit, predict with, export, check and reproduce the absorptive
+//! scattering model for rough laminar surfaces.
+
+mod commands;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "laminar",
+    version,
+    about = "Fit measured reflectance with the absorptive scattering model for rough laminar surfaces (Dahlan & Hancock 2016)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Fit(commands::fit::FitArgs),
+    Predict(commands::predict::PredictArgs),
+    Export(commands::export::ExportArgs),
+    Eval(commands::eval::EvalArgs),
+    Parity(commands::parity::ParityArgs),
+    /// Reports on the search paths.
+    #[command(subcommand)]
+    Report(commands::report::ReportKind),
+    Reproduce(commands::reproduce::ReproduceArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Fit(args) => commands::fit::run(args).map(|_| true),
+        Command::Predict(args) => commands::predict::run(args).map(|_| true),
+        Command::Export(args) => commands::export::run(args).map(|_| true),
+        Command::Eval(args) => commands::eval::run(args).map(|_| true),
+        Command::Parity(args) => commands::parity::run(args),
+        Command::Report(kind) => commands::report::run(kind).map(|_| true),
+        Command::Reproduce(args) => commands::reproduce::run(args).map(|_| true),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

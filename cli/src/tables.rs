@@ -1,0 +1,180 @@
+//! The paper's result tables (Tables II–V) built from fit records, each
+//! rendered as Markdown and CSV by one [`Table`] type.
+
+use crate::selection::material;
+use laminar_fit::fitted::format_value;
+use laminar_fit::{Estimate, Fit, Model};
+
+/// A titled table of text cells.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// File stem, e.g. `table2_rms`.
+    pub name: &'static str,
+    /// Title line.
+    pub title: String,
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows of cells, as many as `header`.
+    pub rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// GitHub-flavoured Markdown, title as a heading.
+    pub fn markdown(&self) -> String {
+        let line = |cells: &[String]| format!("| {} |\n", cells.join(" | "));
+        let mut out = format!("## {}\n\n", self.title);
+        out += &line(&self.header);
+        out += &line(&vec!["---".to_string(); self.header.len()]);
+        for r in &self.rows {
+            out += &line(r);
+        }
+        out
+    }
+
+    /// CSV with the header row.
+    pub fn csv(&self) -> String {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(&self.header).expect("in-memory write");
+        for r in &self.rows {
+            w.write_record(r).expect("in-memory write");
+        }
+        String::from_utf8(w.into_inner().expect("in-memory flush")).expect("utf-8")
+    }
+}
+
+/// The records of one (sample, channel), in record order.
+fn groups(records: &[Fit]) -> Vec<Vec<&Fit>> {
+    let mut out: Vec<Vec<&Fit>> = Vec::new();
+    for r in records {
+        match out
+            .iter_mut()
+            .find(|g| g[0].sample == r.sample && g[0].channel == r.channel)
+        {
+            Some(g) => g.push(r),
+            None => out.push(vec![r]),
+        }
+    }
+    out
+}
+
+/// The estimate of `model` in a group: its own fit, or for `rh-exp` and
+/// `rh-gauss` the a = 0 slice of the absorptive fit when that was run instead.
+fn estimate<'a>(group: &[&'a Fit], model: Model) -> Option<&'a Estimate> {
+    if let Some(r) = group.iter().find(|r| r.model == model) {
+        return Some(&r.best);
+    }
+    let parent = match model {
+        Model::RhExp => Model::Exp,
+        Model::RhGauss => Model::Gauss,
+        _ => return None,
+    };
+    group
+        .iter()
+        .find(|r| r.model == parent)
+        .and_then(|r| r.rh.as_ref())
+}
+
+fn cell(v: Option<f64>) -> String {
+    v.map(|x| format!("{x:.4}")).unwrap_or_else(|| "–".into())
+}
+
+fn key(group: &[&Fit]) -> Vec<String> {
+    let r = group[0];
+    vec![
+        r.sample.clone(),
+        material(&r.sample).to_string(),
+        r.channel.clone(),
+    ]
+}
+
+fn header(rest: &[&str]) -> Vec<String> {
+    ["sample", "material", "channel"]
+        .iter()
+        .chain(rest)
+        .map(|s| s.to_string())
+        .collect()
+}
+
+/// Table II: `Δ_RMS` (eq. 15) of every model.
+pub fn rms_table(records: &[Fit]) -> Table {
+    let rows = groups(records)
+        .iter()
+        .map(|g| {
+            let mut row = key(g);
+            row.extend(
+                Model::ALL
+                    .iter()
+                    .map(|&m| cell(estimate(g, m).map(|e| e.rms))),
+            );
+            row
+        })
+        .collect();
+    Table {
+        name: "table2_rms",
+        title: "Table II: Δ_RMS (eq. 15) of every model".into(),
+        header: header(&Model::ALL.map(Model::name)),
+        rows,
+    }
+}
+
+/// Tables III and IV: the estimated parameters of an absorptive model.
+pub fn parameter_table(records: &[Fit], model: Model) -> Table {
+    let names = ["slope", "beta", "n", "a"];
+    let rows = groups(records)
+        .iter()
+        .filter_map(|g| {
+            let e = estimate(g, model)?;
+            let mut row = key(g);
+            row.extend(
+                names
+                    .iter()
+                    .map(|n| e.get(n).map(format_value).unwrap_or_default()),
+            );
+            row.push(cell(Some(e.rms)));
+            Some(row)
+        })
+        .collect();
+    let (name, number, label) = if model == Model::Gauss {
+        ("table4_gauss_params", "IV", "Gaussian")
+    } else {
+        ("table3_exp_params", "III", "Exponential")
+    };
+    Table {
+        name,
+        title: format!("Table {number}: estimated parameters of the absorptive {label} model"),
+        header: header(&["slope", "beta", "n", "a", "rms"]),
+        rows,
+    }
+}
+
+/// Table V: `χ²/ν` (eq. 16) of the absorptive models against Ragheb–Hancock.
+pub fn chi_square_table(records: &[Fit]) -> Table {
+    let models = [Model::Exp, Model::RhExp, Model::Gauss, Model::RhGauss];
+    let rows = groups(records)
+        .iter()
+        .map(|g| {
+            let mut row = key(g);
+            let chi = |m| estimate(g, m).and_then(|e| e.chi2);
+            row.extend(models.iter().map(|&m| cell(chi(m).map(|c| c.per_dof))));
+            let left_out = models.iter().find_map(|&m| chi(m).map(|c| c.left_out));
+            row.push(left_out.map(|n| n.to_string()).unwrap_or_default());
+            row
+        })
+        .collect();
+    Table {
+        name: "table5_chi2",
+        title: "Table V: χ²/ν (eq. 16), absorptive against Ragheb–Hancock".into(),
+        header: header(&["exp", "rh-exp", "gauss", "rh-gauss", "left_out"]),
+        rows,
+    }
+}
+
+/// Tables II–V in paper order.
+pub fn paper_tables(records: &[Fit]) -> Vec<Table> {
+    vec![
+        rms_table(records),
+        parameter_table(records, Model::Exp),
+        parameter_table(records, Model::Gauss),
+        chi_square_table(records),
+    ]
+}

@@ -1,0 +1,634 @@
+//! The `laminar` binary: each command's contract, through the binary.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Runs `laminar args…` without CURET_DIR; returns (status, stdout, stderr).
+fn laminar(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_laminar"))
+        .args(args)
+        .env_remove("CURET_DIR")
+        .output()
+        .expect("runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn ok(args: &[&str]) -> String {
+    let (code, out, err) = laminar(args);
+    assert_eq!(code, 0, "laminar {}: {err}", args.join(" "));
+    out
+}
+
+fn fails(args: &[&str], needles: &[&str]) -> String {
+    let (code, _, err) = laminar(args);
+    assert_eq!(code, 2, "laminar {}: exit {code}: {err}", args.join(" "));
+    for n in needles {
+        assert!(
+            err.contains(n),
+            "laminar {}: `{err}` lacks `{n}`",
+            args.join(" ")
+        );
+    }
+    err
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// A small grid around the synthetic truth (paper steps), as CLI options.
+const SMALL_GRID: [&str; 6] = [
+    "--slope",
+    "1.32:1.64:5",
+    "--n",
+    "1.4:1.48:5",
+    "--a",
+    "0:0.4:5",
+];
+
+#[test]
+fn help_lists_only_options_the_command_reads() {
+    for (cmd, absent) in [
+        (
+            &["reproduce", "--help"][..],
+            &["--models", "--measurements", "--format"][..],
+        ),
+        (
+            &["report", "speed-vs-error", "--help"],
+            &["--path", "--models"],
+        ),
+        (&["eval", "--help"], &["--data", "--threads", "--models"]),
+        (
+            &["predict", "--help"],
+            &["--models", "--threads", "--channels", "--samples"],
+        ),
+        (&["export", "--help"], &["--data", "--models", "--threads"]),
+    ] {
+        let help = ok(cmd);
+        for a in absent {
+            assert!(!help.contains(a), "{cmd:?} lists {a}");
+        }
+    }
+    // And options not listed are refused by the parser.
+    fails(
+        &["reproduce", "--out", "x", "--models", "exp"],
+        &["unexpected argument '--models'"],
+    );
+    fails(
+        &["report", "speed-vs-error", "--path", "onepass-f32"],
+        &["unexpected argument '--path'"],
+    );
+    // The quantities are defined in --help.
+    let fit_help = ok(&["fit", "--help"]);
+    assert!(
+        fit_help.contains("Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K"),
+        "{fit_help}"
+    );
+    assert!(fit_help.contains("χ²/ν (eq. 16)"));
+    assert!(ok(&["eval", "--help"]).contains("NOT the normalised predictions"));
+    assert!(ok(&["predict", "--help"]).contains("normalised prediction"));
+}
+
+#[test]
+fn fit_takes_models_and_path() {
+    let out = ok(&[
+        "fit",
+        "--models",
+        "rh-exp",
+        "--path",
+        "onepass-f32x8",
+        "--slope",
+        "1.4:1.56:3",
+        "--n",
+        "1.4:1.5:6",
+        "--a",
+        "0:0.2:3",
+    ]);
+    assert!(
+        out.lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("synthetic,avg,rh-exp,"),
+        "{out}"
+    );
+}
+
+#[test]
+fn grid_errors_are_range_errors_with_sizes() {
+    fails(
+        &["fit", "--a", "-0.1"],
+        &["axis a: a = -0.1 is outside [0, 1]"],
+    );
+    fails(
+        &["fit", "--n", "0.5:1.5:3"],
+        &["axis n: n = 0.5 is outside [1, 10]"],
+    );
+    fails(
+        &["fit", "--slope", "0.12:4.04:100000000000"],
+        &["100000000000 values, more than the limit of 1000000"],
+    );
+    fails(
+        &["fit", "--slope", "0.12:4.04:1000000", "--n", "1:2:1000"],
+        &["10100000000000 parameter sets (1000000×1000×101×100), more than the limit"],
+    );
+}
+
+#[test]
+fn unwritable_out_fails_before_the_work() {
+    let d = tempfile::tempdir().unwrap();
+    let missing = d.path().join("no/such/dir/fits.csv");
+    let err = fails(
+        &["fit", "--out", s(&missing)],
+        &["cannot write", "fits.csv"],
+    );
+    assert!(!err.contains("elapsed"), "the fit ran: {err}");
+    assert!(!missing.exists());
+    let err = fails(
+        &["report", "speed-vs-error", "--out", s(&missing)],
+        &["cannot write"],
+    );
+    assert!(!err.contains("elapsed"), "{err}");
+}
+
+#[test]
+fn parity_without_a_layered_model_is_an_error() {
+    fails(
+        &["parity", "--models", "jensen,oren-nayar"],
+        &["names none of exp, gauss"],
+    );
+    let out = ok(&[
+        "parity",
+        "--models",
+        "exp",
+        "--slope",
+        "1.4:1.56:3",
+        "--a",
+        "0:0.2:3",
+    ]);
+    assert!(
+        out.contains("parity: 9900 of 9900 grid values identical"),
+        "{out}"
+    );
+}
+
+#[test]
+fn eval_reads_geometry_columns_by_name() {
+    let d = tempfile::tempdir().unwrap();
+    let base = [
+        "eval", "--model", "exp", "--slope", "0.5", "--beta", "0.3", "--n", "1.4",
+    ];
+    let single = ok(&[
+        &base[..],
+        &["--theta-i", "0.2", "--theta-s", "0.5", "--phi-s", "1"],
+    ]
+    .concat());
+    // The same geometry with the columns in another order, plus a note column.
+    let g = write(
+        d.path(),
+        "g.csv",
+        "phi_s,note,theta_i,theta_s\n1,x,0.2,0.5\n",
+    );
+    let from_file = ok(&[&base[..], &["--geometry", s(&g)]].concat());
+    assert_eq!(single, from_file);
+    let g = write(d.path(), "bad.csv", "a,b,c\n0.2,0.5,1\n");
+    fails(
+        &[&base[..], &["--geometry", s(&g)]].concat(),
+        &["bad.csv:1", "names no geometry"],
+    );
+    let g = write(d.path(), "bad2.csv", "theta_i,theta_s,phi_s\n0.2,x,1\n");
+    fails(
+        &[&base[..], &["--geometry", s(&g)]].concat(),
+        &["bad2.csv:2", "column 2 (theta_s)", "`x`"],
+    );
+    fails(
+        &[
+            &base[..],
+            &[
+                "--a",
+                "-0.1",
+                "--theta-i",
+                "0",
+                "--theta-s",
+                "0",
+                "--phi-s",
+                "0",
+            ],
+        ]
+        .concat(),
+        &["a = -0.1 is outside [0, 1]"],
+    );
+}
+
+/// A CUReT directory of 12 geometries with sample 5 all zeros.
+#[test]
+fn a_brdf_row_without_positive_value_names_the_sample() {
+    let d = tempfile::tempdir().unwrap();
+    let mut table = String::new();
+    for i in 0..12 {
+        table += &format!("{} {} 1.0 {} 0.5\n", i + 1, 0.1 * i as f64, 0.05 * i as f64);
+    }
+    write(d.path(), "table.txt", &table);
+    let zeros = ["0"; 12].join(" ");
+    let ones = ["0.5"; 12].join(" ");
+    write(d.path(), "abrdf.dat", &format!("4 {ones}\n5 {zeros}\n"));
+    fails(
+        &[
+            "fit",
+            "--data",
+            s(d.path()),
+            "--samples",
+            "5",
+            "--models",
+            "jensen",
+        ],
+        &["abrdf.dat", "5: channel `avg` has no positive value"],
+    );
+    ok(&[
+        "fit",
+        "--data",
+        s(d.path()),
+        "--samples",
+        "4",
+        "--models",
+        "jensen",
+    ]);
+}
+
+/// 200 paper-frame geometries (θi, θs on a 10 × 10 grid, two azimuths).
+fn geometry_csv(dir: &Path) -> PathBuf {
+    let mut text = String::from("theta_i,theta_s,phi_s\n");
+    for i in 0..10 {
+        for j in 0..10 {
+            for phi in [-2.5, 0.9] {
+                let ti = (5.0 + 8.0 * i as f64).to_radians();
+                let ts = (3.0 + 8.0 * j as f64).to_radians();
+                text += &format!("{ti},{ts},{phi}\n");
+            }
+        }
+    }
+    write(dir, "geometry.csv", &text)
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Noise-free radiance from `eval` (eq. 8, β = 0.4) at 200 geometries,
+/// fitted with `fit` on `beta` (the other axes: the paper's).
+fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let geometry = geometry_csv(dir);
+    let radiance = ok(&[
+        "eval",
+        "--model",
+        "exp",
+        "--slope",
+        "1.48",
+        "--beta",
+        "0.4",
+        "--n",
+        "1.44",
+        "--a",
+        "0.2",
+        "--geometry",
+        s(&geometry),
+    ]);
+    let data = write(dir, "made.csv", &radiance);
+    let fits = dir.join("fits.json");
+    ok(&[
+        "fit",
+        "--measurements",
+        s(&data),
+        "--quantity",
+        "radiance",
+        "--channels",
+        "total",
+        "--models",
+        "exp",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+        "--beta",
+        beta,
+    ]);
+    (geometry, data, fits)
+}
+
+/// `eval` → fit → the other parameters exactly and beta_eq8 within one β
+/// step of the truth, on a β axis of step 0.001 (on the paper's 0.01 the β
+/// quantisation, 0.03 in beta_eq8 here, is taken up by n and a one step
+/// off); then `predict` on the fit's own measurements reproduces its Δ_RMS.
+#[test]
+fn eval_fit_predict_round_trip() {
+    let d = tempfile::tempdir().unwrap();
+    let (geometry, data, fits) = eval_and_fit(d.path(), "0.001:1:1000");
+    let j = json(&fits);
+    let f = &j["fits"][0];
+    assert_eq!(f["sample"], "made");
+    assert_eq!(f["channel"], "total");
+    assert_eq!(f["params"]["slope"], 1.48);
+    assert_eq!(f["params"]["n"], 1.44);
+    assert_eq!(f["params"]["a"], 0.2);
+    let beta_eq8 = f["fitted"]["beta_eq8"].as_f64().unwrap();
+    eprintln!(
+        "beta = {}, beta_eq8 = {beta_eq8}, rms = {}",
+        f["params"]["beta"], f["rms"]
+    );
+    assert!((beta_eq8 - 0.4).abs() <= 0.001, "beta_eq8 {beta_eq8}");
+    // The fitted β is the paper normalisation's, not eq. 8's.
+    assert!((f["params"]["beta"].as_f64().unwrap() - 0.4).abs() > 0.05);
+
+    let (code, out, err) = laminar(&[
+        "predict",
+        "--fit",
+        s(&fits),
+        "--measurements",
+        s(&data),
+        "--quantity",
+        "radiance",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.starts_with("row,theta_i,theta_s,phi_s,prediction,data,residual\n"),
+        "{out}"
+    );
+    assert_eq!(out.lines().count(), 201);
+    let rms = |text: &str, key: &str| -> f64 {
+        let at = text.find(key).unwrap() + key.len();
+        text[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .trim_end_matches(')')
+            .parse()
+            .unwrap()
+    };
+    let (got, own) = (rms(&err, "Δ_RMS (eq. 15) = "), f["rms"].as_f64().unwrap());
+    eprintln!(
+        "predict Δ_RMS {got:e}, fit {own:e}, relative {:e}",
+        (got - own).abs() / own
+    );
+    assert!((got - own).abs() <= 1e-12 * own, "{got} vs {own}");
+    // At geometries alone: one row per geometry, no data columns.
+    let only = ok(&["predict", "--fit", s(&fits), "--geometry", s(&geometry)]);
+    assert!(only.starts_with("row,theta_i,theta_s,phi_s,prediction\n"));
+    assert_eq!(only.lines().count(), 201);
+}
+
+#[test]
+fn predict_selects_one_fit() {
+    let d = tempfile::tempdir().unwrap();
+    let fits = d.path().join("fits.json");
+    let geometry = geometry_csv(d.path());
+    ok(&[
+        "fit",
+        "--models",
+        "exp,jensen",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+        "--a",
+        "0:0.4:5",
+    ]);
+    fails(
+        &["predict", "--fit", s(&fits), "--geometry", s(&geometry)],
+        &[
+            "holds 2 fits",
+            "synthetic/avg/exp",
+            "synthetic/avg/rh-exp",
+            "synthetic/avg/jensen",
+        ],
+    );
+    fails(
+        &[
+            "predict",
+            "--fit",
+            s(&fits),
+            "--select",
+            "x/y/z",
+            "--geometry",
+            s(&geometry),
+        ],
+        &["no fit `x/y/z`"],
+    );
+    for sel in [
+        "synthetic/avg/exp",
+        "synthetic/avg/rh-exp",
+        "synthetic/avg/jensen",
+    ] {
+        let out = ok(&[
+            "predict",
+            "--fit",
+            s(&fits),
+            "--select",
+            sel,
+            "--geometry",
+            s(&geometry),
+        ]);
+        assert_eq!(out.lines().count(), 201, "{sel}");
+    }
+    let bad = write(d.path(), "bad.json", "{\"format\": \"x\"}");
+    fails(
+        &["predict", "--fit", s(&bad), "--geometry", s(&geometry)],
+        &["bad.json:1", "not a laminar fitted-model file"],
+    );
+}
+
+/// A CSV with degrees, lab-frame angles, comments, two channels and sigma.
+#[test]
+fn csv_measurements_are_fitted_by_channel_with_the_file_stem_as_sample() {
+    let d = tempfile::tempdir().unwrap();
+    let mut text =
+        String::from("# a goniometer export\ntheta_i,phi_i,theta_v,phi_v,label,r,g,sigma_r\n");
+    for i in 0..8 {
+        for j in 0..8 {
+            let (ti, tv, pv) = (5 + 10 * i, 3 + 10 * j, 30 * j);
+            let r = 0.2 + 0.01 * (i + j) as f64;
+            text += &format!("{ti},0,{tv},{pv},x{i},{r},{},0.01\n", r * 0.8);
+        }
+    }
+    let file = write(d.path(), "felt.csv", &text);
+    let out = ok(&[
+        "fit",
+        "--measurements",
+        s(&file),
+        "--angles",
+        "deg",
+        "--models",
+        "jensen,oren-nayar",
+    ]);
+    let rows: Vec<&str> = out.lines().skip(1).collect();
+    assert_eq!(rows.len(), 4, "{out}");
+    assert!(rows[0].starts_with("felt,r,jensen,"), "{out}");
+    assert!(rows[2].starts_with("felt,g,jensen,"), "{out}");
+    // Radians by default: 85° read as radians is out of range, named.
+    fails(
+        &["fit", "--measurements", s(&file), "--models", "jensen"],
+        &["felt.csv:3", "column 1 (theta_i)", "`5`"],
+    );
+    let bad = write(
+        d.path(),
+        "bad.csv",
+        "theta_i,phi_i,theta_v,phi_v,v\n0.1,0,0.2,1,0.5\n0.1,0,0.2,1,oops\n",
+    );
+    fails(
+        &["fit", "--measurements", s(&bad), "--models", "jensen"],
+        &["bad.csv:3", "column 5 (v)", "`oops` is not a number"],
+    );
+    let nochan = write(
+        d.path(),
+        "nochan.csv",
+        "theta_i,phi_i,theta_v,phi_v\n0.1,0,0.2,1\n",
+    );
+    fails(
+        &["fit", "--measurements", s(&nochan)],
+        &["nochan.csv:2", "no value column"],
+    );
+    fails(
+        &[
+            "fit",
+            "--measurements",
+            s(&file),
+            "--angles",
+            "deg",
+            "--channels",
+            "b",
+        ],
+        &["no channel `b` (channels: r, g)"],
+    );
+}
+
+/// Model → MERL file (`export`) → sampled at bin centres → fit: the fit
+/// finds the exported model's σ/T, n, a and beta_eq8 (β itself depends on
+/// the geometries the normalisation runs over, see `FittedModel`). The β
+/// axis is fine (0.0001) because the bin centres include near-specular
+/// geometries, where one paper-β step moves beta_eq8 by 0.005. At other
+/// geometries the MERL binning changes the values by up to 3% here.
+#[test]
+fn export_merl_and_fit_it_back() {
+    use laminar_io::merl::std_coords;
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let d = tempfile::tempdir().unwrap();
+    let (_, _, fits) = eval_and_fit(d.path(), "0.001:1:1000");
+    let merl = d.path().join("model.binary");
+    ok(&["export", "--fit", s(&fits), "--merl", s(&merl)]);
+    assert_eq!(std::fs::metadata(&merl).unwrap().len(), 34_992_012);
+    fails(&["fit", "--measurements", s(&merl)], &["--sample-at"]);
+    // Bin centres with both directions above the horizon.
+    let mut centres = String::from("theta_i,phi_i,theta_v,phi_v\n");
+    let mut count = 0;
+    for ih in (2..80).step_by(7) {
+        for id in (1..80).step_by(9) {
+            for ip in (3..180).step_by(41) {
+                let u = (ih as f64 + 0.5) / 90.0;
+                let (ti, pi, to, po) = std_coords(
+                    u * u * FRAC_PI_2,
+                    0.0,
+                    (id as f64 + 0.5) / 90.0 * FRAC_PI_2,
+                    (ip as f64 + 0.5) / 180.0 * PI,
+                );
+                if ti < 1.5 && to < 1.5 {
+                    centres += &format!("{ti},{pi},{to},{po}\n");
+                    count += 1;
+                }
+            }
+        }
+    }
+    assert!(count > 150, "{count} bin centres");
+    let at = write(d.path(), "centres.csv", &centres);
+    let back = d.path().join("back.json");
+    let out = ok(&[
+        "fit",
+        "--measurements",
+        s(&merl),
+        "--sample-at",
+        s(&at),
+        "--models",
+        "exp",
+        "--channels",
+        "g",
+        "--format",
+        "json",
+        "--out",
+        s(&back),
+        "--beta",
+        "0.0001:1:10000",
+    ]);
+    assert!(out.is_empty());
+    let (exported, back) = (json(&fits), json(&back));
+    let f = &back["fits"][0];
+    eprintln!("MERL round trip: {} rms {}", f["params"], f["rms"]);
+    assert_eq!(f["sample"], "model");
+    assert_eq!(f["channel"], "g");
+    let e = &exported["fits"][0];
+    for k in ["slope", "n", "a"] {
+        assert_eq!(f["params"][k], e["params"][k], "{k}");
+    }
+    let beta_eq8 = |x: &serde_json::Value| x["fitted"]["beta_eq8"].as_f64().unwrap();
+    assert!(
+        (beta_eq8(f) - beta_eq8(e)).abs() <= 0.001,
+        "{} vs {}",
+        beta_eq8(f),
+        beta_eq8(e)
+    );
+    assert!(f["rms"].as_f64().unwrap() < 1e-3, "{}", f["rms"]);
+}
+
+#[test]
+fn reproduce_reports_stale_figures() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let mut table = String::new();
+    for i in 0..30 {
+        let (tv, ti) = (0.05 * (i % 10) as f64, 0.04 * (i / 3) as f64);
+        table += &format!("{} {tv} {} {ti} 0.3\n", i + 1, 0.2 * i as f64);
+    }
+    write(dir, "table.txt", &table);
+    let row = |k: f64| {
+        (0..30)
+            .map(|i| format!("{}", 0.3 + k * i as f64 / 30.0))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    write(
+        dir,
+        "abrdf.dat",
+        &format!("21 {}\n48 {}\n", row(0.5), row(0.2)),
+    );
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    write(&out, "fig_sample19_exp_avg.svg", "<svg/>");
+    let (code, _, err) = laminar(
+        &[
+            "reproduce",
+            "--data",
+            s(dir),
+            "--samples",
+            "21",
+            "--out",
+            s(&out),
+            &SMALL_GRID[..].join(" "),
+        ]
+        .iter()
+        .flat_map(|a| a.split(' '))
+        .collect::<Vec<_>>(),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("removed stale figure") && err.contains("fig_sample19_exp_avg.svg"),
+        "{err}"
+    );
+    assert!(!out.join("fig_sample19_exp_avg.svg").exists());
+    assert!(out.join("fig_sample21_exp_avg.svg").exists());
+}

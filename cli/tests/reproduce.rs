@@ -1,0 +1,107 @@
+//! `reproduce` end to end on a CUReT-format directory the test writes:
+//! tables, figures, given Oren–Nayar parameters, stale figures.
+
+use laminar_cli::reproduce::{reproduce, FITTED};
+use laminar_cli::selection::curet_jobs;
+use laminar_core::{Correlation, Params};
+use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+use std::path::{Path as FsPath, PathBuf};
+
+fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// A CUReT-format directory of `rows` synthetic geometries with samples 19
+/// and 21 in `abrdf.dat` and `rbrdf.dat` (radiance made by the exp model).
+fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
+    let d = tempfile::tempdir().unwrap();
+    let angles = synthetic::geometries();
+    let mut table = String::new();
+    for (i, a) in angles.iter().take(rows).enumerate() {
+        let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
+        table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
+    }
+    write(d.path(), "table.txt", &table);
+    for (file, scale) in [("abrdf.dat", 1.0), ("rbrdf.dat", 0.7)] {
+        let mut text = String::new();
+        for (sample, beta) in [(19, 0.3), (21, 0.5)] {
+            let p = Params::new(1.48, beta, 1.44, 0.2).unwrap();
+            let values: Vec<String> = angles[..rows]
+                .iter()
+                .map(|a| {
+                    let g = laminar_core::Geometry::<f64>::splat(a);
+                    let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
+                    // BRDF = radiance / cos θi (conventions §4).
+                    format!("{:.6}", scale * l / a.theta_i().cos())
+                })
+                .collect();
+            text += &format!("{sample} {}\n", values.join(" "));
+        }
+        write(d.path(), file, &text);
+    }
+    d
+}
+
+#[test]
+fn reproduce_writes_every_table_and_figure() {
+    let d = synthetic_curet_dir(40);
+    write(d.path(), "op.dat", "21 0.6 0.25 1.0\n");
+    let js = curet_jobs(d.path(), &[], Some(&[19, 21])).unwrap();
+    assert_eq!(js.len(), 4, "2 samples × (avg, r)");
+    let grid = Grid {
+        slope: Axis::stepped(1.32, 0.08, 5),
+        a: Axis::stepped(0.0, 0.1, 5),
+        ..Grid::paper()
+    };
+    let out = d.path().join("out");
+    // A stale figure from an earlier run on another sample.
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("fig_sample7_exp_avg.svg"), "<svg/>").unwrap();
+    let r = reproduce(&Fitter::new(grid).unwrap(), &js, &out).unwrap();
+    assert_eq!(r.removed, vec![out.join("fig_sample7_exp_avg.svg")]);
+    assert!(!out.join("fig_sample7_exp_avg.svg").exists());
+    assert_eq!(r.records.len(), 4 * FITTED.len());
+    for name in [
+        "table2_rms",
+        "table3_exp_params",
+        "table4_gauss_params",
+        "table5_chi2",
+    ] {
+        let md = std::fs::read_to_string(out.join(format!("{name}.md"))).unwrap();
+        let csv = std::fs::read_to_string(out.join(format!("{name}.csv"))).unwrap();
+        assert!(md.starts_with("## Table "), "{name}");
+        // Header plus one row per (sample, channel).
+        assert_eq!(csv.lines().count(), 1 + 4, "{name}:\n{csv}");
+        assert!(csv.starts_with("sample,material,channel,"), "{name}");
+    }
+    let rms = std::fs::read_to_string(out.join("table2_rms.csv")).unwrap();
+    assert!(
+        rms.starts_with("sample,material,channel,exp,gauss,rh-exp,rh-gauss,jensen,oren-nayar\n")
+    );
+    assert!(rms.contains("21,Sponge,r,"));
+    let fig2 = std::fs::read_to_string(out.join("fig2_transmission_absorption.svg")).unwrap();
+    assert!(fig2.contains("<svg") && fig2.contains("a = 0.5"));
+    // One data-against-model figure per model (6) and job of samples 19, 21.
+    let figures = r
+        .files
+        .iter()
+        .filter(|f| f.to_string_lossy().contains("fig_sample"))
+        .count();
+    assert_eq!(figures, 6 * 4);
+    assert!(out.join("fig_sample21_rh-gauss_r.svg").exists());
+    // op.dat supplies sample 21's avg Oren–Nayar parameters: no search there.
+    let on = |sample: &str, channel: &str| {
+        r.records
+            .iter()
+            .find(|x| x.sample == sample && x.channel == channel && x.model == Model::OrenNayar)
+            .unwrap()
+    };
+    let given = on("21", "avg");
+    assert_eq!(given.evaluated, 1);
+    assert_eq!(given.best.get("sigma"), Some(0.25));
+    assert_eq!(given.best.get("rho"), Some(0.6));
+    assert!(on("21", "r").evaluated > 1, "no opr.dat: grid search");
+    assert!(on("19", "avg").evaluated > 1, "19 not in op.dat");
+}

@@ -1,0 +1,220 @@
+//! Typed errors of the fitting library, one enum per layer: grids
+//! ([`GridError`]), measurement sets ([`MeasurementError`]), fitted models
+//! ([`ModelError`]) and fitting ([`FitError`], which wraps the others).
+
+use laminar_core::InputError;
+use thiserror::Error;
+
+/// A search grid that cannot be used.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum GridError {
+    /// The text is not `start:stop:count` or a single value.
+    #[error("axis `{text}` is not `start:stop:count` or a single value")]
+    Syntax {
+        /// The axis text.
+        text: String,
+    },
+    /// A bound is not a finite number.
+    #[error("`{field}` in axis `{text}` is not a finite number")]
+    NotANumber {
+        /// The axis text.
+        text: String,
+        /// The offending field.
+        field: String,
+    },
+    /// The count is not a positive integer.
+    #[error("count `{field}` in axis `{text}` is not a positive integer")]
+    BadCount {
+        /// The axis text.
+        text: String,
+        /// The offending field.
+        field: String,
+    },
+    /// An axis longer than [`crate::grid::MAX_AXIS_LEN`] (refused before anything is allocated).
+    #[error("axis `{text}` has {count} values, more than the limit of {limit}")]
+    AxisTooLong {
+        /// The axis text.
+        text: String,
+        /// Values asked for.
+        count: u128,
+        /// The limit.
+        limit: usize,
+    },
+    /// An axis with no value.
+    #[error("axis {axis} is empty")]
+    Empty {
+        /// The axis name.
+        axis: &'static str,
+    },
+    /// A value outside the model's domain.
+    #[error("axis {axis}: {error}")]
+    OutOfDomain {
+        /// The axis name.
+        axis: &'static str,
+        /// The core's description of the value and its domain.
+        error: InputError,
+    },
+    /// More parameter sets than [`crate::grid::MAX_GRID_SIZE`].
+    #[error("the grid has {size} parameter sets ({shape}), more than the limit of {limit}")]
+    TooLarge {
+        /// Parameter sets asked for.
+        size: u128,
+        /// The axis lengths, `slope×n×a×beta`.
+        shape: String,
+        /// The limit.
+        limit: u128,
+    },
+    /// A table over the grid (e.g. an error surface) could not be allocated.
+    #[error("cannot allocate {bytes} bytes for {size} grid values")]
+    Allocation {
+        /// Grid values.
+        size: usize,
+        /// Bytes asked for.
+        bytes: u128,
+    },
+}
+
+/// A measurement set that cannot be built or fitted.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MeasurementError {
+    /// A measurement's angle is outside its domain (row is 1-based, in the source's numbering).
+    #[error("{set}: row {row}: {error}")]
+    Angle {
+        /// The set's name.
+        set: String,
+        /// Source row of the measurement.
+        row: usize,
+        /// What is wrong.
+        error: InputError,
+    },
+    /// A value or uncertainty is NaN or infinite.
+    #[error("{set}: row {row}: channel `{channel}`: {what} {value} is not a finite number")]
+    NotFinite {
+        /// The set's name.
+        set: String,
+        /// Source row.
+        row: usize,
+        /// The channel.
+        channel: String,
+        /// `value` or `sigma`.
+        what: &'static str,
+        /// The value.
+        value: f64,
+    },
+    /// An uncertainty that is not positive.
+    #[error("{set}: row {row}: channel `{channel}`: sigma {value} is not positive")]
+    BadSigma {
+        /// The set's name.
+        set: String,
+        /// Source row.
+        row: usize,
+        /// The channel.
+        channel: String,
+        /// The value.
+        value: f64,
+    },
+    /// A channel, row list or uncertainty list whose length is not the number of measurements.
+    #[error("{set}: {what} has {found} entries for {expected} measurements")]
+    Length {
+        /// The set's name.
+        set: String,
+        /// What had the wrong length.
+        what: String,
+        /// Entries given.
+        found: usize,
+        /// Measurements in the set.
+        expected: usize,
+    },
+    /// Two channels with one name.
+    #[error("{set}: channel `{channel}` is given twice")]
+    DuplicateChannel {
+        /// The set's name.
+        set: String,
+        /// The channel.
+        channel: String,
+    },
+    /// A channel name the set does not have.
+    #[error("{set}: no channel `{channel}` (channels: {available})")]
+    NoChannel {
+        /// The set's name.
+        set: String,
+        /// The channel asked for.
+        channel: String,
+        /// The channels the set has, comma-separated.
+        available: String,
+    },
+    /// A set without measurements, or whose every measurement is specular.
+    #[error("{set}: no non-specular measurement to fit ({measurements} measurements, {specular} specular)")]
+    NothingToFit {
+        /// The set's name.
+        set: String,
+        /// Measurements in the set.
+        measurements: usize,
+        /// Measurements excluded as specular.
+        specular: usize,
+    },
+    /// A channel whose kept values are all zero or negative.
+    #[error("{set}: channel `{channel}` has no positive value among its {kept} non-specular measurements; nothing to normalise by")]
+    NoPositiveValue {
+        /// The set's name (the sample).
+        set: String,
+        /// The channel.
+        channel: String,
+        /// Non-specular measurements.
+        kept: usize,
+    },
+    /// A negative specular tolerance, or NaN.
+    #[error("specular tolerance {0} is not a finite non-negative angle")]
+    BadTolerance(f64),
+}
+
+/// A fitted model that cannot predict (e.g. one read from a file and edited by hand).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ModelError {
+    /// A name that is not a model.
+    #[error(
+        "unknown model `{0}` (expected one of exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar)"
+    )]
+    UnknownModel(String),
+    /// Parameters of another model.
+    #[error("model {model} takes parameters {expected}")]
+    WrongParameters {
+        /// The model.
+        model: String,
+        /// Its parameter names.
+        expected: &'static str,
+    },
+    /// A parameter outside its domain.
+    #[error("{0}")]
+    OutOfDomain(InputError),
+    /// A normalisation constant that is negative, NaN or infinite.
+    #[error("normalisation constant {name} = {value} is not a finite non-negative number")]
+    BadConstant {
+        /// The constant.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
+}
+
+/// A fit that cannot run.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FitError {
+    /// The grid.
+    #[error(transparent)]
+    Grid(#[from] GridError),
+    /// The measurements.
+    #[error(transparent)]
+    Measurements(#[from] MeasurementError),
+    /// The model or its parameters.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The worker threads.
+    #[error("cannot start {threads} worker threads: {message}")]
+    Threads {
+        /// Threads asked for (0 is refused).
+        threads: usize,
+        /// Why.
+        message: String,
+    },
+}

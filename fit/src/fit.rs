@@ -1,0 +1,355 @@
+//! Fitting a scene with a model: the layered models by the grid search of
+//! [`crate::search`], the baselines by their own grids (docs/conventions.md §7).
+
+use crate::error::{FitError, ModelError};
+use crate::fitted::{FittedModel, ModelParams};
+use crate::grid::{Axis, Grid};
+use crate::model::Model;
+use crate::scene::Scene;
+use crate::search::{point, search, Path};
+use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
+use laminar_core::baselines::oren_nayar::{
+    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
+};
+use laminar_core::{chi_square_per_dof, normalise_by_max, rms_error, ChiSquare};
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// A fitted model with its error measures on the scene it was fitted to
+/// (computed in f64 from [`FittedModel::predict`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Estimate {
+    /// The fitted model, portable.
+    pub fitted: FittedModel,
+    /// `Δ_RMS = 100·sqrt(Σ(D−P)²)/K` (eq. 15).
+    pub rms: f64,
+    /// `χ²/ν` (eq. 16), when there are degrees of freedom left.
+    pub chi2: Option<ChiSquare<f64>>,
+}
+
+impl Estimate {
+    /// Normalises `model` at `params` on `scene` and measures its error there.
+    pub fn new(scene: &Scene, model: Model, params: ModelParams) -> Result<Self, ModelError> {
+        let fitted = FittedModel::normalised_on(model, params, &scene.angles, scene.data_scale)?;
+        let prediction = fitted.predict(&scene.angles)?;
+        Ok(Self {
+            fitted,
+            rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
+            chi2: chi_square_per_dof(&scene.data, &prediction, model.parameter_count()).ok(),
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &ModelParams {
+        &self.fitted.params
+    }
+
+    /// `name=value` pairs joined by `;` (the `params` column).
+    pub fn params_text(&self) -> String {
+        self.fitted.params.text()
+    }
+
+    /// The value of a named parameter.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.fitted.params.get(name)
+    }
+}
+
+/// The result of fitting one (sample, channel, model).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// Sample label ([`Scene::sample`]).
+    pub sample: String,
+    /// Channel name ([`Scene::channel`]).
+    pub channel: String,
+    /// Model fitted.
+    pub model: Model,
+    /// The best estimate.
+    pub best: Estimate,
+    /// For `exp` and `gauss`: the Ragheb–Hancock best of the same search (a = 0 slice).
+    pub rh: Option<Estimate>,
+    /// The search's own Δ_RMS at the best point (search precision).
+    pub search_rms: f64,
+    /// Kept measurements K.
+    pub measurements: usize,
+    /// Kept measurements with zero or negative value (docs/conventions.md §8).
+    pub nonpositive: usize,
+    /// Parameter sets evaluated.
+    pub evaluated: usize,
+}
+
+/// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
+pub fn jensen_grid() -> (Axis, Axis) {
+    (
+        Axis::stepped(0.01, 0.01, 100),
+        Axis::stepped(0.01, 0.01, 100),
+    )
+}
+
+/// Oren–Nayar grid (docs/conventions.md §7): σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
+pub fn oren_nayar_grid() -> (Axis, Axis) {
+    (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
+}
+
+/// Exhaustive 2-D search in f64 of a max-normalised baseline; ties keep the
+/// first point in row-major order.
+fn grid2<G: Sync, K>(
+    scene: &Scene,
+    outer: &Axis,
+    inner: &Axis,
+    geometry: &[G],
+    coefficients: impl Fn(f64, f64) -> K + Sync,
+    radiance: impl Fn(&G, &K) -> f64 + Sync,
+) -> (f64, f64, f64) {
+    let rows: Vec<(f64, f64, f64)> = outer
+        .values
+        .par_iter()
+        .map(|&x| {
+            let mut best = (f64::INFINITY, x, inner.values[0]);
+            for &y in &inner.values {
+                let k = coefficients(x, y);
+                let mut p: Vec<f64> = geometry.iter().map(|g| radiance(g, &k)).collect();
+                normalise_by_max(&mut p);
+                let rms = rms_error(&scene.data, &p).unwrap_or(f64::INFINITY);
+                if rms < best.0 {
+                    best = (rms, x, y);
+                }
+            }
+            best
+        })
+        .collect();
+    rows.into_iter().fold(
+        (f64::INFINITY, 0.0, 0.0),
+        |b, r| if r.0 < b.0 { r } else { b },
+    )
+}
+
+type Progress = Arc<dyn Fn() + Send + Sync>;
+
+/// Fits scenes: the grid, the search path, the worker threads and a progress
+/// callback, set once.
+///
+/// ```
+/// use laminar_core::{Correlation, Params};
+/// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+/// // Noise-free synthetic data from the exp model.
+/// let truth = Params::new(1.48, 0.39, 1.44, 0.17)?;
+/// let scene = synthetic::scene(Correlation::Exponential, &truth, 0.0, 1);
+/// let grid = Grid {
+///     slope: Axis::stepped(1.32, 0.08, 5),
+///     a: Axis::stepped(0.13, 0.01, 9),
+///     ..Grid::paper()
+/// };
+/// let fit = Fitter::new(grid)?.threads(1)?.fit(&scene, Model::Exp);
+/// assert_eq!(fit.best.params_text(), "slope=1.48;beta=0.39;n=1.44;a=0.17");
+/// assert!(fit.best.rms < 1e-6);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone)]
+pub struct Fitter {
+    grid: Grid,
+    path: Path,
+    pool: Option<Arc<rayon::ThreadPool>>,
+    progress: Option<Progress>,
+}
+
+impl Fitter {
+    /// A fitter on `grid` (validated: [`Grid::validate`]) with the default
+    /// search path, all cores, no progress callback.
+    pub fn new(grid: Grid) -> Result<Self, FitError> {
+        grid.validate()?;
+        Ok(Self {
+            grid,
+            path: Path::DEFAULT,
+            pool: None,
+            progress: None,
+        })
+    }
+
+    /// The search path of the layered models (default [`Path::DEFAULT`]).
+    pub fn path(mut self, path: Path) -> Self {
+        self.path = path;
+        self
+    }
+
+    /// Runs every fit on `threads` worker threads (default: rayon's global
+    /// pool, all cores). Results do not depend on it.
+    pub fn threads(mut self, threads: usize) -> Result<Self, FitError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .ok()
+            .filter(|_| threads > 0)
+            .ok_or_else(|| FitError::Threads {
+                threads,
+                message: "at least one thread is needed".into(),
+            })?;
+        self.pool = Some(Arc::new(pool));
+        Ok(self)
+    }
+
+    /// Calls `progress` once per finished search shard ([`Fitter::shards`] per fit).
+    pub fn on_progress(mut self, progress: impl Fn() + Send + Sync + 'static) -> Self {
+        self.progress = Some(Arc::new(progress));
+        self
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    /// The search path.
+    pub fn search_path(&self) -> Path {
+        self.path
+    }
+
+    /// Progress calls per fit of `model`: one per σ/T value for the layered
+    /// models, one for a baseline.
+    pub fn shards(&self, model: Model) -> u64 {
+        if model.correlation().is_some() {
+            self.grid.slope.len() as u64
+        } else {
+            1
+        }
+    }
+
+    fn run<T: Send>(&self, work: impl FnOnce() -> T + Send) -> T {
+        match &self.pool {
+            Some(pool) => pool.install(work),
+            None => work(),
+        }
+    }
+
+    fn tick(&self) {
+        if let Some(p) = &self.progress {
+            p();
+        }
+    }
+
+    /// Fits `model` to `scene`. Layered models search the grid (a fixed at 0
+    /// for the Ragheb–Hancock variants) on the fitter's path; the baselines
+    /// search their own grids ([`jensen_grid`], [`oren_nayar_grid`]).
+    pub fn fit(&self, scene: &Scene, model: Model) -> Fit {
+        self.run(|| self.fit_here(scene, model))
+    }
+
+    /// Fits every model of `models` to every scene, in order (scene-major).
+    pub fn fit_all(&self, scenes: &[Scene], models: &[Model]) -> Vec<Fit> {
+        scenes
+            .iter()
+            .flat_map(|s| models.iter().map(move |&m| (s, m)))
+            .map(|(s, m)| self.fit(s, m))
+            .collect()
+    }
+
+    /// The fit record of `model` at given parameters, without a search (e.g.
+    /// a data set's own Oren–Nayar parameters, docs/conventions.md §7).
+    pub fn assess(
+        &self,
+        scene: &Scene,
+        model: Model,
+        params: ModelParams,
+    ) -> Result<Fit, FitError> {
+        let best = Estimate::new(scene, model, params)?;
+        self.tick();
+        Ok(Fit {
+            search_rms: best.rms,
+            ..self.record(scene, model, best, None, 1)
+        })
+    }
+
+    fn record(
+        &self,
+        scene: &Scene,
+        model: Model,
+        best: Estimate,
+        rh: Option<Estimate>,
+        evaluated: usize,
+    ) -> Fit {
+        Fit {
+            sample: scene.sample.clone(),
+            channel: scene.channel.clone(),
+            model,
+            search_rms: best.rms,
+            best,
+            rh,
+            measurements: scene.len(),
+            nonpositive: scene.nonpositive,
+            evaluated,
+        }
+    }
+
+    fn fit_here(&self, scene: &Scene, model: Model) -> Fit {
+        let estimate =
+            |model, params| Estimate::new(scene, model, params).expect("grid values are validated");
+        let tick = || self.tick();
+        match model.correlation() {
+            Some(corr) => {
+                let grid = if model.is_ragheb_hancock() {
+                    self.grid.ragheb_hancock()
+                } else {
+                    self.grid.clone()
+                };
+                let r = search(scene, &grid, corr, self.path, &tick);
+                let layered = |flat| {
+                    let (slope, n, a, beta) = point(&grid, flat);
+                    ModelParams::Layered { slope, beta, n, a }
+                };
+                let best = estimate(model, layered(r.best));
+                let rh = model
+                    .ragheb_hancock()
+                    .zip(r.rh_best)
+                    .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
+                Fit {
+                    search_rms: r.best_rms,
+                    ..self.record(scene, model, best, rh, grid.size())
+                }
+            }
+            None if model == Model::Jensen => {
+                let geometry: Vec<JensenGeometry<f64>> = scene
+                    .angles
+                    .iter()
+                    .map(|a| JensenGeometry::from_lanes(|_| *a))
+                    .collect();
+                let (sa, ss) = jensen_grid();
+                let (rms, sigma_a, sigma_s) = grid2(
+                    scene,
+                    &sa,
+                    &ss,
+                    &geometry,
+                    |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain"),
+                    jensen_radiance,
+                );
+                let best = estimate(model, ModelParams::Jensen { sigma_a, sigma_s });
+                tick();
+                Fit {
+                    search_rms: rms,
+                    ..self.record(scene, model, best, None, sa.len() * ss.len())
+                }
+            }
+            None => {
+                let geometry: Vec<OrenNayarGeometry<f64>> = scene
+                    .angles
+                    .iter()
+                    .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
+                    .collect();
+                let (sigma_axis, rho_axis) = oren_nayar_grid();
+                let (rms, sigma, rho) = grid2(
+                    scene,
+                    &sigma_axis,
+                    &rho_axis,
+                    &geometry,
+                    |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain"),
+                    oren_nayar_radiance,
+                );
+                let best = estimate(model, ModelParams::OrenNayar { sigma, rho });
+                tick();
+                Fit {
+                    search_rms: rms,
+                    ..self.record(scene, model, best, None, sigma_axis.len() * rho_axis.len())
+                }
+            }
+        }
+    }
+}

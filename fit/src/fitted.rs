@@ -1,0 +1,376 @@
+//! Fitted models that predict anywhere (docs/conventions.md §4).
+//!
+//! The paper normalisation divides the surface term `L^sf` and the subsurface
+//! term `L^sb` each by its own maximum over the fitted measurements, mixes
+//! them with β and divides the mix by its maximum. Those three maxima depend
+//! on the measured geometries, so a fitted β means nothing without them: a
+//! [`FittedModel`] stores them, and predicts at any geometry exactly what the
+//! fit predicted at its own. It also gives the equivalent balance of eq. 8,
+//!
+//! `beta_eq8 = (β/m_sb) / (β/m_sb + (1−β)/m_sf)`,
+//!
+//! with which the raw mix `beta_eq8 L^sb + (1 − beta_eq8) L^sf` (what
+//! `laminar eval` prints) is the fitted prediction divided by `eq8_scale`.
+
+use crate::error::ModelError;
+use crate::model::Model;
+use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
+use laminar_core::baselines::oren_nayar::{
+    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
+};
+use laminar_core::measures::max_of;
+use laminar_core::{components, Angles, Geometry, Params};
+use serde::{Deserialize, Serialize};
+
+/// The parameters of a model, named as in every output.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum ModelParams {
+    /// The layered models: RMS slope σ/T, balance β, refractive index n, absorption a.
+    Layered {
+        /// σ/T.
+        slope: f64,
+        /// β (paper normalisation).
+        beta: f64,
+        /// n.
+        n: f64,
+        /// a (0 for Ragheb–Hancock).
+        a: f64,
+    },
+    /// Jensen: absorption σa and reduced scattering σs′ coefficients.
+    Jensen {
+        /// σa.
+        sigma_a: f64,
+        /// σs′.
+        sigma_s: f64,
+    },
+    /// Oren–Nayar: roughness σ (radians) and albedo ρ.
+    OrenNayar {
+        /// σ.
+        sigma: f64,
+        /// ρ.
+        rho: f64,
+    },
+}
+
+impl ModelParams {
+    /// `(name, value)` pairs in output order.
+    pub fn pairs(&self) -> Vec<(&'static str, f64)> {
+        match *self {
+            Self::Layered { slope, beta, n, a } => {
+                vec![("slope", slope), ("beta", beta), ("n", n), ("a", a)]
+            }
+            Self::Jensen { sigma_a, sigma_s } => vec![("sigma_a", sigma_a), ("sigma_s", sigma_s)],
+            Self::OrenNayar { sigma, rho } => vec![("sigma", sigma), ("rho", rho)],
+        }
+    }
+
+    /// The value of a named parameter.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        self.pairs()
+            .into_iter()
+            .find(|(k, _)| *k == name)
+            .map(|(_, v)| v)
+    }
+
+    /// `name=value` pairs joined by `;`, values rounded to 10 decimals
+    /// (the `params` column).
+    pub fn text(&self) -> String {
+        self.pairs()
+            .iter()
+            .map(|(k, v)| format!("{k}={}", format_value(*v)))
+            .collect::<Vec<_>>()
+            .join(";")
+    }
+
+    /// The core's validated parameters of a layered model.
+    pub fn layered(&self) -> Result<Params, ModelError> {
+        match *self {
+            Self::Layered { slope, beta, n, a } => {
+                Params::new(slope, beta, n, a).map_err(ModelError::OutOfDomain)
+            }
+            _ => Err(ModelError::WrongParameters {
+                model: "exp/gauss/rh-exp/rh-gauss".into(),
+                expected: "slope, beta, n, a",
+            }),
+        }
+    }
+}
+
+/// A value without float noise (rounded to 10 decimals), as printed in `params`.
+pub fn format_value(v: f64) -> String {
+    let r = (v * 1e10).round() / 1e10;
+    format!("{}", if r == 0.0 { 0.0 } else { r })
+}
+
+/// The constants of the normalisation a fit used (docs/conventions.md §4).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum NormalisationConstants {
+    /// Layered models: the maxima over the fit's kept measurements of the
+    /// raw surface term, of the raw subsurface term, and of the mix of the
+    /// two normalised terms. A maximum of 0 stands for a term that was all
+    /// zeros (and is zero in every prediction).
+    Layered {
+        /// `m_sf = max_k L^sf_k`.
+        surface_max: f64,
+        /// `m_sb = max_k L^sb_k`.
+        subsurface_max: f64,
+        /// `max_k (β L^sb_k/m_sb + (1−β) L^sf_k/m_sf)`.
+        mix_max: f64,
+    },
+    /// Baselines: the max of the raw radiance.
+    Baseline {
+        /// `max_k L_k`.
+        radiance_max: f64,
+    },
+}
+
+/// A fitted model: what is needed to predict anywhere.
+///
+/// ```
+/// use laminar_core::Angles;
+/// use laminar_fit::{FittedModel, Model, ModelParams};
+/// let fitted_on: Vec<Angles> = (0..10)
+///     .map(|i| Angles::new(0.1 * i as f64, 0.3, 1.0).unwrap())
+///     .collect();
+/// let params = ModelParams::Layered { slope: 0.6, beta: 0.4, n: 1.4, a: 0.2 };
+/// let m = FittedModel::normalised_on(Model::Exp, params, &fitted_on, 1.0)?;
+/// // On its own geometries the prediction peaks at exactly 1.
+/// let p = m.predict(&fitted_on)?;
+/// assert_eq!(p.iter().cloned().fold(0.0, f64::max), 1.0);
+/// // Anywhere else it predicts on the same scale.
+/// let elsewhere = m.predict(&[Angles::new(1.2, 0.2, -2.0).unwrap()])?;
+/// assert!(elsewhere[0] > 0.0);
+/// # Ok::<(), laminar_fit::ModelError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FittedModel {
+    /// The model.
+    pub model: Model,
+    /// Its parameters (full precision).
+    pub params: ModelParams,
+    /// The normalisation constants.
+    pub normalisation: NormalisationConstants,
+    /// Layered models: the balance β′ for which the raw eq. 8 mix
+    /// `β′ L^sb + (1 − β′) L^sf` has the fitted lobe's shape
+    /// (`None` for baselines, or when both terms are all zeros).
+    pub beta_eq8: Option<f64>,
+    /// Layered models: prediction = `eq8_scale · (β′ L^sb + (1 − β′) L^sf)`.
+    pub eq8_scale: Option<f64>,
+    /// The max of the measured radiance that the fit's data were divided by:
+    /// a prediction times `data_scale` is radiance in the input's units.
+    pub data_scale: f64,
+}
+
+/// Raw model radiance at each geometry: (surface, subsurface) for the
+/// layered models, (radiance, unused) for the baselines.
+fn raw(model: Model, params: &ModelParams, angles: &[Angles]) -> Result<Vec<[f64; 2]>, ModelError> {
+    match (model.correlation(), *params) {
+        (Some(corr), ModelParams::Layered { a, .. }) => {
+            if model.is_ragheb_hancock() && a != 0.0 {
+                return Err(ModelError::WrongParameters {
+                    model: model.name().into(),
+                    expected: "slope, beta, n and a = 0",
+                });
+            }
+            let p = params.layered()?;
+            Ok(angles
+                .iter()
+                .map(|g| {
+                    let c = components(&Geometry::<f64>::splat(g), corr, &p);
+                    [c.surface, c.subsurface]
+                })
+                .collect())
+        }
+        (None, ModelParams::Jensen { sigma_a, sigma_s }) if model == Model::Jensen => {
+            let k = JensenCoefficients::<f64>::new(sigma_a, sigma_s)
+                .map_err(ModelError::OutOfDomain)?;
+            Ok(angles
+                .iter()
+                .map(|g| {
+                    [
+                        jensen_radiance(&JensenGeometry::from_lanes(|_| *g), &k),
+                        0.0,
+                    ]
+                })
+                .collect())
+        }
+        (None, ModelParams::OrenNayar { sigma, rho }) if model == Model::OrenNayar => {
+            let k =
+                OrenNayarCoefficients::<f64>::new(sigma, rho).map_err(ModelError::OutOfDomain)?;
+            Ok(angles
+                .iter()
+                .map(|g| {
+                    [
+                        oren_nayar_radiance(&OrenNayarGeometry::from_lanes(|_| *g), &k),
+                        0.0,
+                    ]
+                })
+                .collect())
+        }
+        _ => Err(ModelError::WrongParameters {
+            model: model.name().into(),
+            expected: match model {
+                Model::Jensen => "sigma_a, sigma_s",
+                Model::OrenNayar => "sigma, rho",
+                _ => "slope, beta, n, a",
+            },
+        }),
+    }
+}
+
+/// `v / m`, or 0 for a term whose max was not positive (docs/conventions.md §4).
+fn scaled(v: f64, m: f64) -> f64 {
+    if m > 0.0 {
+        v / m
+    } else {
+        0.0
+    }
+}
+
+/// A max as the normalisation stores it: the max if positive, else 0.
+fn positive_max(values: impl Iterator<Item = f64>) -> f64 {
+    let m = max_of(&values.collect::<Vec<_>>());
+    if m > 0.0 {
+        m
+    } else {
+        0.0
+    }
+}
+
+impl FittedModel {
+    /// The model `model` at `params`, normalised on the geometries `angles`
+    /// (the fit's kept measurements) as the paper normalisation does;
+    /// `data_scale` is the max the data were divided by.
+    pub fn normalised_on(
+        model: Model,
+        params: ModelParams,
+        angles: &[Angles],
+        data_scale: f64,
+    ) -> Result<Self, ModelError> {
+        let raw = raw(model, &params, angles)?;
+        let (normalisation, beta_eq8, eq8_scale) = match params {
+            ModelParams::Layered { beta, .. } => {
+                let surface_max = positive_max(raw.iter().map(|r| r[0]));
+                let subsurface_max = positive_max(raw.iter().map(|r| r[1]));
+                let mix_max = positive_max(raw.iter().map(|r| {
+                    mix(
+                        beta,
+                        scaled(r[1], subsurface_max),
+                        scaled(r[0], surface_max),
+                    )
+                }));
+                let w_sb = scaled(beta, subsurface_max);
+                let w_sf = scaled(1.0 - beta, surface_max);
+                let sum = w_sb + w_sf;
+                let (beq, scale) = if sum > 0.0 && mix_max > 0.0 {
+                    (Some(w_sb / sum), Some(sum / mix_max))
+                } else {
+                    (None, None)
+                };
+                (
+                    NormalisationConstants::Layered {
+                        surface_max,
+                        subsurface_max,
+                        mix_max,
+                    },
+                    beq,
+                    scale,
+                )
+            }
+            _ => (
+                NormalisationConstants::Baseline {
+                    radiance_max: positive_max(raw.iter().map(|r| r[0])),
+                },
+                None,
+                None,
+            ),
+        };
+        Ok(Self {
+            model,
+            params,
+            normalisation,
+            beta_eq8,
+            eq8_scale,
+            data_scale,
+        })
+    }
+
+    /// The normalised prediction `P` at each geometry (the quantity the fit
+    /// compared with its normalised data). On the fit's own geometries it is
+    /// bit for bit the prediction the fit's Δ_RMS was computed from.
+    pub fn predict(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
+        self.check_constants()?;
+        let raw = raw(self.model, &self.params, angles)?;
+        Ok(match (self.normalisation, self.params) {
+            (
+                NormalisationConstants::Layered {
+                    surface_max,
+                    subsurface_max,
+                    mix_max,
+                },
+                ModelParams::Layered { beta, .. },
+            ) => raw
+                .iter()
+                .map(|r| {
+                    let m = mix(
+                        beta,
+                        scaled(r[1], subsurface_max),
+                        scaled(r[0], surface_max),
+                    );
+                    scaled(m, mix_max)
+                })
+                .collect(),
+            (NormalisationConstants::Baseline { radiance_max }, _) => {
+                raw.iter().map(|r| scaled(r[0], radiance_max)).collect()
+            }
+            _ => {
+                return Err(ModelError::WrongParameters {
+                    model: self.model.name().into(),
+                    expected: "normalisation constants of its own kind",
+                })
+            }
+        })
+    }
+
+    /// The prediction in the input's radiance units (`P · data_scale`).
+    pub fn predict_radiance(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
+        Ok(self
+            .predict(angles)?
+            .into_iter()
+            .map(|p| p * self.data_scale)
+            .collect())
+    }
+
+    fn check_constants(&self) -> Result<(), ModelError> {
+        let constants: Vec<(&'static str, f64)> = match self.normalisation {
+            NormalisationConstants::Layered {
+                surface_max,
+                subsurface_max,
+                mix_max,
+            } => vec![
+                ("surface_max", surface_max),
+                ("subsurface_max", subsurface_max),
+                ("mix_max", mix_max),
+            ],
+            NormalisationConstants::Baseline { radiance_max } => {
+                vec![("radiance_max", radiance_max)]
+            }
+        };
+        for (name, value) in constants
+            .into_iter()
+            .chain(std::iter::once(("data_scale", self.data_scale)))
+        {
+            if !(value >= 0.0 && value.is_finite()) {
+                return Err(ModelError::BadConstant { name, value });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `β u + (1 − β) s`, in the order of [`laminar_core::measures::normalised_prediction`].
+fn mix(beta: f64, u: f64, s: f64) -> f64 {
+    beta * u + (1.0 - beta) * s
+}

@@ -1,0 +1,261 @@
+//! Search grids (docs/conventions.md §6): the paper preset and
+//! `start:stop:count` axes, validated against the model's domain and a size
+//! limit before anything is allocated.
+
+use crate::error::GridError;
+use laminar_core::Params;
+use std::fmt;
+
+/// Most values one axis may hold. [`Axis::parse`] refuses longer axes before
+/// allocating them.
+pub const MAX_AXIS_LEN: usize = 1_000_000;
+
+/// Most parameter sets a grid may hold (1.8 thousand times the paper grid;
+/// a search over it takes hours, not a lifetime).
+pub const MAX_GRID_SIZE: u128 = 10_000_000_000;
+
+/// One grid axis: `count` evenly spaced values from `start` to `stop`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Axis {
+    /// The values, in search order.
+    pub values: Vec<f64>,
+}
+
+impl Axis {
+    /// `count` values `start + i (stop − start)/(count − 1)`, `i = 0..count`
+    /// (a single value when `count = 1`).
+    pub fn linspace(start: f64, stop: f64, count: usize) -> Self {
+        let values = if count <= 1 {
+            vec![start]
+        } else {
+            (0..count)
+                .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
+                .collect()
+        };
+        Self { values }
+    }
+
+    /// `start + step·i` for `i = 0..count`, the paper's construction.
+    pub fn stepped(start: f64, step: f64, count: usize) -> Self {
+        Self {
+            values: (0..count).map(|i| start + step * i as f64).collect(),
+        }
+    }
+
+    /// Parses `start:stop:count` or a single value. A count above
+    /// [`MAX_AXIS_LEN`] is refused before anything is allocated.
+    ///
+    /// ```
+    /// use laminar_fit::Axis;
+    /// assert_eq!(Axis::parse("1.3:1.5:11").unwrap().len(), 11);
+    /// assert_eq!(Axis::parse("0.5").unwrap().values, vec![0.5]);
+    /// assert!(Axis::parse("0.12:4.04:100000000000").is_err());
+    /// ```
+    pub fn parse(text: &str) -> Result<Self, GridError> {
+        let parts: Vec<&str> = text.split(':').collect();
+        let num = |s: &str| {
+            s.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| GridError::NotANumber {
+                    text: text.to_string(),
+                    field: s.to_string(),
+                })
+        };
+        match parts.as_slice() {
+            [v] => Ok(Self {
+                values: vec![num(v)?],
+            }),
+            [a, b, c] => {
+                let count: u128 = c.trim().parse().ok().filter(|&n| n >= 1).ok_or_else(|| {
+                    GridError::BadCount {
+                        text: text.to_string(),
+                        field: c.to_string(),
+                    }
+                })?;
+                if count > MAX_AXIS_LEN as u128 {
+                    return Err(GridError::AxisTooLong {
+                        text: text.to_string(),
+                        count,
+                        limit: MAX_AXIS_LEN,
+                    });
+                }
+                Ok(Self::linspace(num(a)?, num(b)?, count as usize))
+            }
+            _ => Err(GridError::Syntax {
+                text: text.to_string(),
+            }),
+        }
+    }
+
+    /// Number of values.
+    pub fn len(&self) -> usize {
+        self.values.len()
+    }
+
+    /// True when the axis has no value.
+    pub fn is_empty(&self) -> bool {
+        self.values.is_empty()
+    }
+}
+
+/// The four-axis grid of the absorptive model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    /// σ/T (slowest axis).
+    pub slope: Axis,
+    /// Refractive index n.
+    pub n: Axis,
+    /// Absorption a.
+    pub a: Axis,
+    /// Balance β (fastest axis).
+    pub beta: Axis,
+}
+
+impl Grid {
+    /// The paper preset (docs/conventions.md §6): σ/T = 0.12 + 0.08 i (50), β = 0.01 j
+    /// (j = 1..100), n = 1.30 + 0.02 m (11), a = 0.01 l (101): 5,555,000 sets.
+    pub fn paper() -> Self {
+        Self {
+            slope: Axis::stepped(0.12, 0.08, 50),
+            n: Axis::stepped(1.30, 0.02, 11),
+            a: Axis::stepped(0.0, 0.01, 101),
+            beta: Axis::stepped(0.01, 0.01, 100),
+        }
+    }
+
+    /// The same grid with a = 0 only (Ragheb–Hancock).
+    pub fn ragheb_hancock(&self) -> Self {
+        Self {
+            a: Axis { values: vec![0.0] },
+            ..self.clone()
+        }
+    }
+
+    /// Number of parameter sets.
+    pub fn size(&self) -> usize {
+        self.slope.len() * self.n.len() * self.a.len() * self.beta.len()
+    }
+
+    /// Flattened index in loop order σ/T, n, a, β (docs/conventions.md §6 tie-break).
+    pub fn flat(&self, s: usize, n: usize, a: usize, b: usize) -> usize {
+        ((s * self.n.len() + n) * self.a.len() + a) * self.beta.len() + b
+    }
+
+    /// Checks every value against the model's domain ([`Params::new`]; the
+    /// domain is a box, so each axis is checked on its own) and the size
+    /// against [`MAX_GRID_SIZE`].
+    ///
+    /// ```
+    /// use laminar_fit::{Axis, Grid};
+    /// let mut g = Grid::paper();
+    /// g.a = Axis::parse("-0.1").unwrap();
+    /// assert_eq!(g.validate().unwrap_err().to_string(), "axis a: a = -0.1 is outside [0, 1]");
+    /// ```
+    pub fn validate(&self) -> Result<(), GridError> {
+        // A point inside the domain, to vary one axis at a time.
+        let (s0, b0, n0, a0) = (1.0, 0.5, 1.5, 0.5);
+        type Check = fn(f64, (f64, f64, f64, f64)) -> (f64, f64, f64, f64);
+        let axes: [(&'static str, &Axis, Check); 4] = [
+            ("slope", &self.slope, |v, p| (v, p.1, p.2, p.3)),
+            ("n", &self.n, |v, p| (p.0, p.1, v, p.3)),
+            ("a", &self.a, |v, p| (p.0, p.1, p.2, v)),
+            ("beta", &self.beta, |v, p| (p.0, v, p.2, p.3)),
+        ];
+        for (axis, values, place) in axes {
+            if values.is_empty() {
+                return Err(GridError::Empty { axis });
+            }
+            for &v in &values.values {
+                let (s, b, n, a) = place(v, (s0, b0, n0, a0));
+                Params::new(s, b, n, a).map_err(|error| GridError::OutOfDomain { axis, error })?;
+            }
+        }
+        let size = [&self.slope, &self.n, &self.a, &self.beta]
+            .iter()
+            .map(|a| a.len() as u128)
+            .product::<u128>();
+        if size > MAX_GRID_SIZE {
+            return Err(GridError::TooLarge {
+                size,
+                shape: format!(
+                    "{}×{}×{}×{}",
+                    self.slope.len(),
+                    self.n.len(),
+                    self.a.len(),
+                    self.beta.len()
+                ),
+                limit: MAX_GRID_SIZE,
+            });
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Display for Grid {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "slope×n×a×beta = {}×{}×{}×{} = {} parameter sets",
+            self.slope.len(),
+            self.n.len(),
+            self.a.len(),
+            self.beta.len(),
+            self.size()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paper_grid_matches_conventions() {
+        let g = Grid::paper();
+        assert_eq!(g.size(), 5_555_000);
+        assert!((g.slope.values[49] - 4.04).abs() < 1e-12);
+        assert!((g.n.values[10] - 1.5).abs() < 1e-12);
+        assert_eq!(g.a.values[0], 0.0);
+        assert!((g.beta.values[99] - 1.0).abs() < 1e-12);
+        assert!(g.validate().is_ok());
+    }
+
+    #[test]
+    fn parse_axes() {
+        assert_eq!(Axis::parse("0.12:4.04:50").unwrap().len(), 50);
+        assert_eq!(Axis::parse("1.5").unwrap().values, vec![1.5]);
+        assert!(Axis::parse("1:2").is_err());
+        assert!(Axis::parse("1:2:x").is_err());
+        assert!(Axis::parse("1:nan:3").is_err());
+        assert!(matches!(
+            Axis::parse("0.12:4.04:100000000000"),
+            Err(GridError::AxisTooLong {
+                count: 100_000_000_000,
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn oversized_grids_are_refused_with_their_size() {
+        let g = Grid {
+            slope: Axis::linspace(0.12, 4.04, 1_000_000),
+            n: Axis::linspace(1.0, 2.0, 1000),
+            ..Grid::paper()
+        };
+        let e = g.validate().unwrap_err();
+        assert!(
+            matches!(
+                e,
+                GridError::TooLarge {
+                    size: 10_100_000_000_000,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+        assert!(e.to_string().contains("1000000×1000×101×100"), "{e}");
+    }
+}

@@ -1,0 +1,71 @@
+//! # laminar-fit
+//!
+//! The fitting engine of laminar: fit the absorptive scattering model for
+//! rough laminar surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the
+//! Ragheb–Hancock model it extends and the Jensen and Oren–Nayar baselines
+//! to any measurement set, by the paper's exhaustive grid search, and carry
+//! the fit anywhere. It names no file format (readers and writers are in
+//! `laminar-io`); every front end (the `laminar` command, and later the C,
+//! WebAssembly and Python bindings) calls it.
+//!
+//! * [`MeasurementSet`]: measurements from any source (angles in the lab or
+//!   the paper frame, named channels, optional uncertainties, BRDF or
+//!   radiance), turned into a [`Scene`] per channel in one place.
+//! * [`Grid`] and [`Axis`]: the search grid (paper preset by default).
+//! * [`Fitter`]: grid, [`Path`], threads, progress; [`Fitter::fit`] returns a [`Fit`].
+//! * [`FittedModel`]: model, parameters and normalisation constants, which
+//!   predict at any geometry exactly what the fit predicted at its own.
+//!
+//! Choices the paper leaves open are stated in the repository's
+//! `docs/conventions.md`; "§N" in this crate refers to its sections.
+//!
+//! ```
+//! use laminar_fit::{Axis, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Quantity};
+//! use laminar_core::{total_radiance, Correlation, Geometry, Params};
+//! // Radiance made by eq. 8 at known parameters, on a 12 × 12 grid of angles.
+//! let truth = Params::new(0.6, 0.4, 1.4, 0.2)?;
+//! let mut angles = Vec::new();
+//! let mut values = Vec::new();
+//! for i in 0..12 {
+//!     for j in 0..12 {
+//!         let (ti, ts, ps) = (0.1 * i as f64, 0.12 * j as f64, 0.5 * j as f64 - 2.0);
+//!         let a = laminar_core::Angles::new(ti, ts, ps)?;
+//!         angles.push(MeasurementAngles::Paper { theta_i: ti, theta_s: ts, phi_s: ps });
+//!         values.push(total_radiance(&Geometry::<f64>::splat(&a), Correlation::Exponential, &truth));
+//!     }
+//! }
+//! let set = MeasurementSet::new("made-up", angles, Quantity::Radiance)?
+//!     .with_channel("value", values, None)?;
+//! let grid = Grid {
+//!     slope: Axis::stepped(0.4, 0.1, 5),
+//!     n: Axis::stepped(1.3, 0.05, 5),
+//!     a: Axis::stepped(0.0, 0.1, 5),
+//!     ..Grid::paper()
+//! };
+//! let fit = Fitter::new(grid)?.fit(&set.scene("value")?, Model::Exp);
+//! // σ/T, n and a exactly (the text rounds away the grid's float noise).
+//! let text = fit.best.params_text();
+//! assert!(text.starts_with("slope=0.6;") && text.ends_with(";n=1.4;a=0.2"), "{text}");
+//! // β is the paper-normalisation balance; eq. 8's own balance is beta_eq8.
+//! assert!((fit.best.fitted.beta_eq8.unwrap() - 0.4).abs() < 0.01);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod error;
+pub mod fit;
+pub mod fitted;
+pub mod grid;
+pub mod measurements;
+pub mod model;
+pub mod scene;
+pub mod search;
+pub mod synthetic;
+
+pub use error::{FitError, GridError, MeasurementError, ModelError};
+pub use fit::{Estimate, Fit, Fitter};
+pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
+pub use grid::{Axis, Grid};
+pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
+pub use model::Model;
+pub use scene::Scene;
+pub use search::Path;

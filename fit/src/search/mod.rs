@@ -1,0 +1,426 @@
+//! The paper's exhaustive grid search (docs/conventions.md §4–§6) for the absorptive
+//! model. Three methods, each written once over [`Lane`]:
+//!
+//! 1. [`Method::Direct`] ([`direct`]): every pair evaluated in full; in `f64`
+//!    the accuracy reference.
+//! 2. [`Method::OnePass`] ([`one_pass`]): hoisted terms, one pass over the
+//!    measurements per parameter set.
+//! 3. [`Method::Envelope`] ([`envelope`]): hoisted terms, closed-form β sweep.
+//!
+//! Each runs in three arithmetics: `f32x8` SIMD, its scalar twin `f32` (eight
+//! streams of one measurement, lane sums reduced in the same fixed order, so
+//! every grid value is bitwise the SIMD one) and `f64`.
+//!
+//! Hoisting (methods 2 and 3, [`packed::Tables`]): geometry once per scene;
+//! refraction and Fresnel once per (scene, n); the absorption factor once per
+//! (scene, a); the normalised surface term once per σ/T; the subsurface base
+//! once per (σ/T, n); the normalised subsurface term once per (σ/T, n, a).
+
+pub mod direct;
+pub mod envelope;
+pub mod one_pass;
+pub mod packed;
+pub mod sums;
+
+use crate::error::GridError;
+use crate::grid::Grid;
+use crate::scene::Scene;
+use laminar_core::{f32x8, Correlation, Lane};
+use packed::{Packed, Tables};
+use rayon::prelude::*;
+use std::fmt;
+use std::str::FromStr;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// How the β loop of the search is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Path 1: every (parameter set, measurement) pair evaluated in full.
+    Direct,
+    /// Path 2: hoisted terms, one pass per parameter set.
+    OnePass,
+    /// Path 3: hoisted terms, closed-form β sweep over the upper envelope.
+    Envelope,
+}
+
+/// The arithmetic a path evaluates the model in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Arith {
+    /// `f32x8` SIMD (eight measurements per vector).
+    F32x8,
+    /// Scalar `f32`, the bitwise twin of [`Arith::F32x8`].
+    F32,
+    /// Scalar `f64`.
+    F64,
+}
+
+/// A search path: a method in an arithmetic, e.g. `envelope-f32x8`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Path {
+    /// The method.
+    pub method: Method,
+    /// The arithmetic.
+    pub arith: Arith,
+}
+
+impl Path {
+    /// The default of every command: the closed-form sweep on `f32x8`.
+    pub const DEFAULT: Path = Path::new(Method::Envelope, Arith::F32x8);
+    /// The accuracy reference: direct `f64`.
+    pub const REFERENCE: Path = Path::new(Method::Direct, Arith::F64);
+
+    /// A path.
+    pub const fn new(method: Method, arith: Arith) -> Self {
+        Self { method, arith }
+    }
+
+    /// Every path, reference first.
+    pub fn all() -> Vec<Path> {
+        let mut out = Vec::new();
+        for method in [Method::Direct, Method::OnePass, Method::Envelope] {
+            for arith in [Arith::F64, Arith::F32, Arith::F32x8] {
+                out.push(Path::new(method, arith));
+            }
+        }
+        out
+    }
+
+    /// The same method in the other f32 arithmetic (`f32x8` ↔ `f32`), the pair
+    /// whose grid values must agree bit for bit.
+    pub fn twins(self) -> (Path, Path) {
+        (
+            Path::new(self.method, Arith::F32x8),
+            Path::new(self.method, Arith::F32),
+        )
+    }
+}
+
+impl fmt::Display for Path {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let method = match self.method {
+            Method::Direct => "direct",
+            Method::OnePass => "onepass",
+            Method::Envelope => "envelope",
+        };
+        let arith = match self.arith {
+            Arith::F32x8 => "f32x8",
+            Arith::F32 => "f32",
+            Arith::F64 => "f64",
+        };
+        write!(f, "{method}-{arith}")
+    }
+}
+
+impl FromStr for Path {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Path::all()
+            .into_iter()
+            .find(|p| p.to_string() == s)
+            .ok_or_else(|| {
+                format!(
+                    "unknown search path `{s}` (expected METHOD-ARITH with METHOD one of direct, onepass, envelope and ARITH one of f32x8, f32, f64)"
+                )
+            })
+    }
+}
+
+/// Per-scene state of a search.
+enum Prepared<L> {
+    Direct(Packed<L>),
+    Hoisted(Tables<L>),
+}
+
+impl<L: Lane> Prepared<L> {
+    fn new(scene: &Scene, grid: &Grid, method: Method) -> Self {
+        match method {
+            Method::Direct => Self::Direct(Packed::new(scene)),
+            Method::OnePass | Method::Envelope => Self::Hoisted(Tables::new(scene, grid)),
+        }
+    }
+
+    /// Visits every (n, a, β) of slope index `i_s` in loop order as
+    /// `visit(flat index, a index, objective)`, the objective being the sum
+    /// of squared residuals `Σ (D − P)²` (eq. 15 before the root, widened to
+    /// `f64`). The envelope method may skip an (n, a) whose every value is
+    /// certainly above `threshold(a index)`; the other methods visit all.
+    fn shard(
+        &self,
+        method: Method,
+        grid: &Grid,
+        corr: Correlation,
+        i_s: usize,
+        threshold: impl Fn(usize) -> f64,
+        mut visit: impl FnMut(usize, usize, f64),
+    ) -> SweepStats {
+        let slope = grid.slope.values[i_s];
+        let tables = match self {
+            Self::Direct(packed) => {
+                direct::shard(packed, grid, corr, i_s, &mut visit);
+                return SweepStats::default();
+            }
+            Self::Hoisted(tables) => tables,
+        };
+        let surface = tables.surface(corr, slope);
+        let packed = &tables.packed;
+        if method == Method::Envelope {
+            let sums = sums::SurfaceSums::new(packed, &surface);
+            let mut scratch = envelope::Scratch::default();
+            tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
+                envelope::sweep(
+                    packed,
+                    &sums,
+                    u,
+                    &grid.beta.values,
+                    threshold(i_a),
+                    &mut scratch,
+                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
+                );
+            });
+            SweepStats {
+                front_total: scratch.front_total,
+                sweeps: scratch.sweeps,
+                pruned: scratch.pruned,
+            }
+        } else {
+            let widened = sums::SurfaceSums::new(packed, &surface);
+            let mut scratch = one_pass::Scratch::default();
+            tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
+                one_pass::sweep(
+                    packed,
+                    &surface,
+                    &widened,
+                    u,
+                    &grid.beta.values,
+                    &mut scratch,
+                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
+                );
+            });
+            SweepStats::default()
+        }
+    }
+}
+
+/// What the envelope method did in a shard (zeros for the other methods).
+#[derive(Debug, Clone, Copy, Default)]
+struct SweepStats {
+    /// Total Pareto-front size over the sweeps that ran.
+    front_total: usize,
+    /// Sweeps whose β loop ran.
+    sweeps: usize,
+    /// Sweeps skipped by the lower bound.
+    pruned: usize,
+}
+
+impl SweepStats {
+    fn add(self, o: Self) -> Self {
+        Self {
+            front_total: self.front_total + o.front_total,
+            sweeps: self.sweeps + o.sweeps,
+            pruned: self.pruned + o.pruned,
+        }
+    }
+}
+
+/// The best objective found so far by any shard of a search, overall and on
+/// the a = 0 slice, as `f64` bits (the objectives are never negative, so
+/// their bit patterns order like their values). Shards only ever lower them,
+/// and each is the value of a visited grid point, so it never falls below
+/// the final minimum: skipping a triple whose values all exceed it cannot
+/// change the result, whatever the thread timing.
+struct SharedBest {
+    best: AtomicU64,
+    rh: AtomicU64,
+    zero_a: Option<usize>,
+}
+
+impl SharedBest {
+    fn new(zero_a: Option<usize>) -> Self {
+        Self {
+            best: AtomicU64::new(f64::INFINITY.to_bits()),
+            rh: AtomicU64::new(f64::INFINITY.to_bits()),
+            zero_a,
+        }
+    }
+
+    /// A triple at a index `i_a` may be skipped when all its values exceed
+    /// this: the overall best, or on the a = 0 slice the (larger) best of
+    /// that slice, which the search also reports.
+    fn threshold(&self, i_a: usize) -> f64 {
+        let slot = if self.zero_a == Some(i_a) {
+            &self.rh
+        } else {
+            &self.best
+        };
+        f64::from_bits(slot.load(Ordering::Relaxed))
+    }
+
+    fn offer(slot: &AtomicU64, e: f64) {
+        slot.fetch_min(e.to_bits(), Ordering::Relaxed);
+    }
+}
+
+/// The best grid point of a search, and the best of its a = 0 slice.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SearchResult {
+    /// Flattened index of the minimum (smallest index on ties).
+    pub best: usize,
+    /// Its RMS in the search precision, widened.
+    pub best_rms: f64,
+    /// The minimum over the grid points with a = 0 (Ragheb–Hancock), if the
+    /// a axis contains 0.
+    pub rh_best: Option<(usize, f64)>,
+    /// Envelope method: mean size of the Pareto front of `(S_k, U_k)` over
+    /// the sweeps that ran.
+    pub mean_front: Option<f64>,
+    /// Envelope method: fraction of the (σ/T, n, a) triples whose β loop the
+    /// lower bound skipped (varies a little with thread timing; the result
+    /// does not).
+    pub pruned: Option<f64>,
+}
+
+/// `Δ_RMS` (eq. 15) from the sum of squared residuals `e` over `k` measurements.
+pub fn rms_of_sum(e: f64, k: usize) -> f64 {
+    100.0 * e.sqrt() / k as f64
+}
+
+/// A grid point's flat index and objective (sum of squared residuals).
+type Candidate = Option<(usize, f64)>;
+
+/// Strictly-better update (keeps the smallest flat index on ties of the
+/// objective; the RMS is a monotone function of it).
+fn better(current: Candidate, flat: usize, rms: f64) -> Candidate {
+    match current {
+        Some((_, r)) if rms >= r => current,
+        _ => Some((flat, rms)),
+    }
+}
+
+/// What one σ/T shard found.
+struct ShardBest {
+    best: Candidate,
+    rh: Candidate,
+    stats: SweepStats,
+}
+
+fn search_with<L: Lane + Send + Sync>(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    method: Method,
+    progress: &(dyn Fn() + Sync),
+) -> SearchResult {
+    let prepared = Prepared::<L>::new(scene, grid, method);
+    let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
+    let shared = SharedBest::new(zero_a);
+    let shards: Vec<ShardBest> = (0..grid.slope.len())
+        .into_par_iter()
+        .map(|i_s| {
+            let (mut best, mut rh): (Candidate, Candidate) = (None, None);
+            let threshold = |i_a| shared.threshold(i_a);
+            let stats = prepared.shard(method, grid, corr, i_s, threshold, |flat, i_a, e| {
+                if best.is_none_or(|(_, b)| e < b) {
+                    best = Some((flat, e));
+                    SharedBest::offer(&shared.best, e);
+                }
+                if zero_a == Some(i_a) && rh.is_none_or(|(_, b)| e < b) {
+                    rh = Some((flat, e));
+                    SharedBest::offer(&shared.rh, e);
+                }
+            });
+            progress();
+            ShardBest { best, rh, stats }
+        })
+        .collect();
+    let (mut best, mut rh, mut stats) = (None, None, SweepStats::default());
+    for s in shards {
+        if let Some((f, v)) = s.best {
+            best = better(best, f, v);
+        }
+        if let Some((f, v)) = s.rh {
+            rh = better(rh, f, v);
+        }
+        stats = stats.add(s.stats);
+    }
+    let (best, best_sum) = best.unwrap_or((0, f64::INFINITY));
+    SearchResult {
+        best,
+        best_rms: rms_of_sum(best_sum, scene.len()),
+        rh_best: rh.map(|(flat, e)| (flat, rms_of_sum(e, scene.len()))),
+        mean_front: (stats.sweeps > 0).then(|| stats.front_total as f64 / stats.sweeps as f64),
+        pruned: (stats.sweeps + stats.pruned > 0)
+            .then(|| stats.pruned as f64 / (stats.sweeps + stats.pruned) as f64),
+    }
+}
+
+/// Runs the exhaustive search on `path`; `progress` is called once per σ/T
+/// shard. Deterministic whatever the thread count (docs/conventions.md §6).
+pub fn search(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    path: Path,
+    progress: &(dyn Fn() + Sync),
+) -> SearchResult {
+    match path.arith {
+        Arith::F32x8 => search_with::<f32x8>(scene, grid, corr, path.method, progress),
+        Arith::F32 => search_with::<f32>(scene, grid, corr, path.method, progress),
+        Arith::F64 => search_with::<f64>(scene, grid, corr, path.method, progress),
+    }
+}
+
+/// Every grid value's RMS on `path`, in flattened order (widened exactly to
+/// `f64`). A grid whose table cannot be allocated is refused with its size.
+pub fn error_surface(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    path: Path,
+) -> Result<Vec<f64>, GridError> {
+    fn run<L: Lane + Send + Sync>(
+        scene: &Scene,
+        grid: &Grid,
+        corr: Correlation,
+        method: Method,
+    ) -> Result<Vec<f64>, GridError> {
+        let prepared = Prepared::<L>::new(scene, grid, method);
+        let per_slope = grid.size() / grid.slope.len();
+        let mut out = Vec::new();
+        out.try_reserve_exact(grid.size())
+            .map_err(|_| GridError::Allocation {
+                size: grid.size(),
+                bytes: grid.size() as u128 * 8,
+            })?;
+        out.resize(grid.size(), 0.0);
+        out.par_chunks_mut(per_slope)
+            .enumerate()
+            .for_each(|(i_s, slice)| {
+                let never = |_| f64::INFINITY;
+                prepared.shard(method, grid, corr, i_s, never, |flat, _, e| {
+                    slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
+                });
+            });
+        Ok(out)
+    }
+    match path.arith {
+        Arith::F32x8 => run::<f32x8>(scene, grid, corr, path.method),
+        Arith::F32 => run::<f32>(scene, grid, corr, path.method),
+        Arith::F64 => run::<f64>(scene, grid, corr, path.method),
+    }
+}
+
+/// The grid point of a flattened index as (σ/T, n, a, β).
+pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
+    let b = flat % grid.beta.len();
+    let rest = flat / grid.beta.len();
+    let a = rest % grid.a.len();
+    let rest = rest / grid.a.len();
+    let n = rest % grid.n.len();
+    let s = rest / grid.n.len();
+    (
+        grid.slope.values[s],
+        grid.n.values[n],
+        grid.a.values[a],
+        grid.beta.values[b],
+    )
+}

@@ -1,0 +1,291 @@
+//! Fits as CSV, JSON (the fitted-model file) or Markdown, the fitted-model
+//! file read back, and whole-or-nothing file writes.
+//!
+//! Quantities: `rms` is Δ_RMS (eq. 15, `100·sqrt(Σ(D−P)²)/K`, D the
+//! normalised measured radiance, P the normalised prediction, K the kept
+//! measurements); `chi2_dof` is χ²/ν (eq. 16, `Σ(P−D)²/D / (d − p)` over the
+//! d measurements with D > 0, p the model's parameter count); `params` are
+//! the fitted parameters (β of the paper normalisation, see
+//! [`laminar_fit::FittedModel`]).
+
+use crate::error::ReadError;
+use laminar_fit::fitted::format_value;
+use laminar_fit::{Estimate, Fit, FittedModel, Model};
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path;
+
+/// CSV header (a contract: scripts read these columns).
+pub const CSV_HEADER: [&str; 14] = [
+    "sample",
+    "channel",
+    "model",
+    "rms",
+    "chi2_dof",
+    "chi2_used",
+    "chi2_left_out",
+    "params",
+    "rh_rms",
+    "rh_chi2_dof",
+    "rh_params",
+    "measurements",
+    "nonpositive",
+    "search_rms",
+];
+
+fn opt(v: Option<f64>) -> String {
+    v.map(|x| format!("{x:.6}")).unwrap_or_default()
+}
+
+fn row(r: &Fit) -> Vec<String> {
+    let chi = r.best.chi2;
+    let rh = r.rh.as_ref();
+    vec![
+        r.sample.clone(),
+        r.channel.clone(),
+        r.model.name().into(),
+        format!("{:.6}", r.best.rms),
+        opt(chi.map(|c| c.per_dof)),
+        chi.map(|c| c.used.to_string()).unwrap_or_default(),
+        chi.map(|c| c.left_out.to_string()).unwrap_or_default(),
+        r.best.params_text(),
+        opt(rh.map(|e| e.rms)),
+        opt(rh.and_then(|e| e.chi2).map(|c| c.per_dof)),
+        rh.map(Estimate::params_text).unwrap_or_default(),
+        r.measurements.to_string(),
+        r.nonpositive.to_string(),
+        format!("{:.6}", r.search_rms),
+    ]
+}
+
+/// Records as CSV with [`CSV_HEADER`].
+pub fn csv(records: &[Fit]) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(CSV_HEADER).expect("in-memory write");
+    for r in records {
+        w.write_record(row(r)).expect("in-memory write");
+    }
+    String::from_utf8(w.into_inner().expect("in-memory flush")).expect("utf-8")
+}
+
+/// The format name in every fitted-model file.
+pub const FORMAT: &str = "laminar-fits";
+/// The version of the fitted-model file.
+pub const VERSION: u32 = 1;
+
+/// One fit in the fitted-model file: the CSV's columns (params as an
+/// object) and the portable fitted models.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitEntry {
+    /// Sample label.
+    pub sample: String,
+    /// Channel name.
+    pub channel: String,
+    /// Model.
+    pub model: Model,
+    /// Δ_RMS (eq. 15).
+    pub rms: f64,
+    /// χ²/ν (eq. 16).
+    pub chi2_dof: Option<f64>,
+    /// Terms used in χ².
+    pub chi2_used: Option<usize>,
+    /// Measurements left out of χ² (D ≤ 0).
+    pub chi2_left_out: Option<usize>,
+    /// Parameters, rounded to 10 decimals.
+    pub params: serde_json::Map<String, serde_json::Value>,
+    /// Δ_RMS of the Ragheb–Hancock best (exp, gauss).
+    pub rh_rms: Option<f64>,
+    /// Its χ²/ν.
+    pub rh_chi2_dof: Option<f64>,
+    /// Its parameters.
+    pub rh_params: Option<serde_json::Map<String, serde_json::Value>>,
+    /// Kept measurements K.
+    pub measurements: usize,
+    /// Kept measurements with value ≤ 0.
+    pub nonpositive: usize,
+    /// The search's own Δ_RMS.
+    pub search_rms: f64,
+    /// The fitted model, to predict with.
+    pub fitted: FittedModel,
+    /// The Ragheb–Hancock best as a fitted model.
+    pub rh_fitted: Option<FittedModel>,
+}
+
+/// The fitted-model file: `laminar fit --format json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitsFile {
+    /// Always [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// What the numbers are, for a reader of the file.
+    pub quantities: serde_json::Value,
+    /// The fits.
+    pub fits: Vec<FitEntry>,
+}
+
+fn params_object(e: &Estimate) -> serde_json::Map<String, serde_json::Value> {
+    e.fitted
+        .params
+        .pairs()
+        .iter()
+        .map(|(k, v)| {
+            (
+                k.to_string(),
+                serde_json::json!(format_value(*v).parse::<f64>().unwrap_or(*v)),
+            )
+        })
+        .collect()
+}
+
+impl FitEntry {
+    /// The entry of a fit.
+    pub fn new(r: &Fit) -> Self {
+        Self {
+            sample: r.sample.clone(),
+            channel: r.channel.clone(),
+            model: r.model,
+            rms: r.best.rms,
+            chi2_dof: r.best.chi2.map(|c| c.per_dof),
+            chi2_used: r.best.chi2.map(|c| c.used),
+            chi2_left_out: r.best.chi2.map(|c| c.left_out),
+            params: params_object(&r.best),
+            rh_rms: r.rh.as_ref().map(|e| e.rms),
+            rh_chi2_dof: r.rh.as_ref().and_then(|e| e.chi2).map(|c| c.per_dof),
+            rh_params: r.rh.as_ref().map(params_object),
+            measurements: r.measurements,
+            nonpositive: r.nonpositive,
+            search_rms: r.search_rms,
+            fitted: r.best.fitted,
+            rh_fitted: r.rh.as_ref().map(|e| e.fitted),
+        }
+    }
+
+    /// The label `sample/channel/model`.
+    pub fn label(&self) -> String {
+        format!("{}/{}/{}", self.sample, self.channel, self.model)
+    }
+}
+
+/// Fits as the fitted-model file (pretty JSON).
+pub fn json(records: &[Fit]) -> String {
+    let file = FitsFile {
+        format: FORMAT.into(),
+        version: VERSION,
+        quantities: serde_json::json!({
+            "rms": "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the normalised prediction",
+            "chi2_dof": "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p",
+            "params": "fitted parameters rounded to 10 decimals; beta is the balance of the paper normalisation, not of eq. 8",
+            "fitted": "the model to predict with: full-precision params; normalisation = maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (baselines: of the raw radiance); P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max",
+            "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
+            "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",
+        }),
+        fits: records.iter().map(FitEntry::new).collect(),
+    };
+    serde_json::to_string_pretty(&file).expect("serialisable") + "\n"
+}
+
+/// Reads a fitted-model file written by [`json`].
+pub fn read_fits(file: &Path) -> Result<FitsFile, ReadError> {
+    let text = std::fs::read_to_string(file).map_err(|e| ReadError::io(file, "read", e))?;
+    let fits: FitsFile = serde_json::from_str(&text).map_err(|e| {
+        ReadError::format(
+            file,
+            e.line(),
+            format!(
+                "column {}: not a laminar fitted-model file ({e}); write one with `laminar fit --format json`",
+                e.column()
+            ),
+        )
+    })?;
+    if fits.format != FORMAT || fits.version != VERSION {
+        return Err(ReadError::format(
+            file,
+            0,
+            format!(
+                "format `{}` version {}, expected `{FORMAT}` version {VERSION}",
+                fits.format, fits.version
+            ),
+        ));
+    }
+    Ok(fits)
+}
+
+/// A Markdown table from a header and rows.
+pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut s = format!(
+        "| {} |\n|{}\n",
+        header.join(" | "),
+        " --- |".repeat(header.len())
+    );
+    for r in rows {
+        s += &format!("| {} |\n", r.join(" | "));
+    }
+    s
+}
+
+/// Records as a Markdown table.
+pub fn markdown(records: &[Fit]) -> String {
+    let header = ["sample", "channel", "model", "rms", "chi2_dof", "params"];
+    let rows: Vec<Vec<String>> = records
+        .iter()
+        .map(|r| {
+            let full = row(r);
+            vec![
+                full[0].clone(),
+                full[1].clone(),
+                full[2].clone(),
+                format!("{:.4}", r.best.rms),
+                opt(r.best.chi2.map(|c| c.per_dof)),
+                full[7].clone(),
+            ]
+        })
+        .collect();
+    markdown_table(&header, &rows)
+}
+
+/// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+pub fn write_atomic(path: &Path, contents: &str) -> Result<(), ReadError> {
+    write_atomic_bytes(path, contents.as_bytes())
+}
+
+/// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+pub fn write_atomic_bytes(path: &Path, contents: &[u8]) -> Result<(), ReadError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(contents)?;
+        f.sync_all()?;
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(|e| ReadError::io(path, "write", e))
+}
+
+/// Checks before any work that `path` can be written: its directory exists
+/// and accepts a new file (a probe file is created and removed; an existing
+/// `path` is left untouched).
+pub fn check_writable(path: &Path) -> Result<(), ReadError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if path.is_dir() {
+        return Err(ReadError::io(
+            path,
+            "write",
+            std::io::Error::other("it is a directory"),
+        ));
+    }
+    let probe = dir.join(format!(".laminar-probe-{}", std::process::id()));
+    std::fs::File::create(&probe).map_err(|e| ReadError::io(path, "write", e))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
+}

@@ -1,0 +1,22 @@
+//! # laminar-io
+//!
+//! Readers and writers of the files laminar meets, beside the fitting
+//! library (`laminar-fit`), which names no format. Every reader returns a
+//! [`laminar_fit::MeasurementSet`] (or the parts of one) and every defect is
+//! a [`ReadError`] naming the file, the line, the column and the value;
+//! no input makes a reader panic.
+//!
+//! * [`curet`]: CUReT's `table.txt`, BRDF tables and Oren–Nayar parameter files.
+//! * [`csv_file`]: long-format CSV (one row per measurement, columns by name).
+//! * [`merl`]: MERL isotropic `.binary` files, read and written.
+//! * [`fits`]: fits as CSV, Markdown and the JSON fitted-model file, read back.
+
+pub mod csv_file;
+pub mod curet;
+pub mod error;
+pub mod fits;
+pub mod merl;
+
+pub use csv_file::{read_csv, read_geometry, AngleUnit};
+pub use error::ReadError;
+pub use fits::{check_writable, write_atomic, write_atomic_bytes};
