@@ -132,6 +132,8 @@ pub struct FileInput {
     pub quantity: laminar_fit::Quantity,
     /// Geometries to sample a MERL file at.
     pub sample_at: Option<PathBuf>,
+    /// Tolerance of the specular test, radians (default: the library's).
+    pub specular_tolerance: Option<f64>,
 }
 
 impl FileInput {
@@ -152,6 +154,14 @@ impl FileInput {
 
     /// Reads the file as a measurement set.
     pub fn read(&self) -> Result<MeasurementSet, CliError> {
+        let set = self.read_format()?;
+        match self.specular_tolerance {
+            Some(t) => Ok(set.with_specular_tolerance(t)?),
+            None => Ok(set),
+        }
+    }
+
+    fn read_format(&self) -> Result<MeasurementSet, CliError> {
         match self.format()? {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
             InputFormat::Merl => {

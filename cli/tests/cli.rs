@@ -632,3 +632,38 @@ fn reproduce_reports_stale_figures() {
     assert!(!out.join("fig_sample19_exp_avg.svg").exists());
     assert!(out.join("fig_sample21_exp_avg.svg").exists());
 }
+
+/// The specular test's tolerance is an option: a measurement 2e-4 rad off
+/// the mirror direction is kept by default (1e-4) and left out with 1e-3.
+#[test]
+fn specular_tolerance_is_an_option() {
+    let d = tempfile::tempdir().unwrap();
+    let mut text = String::from("theta_i,theta_s,phi_s,value\n0.3,0.3,0.0002,9\n0.4,0.4,0,9\n");
+    for k in 0..20 {
+        text += &format!(
+            "{},{},{},{}\n",
+            0.05 * k as f64,
+            0.5,
+            1.0 + 0.1 * k as f64,
+            0.3
+        );
+    }
+    let file = write(d.path(), "near.csv", &text);
+    let kept = |extra: &[&str]| -> String {
+        let args = [
+            &["fit", "--measurements", s(&file), "--models", "jensen"][..],
+            extra,
+        ]
+        .concat();
+        let out = ok(&args);
+        out.lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .nth(11)
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(kept(&[]), "21");
+    assert_eq!(kept(&["--specular-tolerance", "1e-3"]), "20");
+}

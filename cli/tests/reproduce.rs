@@ -33,7 +33,7 @@ fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
                 .map(|a| {
                     let g = laminar_core::Geometry::<f64>::splat(a);
                     let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
-                    // BRDF = radiance / cos θi (conventions §4).
+                    // BRDF = radiance / cos θi (docs/conventions.md §4).
                     format!("{:.6}", scale * l / a.theta_i().cos())
                 })
                 .collect();

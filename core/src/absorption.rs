@@ -1,4 +1,4 @@
-//! Absorption in the subsurface layer (eqs. 9–11, 14; conventions §3).
+//! Absorption in the subsurface layer (eqs. 9–11, 14; docs/conventions.md §3).
 //!
 //! `A = a cos²θ (1 − f)`, so the transmission left after reflection and
 //! absorption is `1 − f − A = (1 − f)(1 − a cos²θ)`: at `a = 0` the

@@ -1,4 +1,4 @@
-//! Refraction and unpolarised Fresnel reflectance (eqs. 5–7, conventions §3).
+//! Refraction and unpolarised Fresnel reflectance (eqs. 5–7, docs/conventions.md §3).
 
 use crate::lane::Lane;
 

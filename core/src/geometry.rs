@@ -1,4 +1,4 @@
-//! Measurement geometry (conventions §1–§2): the angles of one measurement and
+//! Measurement geometry (docs/conventions.md §1–§2): the angles of one measurement and
 //! the terms derived from them, computed once per scene and reused for every
 //! parameter set.
 
@@ -45,7 +45,7 @@ impl Angles {
         })
     }
 
-    /// Maps a CUReT row (`θv φv θi φi`, conventions §1) to the Beckmann
+    /// Maps a CUReT row (`θv φv θi φi`, docs/conventions.md §1) to the Beckmann
     /// geometry: `θs = θv`, `φs = φv − φi − π` wrapped to `(−π, π]`.
     pub fn from_curet(
         theta_v: f64,
@@ -93,7 +93,7 @@ pub fn wrap_pi(phi: f64) -> f64 {
     p
 }
 
-/// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²` (conventions §2)
+/// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²` (docs/conventions.md §2)
 /// in `f64`, free of cancellation: the x component is evaluated as
 /// `sin θi − sin θs + sin θs (1 − cos φs)
 ///  = 2 cos((θi+θs)/2) sin((θi−θs)/2) + 2 sin θs sin²(φs/2)`,
@@ -110,7 +110,7 @@ fn vxy2(a: &Angles) -> f64 {
 }
 
 /// The zenith cosines of one measurement per lane, with the surface-term
-/// quantities of eqs. 1–2 derived from the angles (conventions §2, k = 1).
+/// quantities of eqs. 1–2 derived from the angles (docs/conventions.md §2, k = 1).
 #[derive(Clone, Copy, Debug)]
 pub struct Geometry<L> {
     /// cos θi (clamped to `[0, 1]`).
@@ -119,7 +119,7 @@ pub struct Geometry<L> {
     pub cos_s: L,
     /// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²`.
     pub vxy2: L,
-    /// `v_z² = (cos θi + cos θs)²` (conventions §2: `v_z = −(cos θi + cos θs)`).
+    /// `v_z² = (cos θi + cos θs)²` (docs/conventions.md §2: `v_z = −(cos θi + cos θs)`).
     pub vz2: L,
     /// `cos θi / v_z²`, the leading factor of eqs. 1–2; 0 where `v_z = 0`
     /// (both angles grazing: no irradiance).
@@ -176,7 +176,7 @@ impl<L: Lane> Geometry<L> {
     }
 
     /// The geometry below the upper boundary for refractive index `n ≥ 1`
-    /// (conventions §3): Snell `sin θ′ = sin θ / n` for both zenith angles,
+    /// (docs/conventions.md §3): Snell `sin θ′ = sin θ / n` for both zenith angles,
     /// `φs` unchanged; the cosines come from [`refract_cos`], accurate near
     /// grazing and for `n` close to 1. Both sines shrink by `1/n`, so
     /// `v_xy′ = v_xy / n` exactly: `v_xy′²` is scaled, not recomputed from

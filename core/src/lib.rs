@@ -3,8 +3,9 @@
 //! `no_std` evaluation of the absorptive scattering model for rough laminar
 //! surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the Ragheb–Hancock
 //! model it extends (`a = 0`), and the Jensen and Oren–Nayar baselines.
-//! Equation numbers refer to the paper; "conventions §N" to the project's
-//! `spec/conventions.md`, which settles what the paper leaves open.
+//! Equation numbers refer to the paper; "docs/conventions.md §N" to the
+//! repository's statement of what the paper leaves open, which also indexes
+//! each equation to the function that computes it.
 //!
 //! ## One implementation, three lane types
 //! Every equation is written once against [`Lane`], implemented for `f32`,
@@ -24,7 +25,7 @@
 //! coefficient constructors) reject out-of-domain input with an
 //! [`InputError`] naming the value. The hot path then trusts its inputs: it
 //! never panics, and for validated input it never returns NaN or ∞, including
-//! the hard cases of conventions §9 (normal and grazing incidence, `n = 1`,
+//! the hard cases of docs/conventions.md §9 (normal and grazing incidence, `n = 1`,
 //! total internal reflection, `a = 1`, extreme slopes, φs wrap).
 //!
 //! ## Compute only what is needed

@@ -1,10 +1,10 @@
-//! Normalisation and error measures (eqs. 15–16, conventions §4–§5) over
+//! Normalisation and error measures (eqs. 15–16, docs/conventions.md §4–§5) over
 //! scalar slices (`f32` or `f64`), without allocation.
 
 use crate::error::InputError;
 use crate::lane::Real;
 
-/// How model radiance is normalised before comparison with data (conventions §4).
+/// How model radiance is normalised before comparison with data (docs/conventions.md §4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub enum Normalisation {
     /// Paper preset: surface and subsurface each divided by their own max,
@@ -26,7 +26,7 @@ pub fn max_of<T: Real>(values: &[T]) -> T {
         .fold(T::c(f64::NEG_INFINITY), |m, &v| if v > m { v } else { m })
 }
 
-/// Divides every value by the slice's max (conventions §4). A slice whose max
+/// Divides every value by the slice's max (docs/conventions.md §4). A slice whose max
 /// is ≤ 0 (or empty) becomes all zeros: no division by zero, no NaN.
 /// Returns the max used (0 when zeroed).
 pub fn normalise_by_max<T: Real>(values: &mut [T]) -> T {
@@ -43,7 +43,7 @@ pub fn normalise_by_max<T: Real>(values: &mut [T]) -> T {
 }
 
 /// The normalised model prediction `P` from raw surface and subsurface
-/// radiance for balance β, written to `out` (conventions §4). `surface` and
+/// radiance for balance β, written to `out` (docs/conventions.md §4). `surface` and
 /// `subsurface` are normalised in place for [`Normalisation::Paper`].
 /// `data` is used only by [`Normalisation::Lsq`].
 pub fn normalised_prediction<T: Real>(
@@ -99,7 +99,7 @@ fn check_lengths<T>(data: &[T], prediction: &[T]) -> Result<(), InputError> {
 }
 
 /// `Δ_RMS = 100 · sqrt(Σ_k (D_k − P_k)²) / K` (eq. 15 as printed, 1/K outside
-/// the root; conventions §5). Zero and negative data are kept.
+/// the root; docs/conventions.md §5). Zero and negative data are kept.
 pub fn rms_error<T: Real>(data: &[T], prediction: &[T]) -> Result<T, InputError> {
     check_lengths(data, prediction)?;
     let mut sum = T::c(0.0);
@@ -110,7 +110,7 @@ pub fn rms_error<T: Real>(data: &[T], prediction: &[T]) -> Result<T, InputError>
     Ok(T::c(100.0) * sum.sqrt() / T::c(data.len() as f64))
 }
 
-/// Result of the χ² test (eq. 16, conventions §5).
+/// Result of the χ² test (eq. 16, docs/conventions.md §5).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ChiSquare<T> {
     /// `χ²/ν`.
@@ -122,7 +122,7 @@ pub struct ChiSquare<T> {
 }
 
 /// `χ²/ν = Σ (P_k − D_k)² / D_k / (d − p)` over measurements with `D_k > 0`
-/// (eq. 16; conventions §5: `p = 4` absorptive, `p = 3` Ragheb–Hancock).
+/// (eq. 16; docs/conventions.md §5: `p = 4` absorptive, `p = 3` Ragheb–Hancock).
 pub fn chi_square_per_dof<T: Real>(
     data: &[T],
     prediction: &[T],

@@ -1,5 +1,5 @@
 //! Subsurface radiance of the layered surface (eqs. 3–5 and, with
-//! absorption, eqs. 12–14; conventions §3).
+//! absorption, eqs. 12–14; docs/conventions.md §3).
 
 use crate::absorption::attenuation;
 use crate::fresnel::{fresnel_from_cosines, solid_angle};
@@ -23,7 +23,7 @@ pub struct Interface<L> {
 }
 
 impl<L: Lane> Interface<L> {
-    /// Refracts `g` into a layer of index `n ≥ 1` (Snell, conventions §3).
+    /// Refracts `g` into a layer of index `n ≥ 1` (Snell, docs/conventions.md §3).
     #[must_use]
     pub fn new(g: &Geometry<L>, n: L) -> Self {
         let refracted = g.refracted(n);

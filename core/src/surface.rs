@@ -1,4 +1,4 @@
-//! Surface radiance of a rough boundary (eqs. 1–2, conventions §2).
+//! Surface radiance of a rough boundary (eqs. 1–2, docs/conventions.md §2).
 
 use crate::exp::exp;
 use crate::geometry::Geometry;

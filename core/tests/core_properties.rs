@@ -182,7 +182,7 @@ fn fresnel_fixed_cases() {
 }
 
 /// Values computed independently (Python, float64, the formulas of
-/// conventions §2–3 written with asin/sin/cos, not from this crate).
+/// docs/conventions.md §2–3 written with asin/sin/cos, not from this crate).
 #[test]
 fn hand_computed_radiance() {
     type Case = ((f64, f64, f64), (f64, f64, f64, f64), Correlation, [f64; 7]);
@@ -246,7 +246,7 @@ fn hand_computed_radiance() {
     }
 }
 
-/// Every hard case of conventions §9 gives finite, non-negative values on
+/// Every hard case of docs/conventions.md §9 gives finite, non-negative values on
 /// every path.
 #[test]
 fn hard_cases_are_finite() {

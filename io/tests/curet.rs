@@ -111,7 +111,7 @@ fn per_channel_files_are_read_and_fitted() {
     let angles = synthetic::geometries();
     let mut table = String::new();
     for (i, a) in angles.iter().take(12).enumerate() {
-        // Inverse of conventions §1 with φi = 0: φv = φs + π.
+        // Inverse of docs/conventions.md §1 with φi = 0: φv = φs + π.
         let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
         table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
     }
@@ -160,7 +160,7 @@ fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
                 .map(|a| {
                     let g = laminar_core::Geometry::<f64>::splat(a);
                     let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
-                    // BRDF = radiance / cos θi (conventions §4).
+                    // BRDF = radiance / cos θi (docs/conventions.md §4).
                     format!("{:.6}", scale * l / a.theta_i().cos())
                 })
                 .collect();

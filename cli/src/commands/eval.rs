@@ -140,6 +140,6 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     }
     w.flush()
         .map_err(|e| CliError::Usage(format!("writing stdout: {e}")))?;
-    report_time("eval", start, angles.len() as f64);
+    report_time("eval", start, angles.len() as f64, "geometries");
     Ok(())
 }

@@ -56,6 +56,6 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         args.merl.display(),
         PLANE
     );
-    report_time("export", start, PLANE as f64);
+    report_time("export", start, PLANE as f64, "bins");
     Ok(())
 }

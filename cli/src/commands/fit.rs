@@ -2,7 +2,7 @@
 
 use super::options::{
     check_out, emit, fitter, jobs, progress, report_time, ChannelArgs, CuretArgs, FileArgs,
-    GridArgs, PathArgs, ThreadArgs,
+    GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::fit_job;
@@ -100,6 +100,6 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
             synthetic::NOISE
         );
     }
-    report_time("fit", start, pairs);
+    report_time("fit", start, pairs, PAIRS);
     Ok(())
 }

@@ -67,6 +67,10 @@ pub struct FileArgs {
     /// theta_i,phi_i,theta_v,phi_v (or theta_i,theta_s,phi_s).
     #[arg(long)]
     pub sample_at: Option<PathBuf>,
+    /// Tolerance of the specular test for --measurements, radians: a
+    /// measurement with θv = θi and |φv − φi| = π within it is left out.
+    #[arg(long, default_value_t = laminar_fit::measurements::SPECULAR_TOLERANCE, requires = "measurements")]
+    pub specular_tolerance: f64,
 }
 
 impl FileArgs {
@@ -78,6 +82,7 @@ impl FileArgs {
             angles: self.angles,
             quantity: self.quantity,
             sample_at: self.sample_at.clone(),
+            specular_tolerance: Some(self.specular_tolerance),
         })
     }
 }
@@ -199,12 +204,15 @@ pub fn progress(len: u64, what: &str) -> ProgressBar {
     bar
 }
 
-/// Prints elapsed time and throughput on stderr.
-pub fn report_time(command: &str, start: Instant, pairs: f64) {
+/// What a command's throughput counts.
+pub const PAIRS: &str = "(parameter set, measurement) pairs";
+
+/// Prints elapsed time and throughput (`count` `unit` per second) on stderr.
+pub fn report_time(command: &str, start: Instant, count: f64, unit: &str) {
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
-        "{command}: {secs:.3} s elapsed, {:.3e} (parameter set, measurement) pairs/s",
-        pairs / secs.max(1e-9)
+        "{command}: {secs:.3} s elapsed, {:.3e} {unit}/s",
+        count / secs.max(1e-9)
     );
 }
 

@@ -2,7 +2,7 @@
 
 use super::options::global_threads;
 use super::options::{
-    jobs, report_time, ChannelArgs, CuretArgs, FileArgs, GridArgs, PathArgs, ThreadArgs,
+    jobs, report_time, ChannelArgs, CuretArgs, FileArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::CliError;
@@ -82,6 +82,6 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
         }
     }
     println!("parity: {same} of {all} grid values identical");
-    report_time("parity", start, pairs);
+    report_time("parity", start, pairs, PAIRS);
     Ok(same == all)
 }

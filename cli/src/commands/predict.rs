@@ -112,6 +112,7 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                     angles: args.angles,
                     quantity: args.quantity,
                     sample_at: args.sample_at.clone(),
+                    specular_tolerance: None,
                 };
                 let channel = args.channel.as_deref().unwrap_or(&sel.channel);
                 scene_of(&input.read()?, channel, path)?
@@ -174,6 +175,6 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
             sel.rms
         );
     }
-    report_time("predict", start, angles.len() as f64);
+    report_time("predict", start, angles.len() as f64, "geometries");
     Ok(())
 }

@@ -2,7 +2,7 @@
 //! with the f64 reference.
 
 use super::options::{
-    check_out, emit, global_threads, progress, report_time, CuretArgs, GridArgs, ThreadArgs,
+    check_out, emit, global_threads, progress, report_time, CuretArgs, GridArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, Subcommand};
 use laminar_cli::selection::synthetic_jobs;
@@ -66,6 +66,6 @@ pub fn run(kind: &ReportKind) -> Result<(), CliError> {
         emit(args.out.as_ref(), &text)?;
     }
     let pairs: f64 = scenes.iter().map(|s| s.len() as f64).sum::<f64>() * grid.size() as f64;
-    report_time("report speed-vs-error", start, pairs * 2.0);
+    report_time("report speed-vs-error", start, pairs * 2.0, PAIRS);
     Ok(())
 }

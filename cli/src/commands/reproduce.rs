@@ -1,6 +1,8 @@
 //! `laminar reproduce`: the paper's experiment, tables and figures.
 
-use super::options::{fitter, progress, report_time, CuretArgs, GridArgs, PathArgs, ThreadArgs};
+use super::options::{
+    fitter, progress, report_time, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
+};
 use clap::Args;
 use laminar_cli::reproduce::{prepare_out_dir, reproduce, FITTED};
 use laminar_cli::CliError;
@@ -54,6 +56,6 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
         r.files.len(),
         args.out.display()
     );
-    report_time("reproduce", start, r.pairs);
+    report_time("reproduce", start, r.pairs, PAIRS);
     Ok(())
 }

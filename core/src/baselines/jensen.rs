@@ -1,5 +1,5 @@
 //! Jensen et al. 2001 BRDF approximation: dipole diffusion plus single
-//! scattering (conventions §7).
+//! scattering (docs/conventions.md §7).
 //!
 //! `f = (1/π) Ft(θi) R_d Ft(θs) + α′ Ft(θi) Ft(θs) p / (cos θi′ + cos θs′)`,
 //! isotropic phase `p = 1/(4π)`, `η = 1.3`, `Ft = 1 − f(·, η)`; radiance `f cos θi`.
@@ -11,7 +11,7 @@ use crate::geometry::Angles;
 use crate::lane::{Lane, Real};
 use core::f64::consts::PI;
 
-/// Relative refractive index η of the Jensen baseline (conventions §7).
+/// Relative refractive index η of the Jensen baseline (docs/conventions.md §7).
 pub const JENSEN_ETA: f64 = 1.3;
 
 /// Per-geometry terms of the Jensen model, computed once per scene.
@@ -91,7 +91,7 @@ impl<S: Real> JensenCoefficients<S> {
     }
 }
 
-/// Jensen radiance `f · cos θi` (conventions §7), un-normalised.
+/// Jensen radiance `f · cos θi` (docs/conventions.md §7), un-normalised.
 #[inline]
 #[must_use]
 pub fn jensen_radiance<L: Lane>(g: &JensenGeometry<L>, k: &JensenCoefficients<L::Scalar>) -> L {

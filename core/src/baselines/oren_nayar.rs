@@ -1,5 +1,5 @@
 //! The full Oren–Nayar model (1994): direct term with C1, C2, C3 plus the
-//! interreflection term, radiance with E0 = 1 (conventions §7).
+//! interreflection term, radiance with E0 = 1 (docs/conventions.md §7).
 //!
 //! In the Beckmann geometry the source azimuth is π, so `cos(φr − φi) = −cos φs`.
 

@@ -36,7 +36,7 @@ pub fn params() -> impl Strategy<Value = Params> {
     (slope, unit.clone(), n, unit).prop_map(|(s, b, n, a)| Params::new(s, b, n, a).unwrap())
 }
 
-/// Parameters inside the paper's search domain (conventions §6), where the
+/// Parameters inside the paper's search domain (docs/conventions.md §6), where the
 /// f32 error budgets are stated.
 pub fn paper_params() -> impl Strategy<Value = Params> {
     (0.12..=4.04f64, 0.0..=1.0f64, 1.0..=2.0f64, 0.0..=1.0f64)

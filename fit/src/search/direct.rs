@@ -8,7 +8,7 @@ use crate::grid::Grid;
 use laminar_core::{components, mix, Correlation, Lane, Params};
 
 /// The sum of squared residuals `Σ (D − P)²` of the paper-normalised mix
-/// `P = β U + (1 − β) S` (conventions §4; eq. 15 before the root): one pass
+/// `P = β U + (1 − β) S` (docs/conventions.md §4; eq. 15 before the root): one pass
 /// for the max of the mix, a second for the residuals.
 pub fn two_pass_sum<L: Lane>(packed: &Packed<L>, surface: &[L], subsurface: &[L], beta: L) -> f64 {
     let mut m = L::c(0.0);

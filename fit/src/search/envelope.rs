@@ -1,5 +1,5 @@
-//! Path 3, the closed-form β sweep. For the paper normalisation (conventions
-//! §4), with `X = (1 − β) S + β U = S + β Δ` (`Δ = U − S`) and
+//! Path 3, the closed-form β sweep. For the paper normalisation
+//! (docs/conventions.md §4), with `X = (1 − β) S + β U = S + β Δ` (`Δ = U − S`) and
 //! `M(β) = max_k X_k`,
 //!
 //! `Σ (D − X/M)² = Σ D² + (Σ X² / M − 2 Σ X D) / M`, where

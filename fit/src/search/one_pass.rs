@@ -2,7 +2,7 @@
 //! measurements accumulates the max `M` of the mix `X = S + β Δ`
 //! (`Δ = U − S`, i.e. `β U + (1 − β) S`) and the one sum from which, with
 //! sums hoisted out of the β loop, the paper-normalised error follows
-//! (conventions §4, eq. 15) without a second pass.
+//! (docs/conventions.md §4, eq. 15) without a second pass.
 //!
 //! With a shift `c` chosen before the pass, `D − X/M = r + δ X` where
 //! `r = D − c X` and `δ = c − 1/M`, so

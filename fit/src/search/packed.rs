@@ -114,7 +114,7 @@ pub fn lane_sum<L: Lane>(partial: &[L]) -> L::Scalar {
     })
 }
 
-/// `values / max(values)`, or zeros when the max is ≤ 0 (conventions §4).
+/// `values / max(values)`, or zeros when the max is ≤ 0 (docs/conventions.md §4).
 pub fn normalise<L: Lane>(values: &mut [L]) {
     let m = max_of(values);
     let zero = L::Scalar::c(0.0);
@@ -172,7 +172,7 @@ impl<L: Lane> Tables<L> {
         }
     }
 
-    /// The normalised surface term `S` (eqs. 1–2, conventions §4) at σ/T = `slope`.
+    /// The normalised surface term `S` (eqs. 1–2, docs/conventions.md §4) at σ/T = `slope`.
     pub fn surface(&self, corr: Correlation, slope: f64) -> Vec<L> {
         let inv_s2 = inverse_slope_squared(L::c(slope));
         let mut s: Vec<L> = (self.packed.geom.iter().zip(&self.packed.valid))

@@ -1,5 +1,5 @@
 //! Sums over the measurements in `f64`, shared by the one-pass and envelope
-//! methods: with `X = S + β Δ` (`Δ = U − S`, conventions §4),
+//! methods: with `X = S + β Δ` (`Δ = U − S`, docs/conventions.md §4),
 //! `Σ X D = Σ S D + β Σ Δ D` and `Σ X² = Σ S² + β (2 Σ S Δ + β Σ Δ²)`,
 //! so three sums per σ/T and three per (σ/T, n, a) give both for every β.
 //!
