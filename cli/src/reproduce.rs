@@ -103,35 +103,35 @@ pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproducti
     )?;
     for job in jobs
         .iter()
-        .filter(|j| FIGURE_SAMPLES.contains(&j.scene.sample.as_str()))
+        .filter(|j| FIGURE_SAMPLES.contains(&j.scene.sample()))
     {
         for r in records
             .iter()
-            .filter(|r| r.sample == job.scene.sample && r.channel == job.scene.channel)
+            .filter(|r| r.sample == job.scene.sample() && r.channel == job.scene.channel())
         {
             let mut shown = vec![(r.model, &r.best)];
             if let (Some(rh), Some(rh_model)) = (&r.rh, r.model.ragheb_hancock()) {
                 shown.push((rh_model, rh));
             }
             for (model, estimate) in shown {
-                let p = estimate.fitted.predict(&job.scene.angles)?;
+                let p = estimate.fitted.predict(job.scene.angles())?;
                 let title = format!(
                     "sample {} {} ({}), {model}: Δ_RMS {:.3}",
-                    job.scene.sample,
-                    material(&job.scene.sample),
-                    job.scene.channel,
+                    job.scene.sample(),
+                    material(job.scene.sample()),
+                    job.scene.channel(),
                     estimate.rms
                 );
                 let name = format!(
                     "fig_sample{}_{}_{}.svg",
-                    job.scene.sample,
+                    job.scene.sample(),
                     model.name(),
-                    job.scene.channel
+                    job.scene.channel()
                 );
                 write(
                     out,
                     &name,
-                    &data_vs_model_svg(&title, &job.scene.data, &p).map_err(CliError::Figure)?,
+                    &data_vs_model_svg(&title, job.scene.data(), &p).map_err(CliError::Figure)?,
                     &mut files,
                 )?;
             }

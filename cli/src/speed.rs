@@ -92,7 +92,7 @@ pub fn speed_vs_error(
     for scene in scenes {
         for (i_model, model) in [Model::Exp, Model::Gauss].into_iter().enumerate() {
             let corr = model.correlation().expect("layered");
-            progress(&format!("sample {} {model}: reference", scene.sample));
+            progress(&format!("sample {} {model}: reference", scene.sample()));
             let reference = error_surface(scene, grid, corr, whole_reference)?;
             let slice_reference = &reference[..slice.size()];
             let direct = error_surface(scene, &slice, corr, Path::REFERENCE)?;
@@ -101,14 +101,14 @@ pub fn speed_vs_error(
                 .zip(slice_reference)
                 .fold(reference_agreement, |m, (a, b)| m.max((a - b).abs()));
             for (i, &path) in paths.iter().enumerate() {
-                progress(&format!("sample {} {model}: {path}", scene.sample));
+                progress(&format!("sample {} {model}: {path}", scene.sample()));
                 let (g, refs) = if path.method == Method::Direct {
                     (&slice, slice_reference)
                 } else {
                     (grid, &reference[..])
                 };
                 let start = Instant::now();
-                let r = search(scene, g, corr, path, &|| {});
+                let r = search(scene, g, corr, path, &|| {})?;
                 seconds[i] += start.elapsed().as_secs_f64();
                 if path == Path::DEFAULT {
                     mean_front[i_model] = r.mean_front;

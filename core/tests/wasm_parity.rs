@@ -6,7 +6,7 @@
 //! missing the test prints `SKIPPED` and passes, unless
 //! `LAMINAR_REQUIRE_WASM=1` (set by `.ci/run`), when it fails.
 
-#[path = "../examples/wasm_probe/cases.rs"]
+#[path = "../wasm-probe/src/cases.rs"]
 mod cases;
 
 use std::path::{Path, PathBuf};
@@ -29,9 +29,8 @@ fn build_probe(root: &Path, dir: &str, rustflags: &str) -> Result<PathBuf, Strin
         .args([
             "build",
             "-p",
-            "laminar-core",
-            "--example",
-            "wasm_probe",
+            "laminar-wasm-probe",
+            "--lib",
             "--target",
             "wasm32-unknown-unknown",
             "--release",
@@ -47,7 +46,7 @@ fn build_probe(root: &Path, dir: &str, rustflags: &str) -> Result<PathBuf, Strin
             String::from_utf8_lossy(&out.stderr)
         ));
     }
-    Ok(target_dir.join("wasm32-unknown-unknown/release/examples/wasm_probe.wasm"))
+    Ok(target_dir.join("wasm32-unknown-unknown/release/laminar_wasm_probe.wasm"))
 }
 
 #[test]

@@ -175,15 +175,14 @@ impl Fitter {
     /// Runs every fit on `threads` worker threads (default: rayon's global
     /// pool, all cores). Results do not depend on it.
     pub fn threads(mut self, threads: usize) -> Result<Self, FitError> {
+        let error = |message: String| FitError::Threads { threads, message };
+        if threads == 0 {
+            return Err(error("at least one thread is needed".into()));
+        }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .ok()
-            .filter(|_| threads > 0)
-            .ok_or_else(|| FitError::Threads {
-                threads,
-                message: "at least one thread is needed".into(),
-            })?;
+            .map_err(|e| error(e.to_string()))?;
         self.pool = Some(Arc::new(pool));
         Ok(self)
     }
@@ -291,7 +290,8 @@ impl Fitter {
                 } else {
                     self.grid.clone()
                 };
-                let r = search(scene, &grid, corr, self.path, &tick);
+                let r = search(scene, &grid, corr, self.path, &tick)
+                    .expect("the grid was validated by Fitter::new");
                 let layered = |flat| {
                     let (slope, n, a, beta) = point(&grid, flat);
                     ModelParams::Layered { slope, beta, n, a }

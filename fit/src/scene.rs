@@ -4,33 +4,67 @@
 use laminar_core::{normalise_by_max, Angles};
 
 /// Kept measurements of one channel with their normalised measured radiance.
-/// Built by [`crate::MeasurementSet::scene`] (or [`Scene::from_radiance`]).
+/// Built only by [`crate::MeasurementSet::scene`] and the synthetic scenes,
+/// so every scene is valid: at least one measurement, one value per
+/// geometry, finite values with a positive maximum.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
-    /// Label of the measurement set (the `sample` column of every output).
-    pub sample: String,
-    /// The channel's name (the `channel` column).
-    pub channel: String,
-    /// Geometry of each kept measurement, in the paper's Beckmann frame.
-    pub angles: Vec<Angles>,
-    /// Normalised measured radiance `D_k` (max 1).
-    pub data: Vec<f64>,
-    /// Standard uncertainty of each `D_k`, on the same scale, when the input gave them.
-    pub sigma: Option<Vec<f64>>,
-    /// Source row (1-based) of each kept measurement.
-    pub rows: Vec<usize>,
-    /// Kept measurements whose value is zero or negative (docs/conventions.md §8).
-    pub nonpositive: usize,
-    /// The max of the un-normalised radiance that `data` was divided by
-    /// (multiply a normalised prediction by it to get the input's units).
-    pub data_scale: f64,
+    pub(crate) sample: String,
+    pub(crate) channel: String,
+    pub(crate) angles: Vec<Angles>,
+    pub(crate) data: Vec<f64>,
+    pub(crate) sigma: Option<Vec<f64>>,
+    pub(crate) rows: Vec<usize>,
+    pub(crate) nonpositive: usize,
+    pub(crate) data_scale: f64,
 }
 
 impl Scene {
-    /// A scene from paper-frame angles and un-normalised radiance, divided by
-    /// its max (a max ≤ 0 leaves all zeros and `data_scale` 0). Labelled
-    /// `synthetic`/`value` until [`Scene::labelled`].
-    pub fn from_radiance(
+    /// Label of the measurement set (the `sample` column of every output).
+    pub fn sample(&self) -> &str {
+        &self.sample
+    }
+
+    /// The channel's name (the `channel` column).
+    pub fn channel(&self) -> &str {
+        &self.channel
+    }
+
+    /// Geometry of each kept measurement, in the paper's Beckmann frame.
+    pub fn angles(&self) -> &[Angles] {
+        &self.angles
+    }
+
+    /// Normalised measured radiance `D_k` (max 1).
+    pub fn data(&self) -> &[f64] {
+        &self.data
+    }
+
+    /// Standard uncertainty of each `D_k`, on the same scale, when the input gave them.
+    pub fn sigma(&self) -> Option<&[f64]> {
+        self.sigma.as_deref()
+    }
+
+    /// Source row (1-based) of each kept measurement.
+    pub fn rows(&self) -> &[usize] {
+        &self.rows
+    }
+
+    /// Kept measurements whose value is zero or negative (docs/conventions.md §8).
+    pub fn nonpositive(&self) -> usize {
+        self.nonpositive
+    }
+
+    /// The max of the un-normalised radiance that the data were divided by
+    /// (multiply a normalised prediction by it to get the input's units).
+    pub fn data_scale(&self) -> f64 {
+        self.data_scale
+    }
+
+    /// A scene from paper-frame angles and un-normalised radiance with a
+    /// positive max, divided by it. Labelled `synthetic`/`value` until
+    /// [`Scene::labelled`].
+    pub(crate) fn from_radiance(
         angles: Vec<Angles>,
         mut radiance: Vec<f64>,
         rows: Vec<usize>,
@@ -67,7 +101,7 @@ impl Scene {
         self.angles.len()
     }
 
-    /// True when no measurement is kept.
+    /// True when no measurement is kept (never, for a scene built by this crate).
     pub fn is_empty(&self) -> bool {
         self.angles.is_empty()
     }

@@ -4,7 +4,7 @@
 
 use laminar_core::{Correlation, Params};
 use laminar_fit::search::{error_surface, point, search, Arith, Method, Path};
-use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Scene};
+use laminar_fit::{synthetic, Axis, Fitter, Grid, GridError, Model, Scene};
 use laminar_io::curet::CuretDir;
 use std::path::PathBuf;
 
@@ -37,7 +37,7 @@ fn small_grid() -> Grid {
 }
 
 fn assert_recovered(grid: &Grid, scene: &Scene, corr: Correlation, path: Path) {
-    let r = search(scene, grid, corr, path, &|| {});
+    let r = search(scene, grid, corr, path, &|| {}).unwrap();
     let (s, n, a, b) = point(grid, r.best);
     assert!(
         close(s, TRUTH.0, 1e-9)
@@ -103,7 +103,8 @@ fn slightly_noisy_data_is_recovered_within_one_grid_step() {
         Correlation::Exponential,
         Path::DEFAULT,
         &|| {},
-    );
+    )
+    .unwrap();
     let (s, n, a, b) = point(&grid, r.best);
     assert!(close(s, TRUTH.0, 0.08 + 1e-9), "slope {s}");
     assert!(close(b, TRUTH.1, 0.01 + 1e-9), "beta {b}");
@@ -136,7 +137,7 @@ fn search_picks_the_minimum_of_its_error_surface() {
                 test_grid()
             };
             let corr = Correlation::Exponential;
-            let r = search(scene, &grid, corr, path, &|| {});
+            let r = search(scene, &grid, corr, path, &|| {}).unwrap();
             let surface = error_surface(scene, &grid, corr, path).unwrap();
             let want = first_min(&surface, &|_| true);
             assert_eq!(r.best, want, "{path}");
@@ -237,7 +238,7 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
     let mut identical = 0usize;
     for s in &samples {
         let scene = s.set.scene("avg").unwrap();
-        assert_eq!(scene.len(), 198, "sample {}", scene.sample);
+        assert_eq!(scene.len(), 198, "sample {}", scene.sample());
         for (model, corr) in [
             (Model::Exp, Correlation::Exponential),
             (Model::Gauss, Correlation::Gaussian),
@@ -246,7 +247,7 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
             assert!(
                 r.best.rms.is_finite() && r.best.rms < 5.0,
                 "sample {} {model}: rms {}",
-                scene.sample,
+                scene.sample(),
                 r.best.rms
             );
             let rh = r.rh.as_ref().expect("a axis has 0");
@@ -267,17 +268,17 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
                     same,
                     simd.len(),
                     "sample {} {model} {method:?}",
-                    scene.sample
+                    scene.sample()
                 );
                 identical += same;
                 // The search (which may skip triples) finds the surface's minimum.
-                let found = search(&scene, &grid, corr, simd_path, &|| {});
+                let found = search(&scene, &grid, corr, simd_path, &|| {}).unwrap();
                 let min = simd.iter().copied().fold(f64::INFINITY, f64::min);
                 assert_eq!(
                     found.best_rms.to_bits(),
                     min.to_bits(),
                     "sample {} {model} {method:?}",
-                    scene.sample
+                    scene.sample()
                 );
                 assert_eq!(simd[found.best].to_bits(), min.to_bits());
             }
@@ -286,5 +287,39 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
     println!(
         "CUReT parity: {identical} of {} grid values identical",
         2 * 26 * grid.size()
+    );
+}
+
+#[test]
+fn invalid_grids_and_thread_counts_are_errors_not_panics() {
+    let scene = synthetic::default_scene();
+    let empty = Grid {
+        a: Axis { values: vec![] },
+        ..Grid::paper()
+    };
+    let e = search(
+        &scene,
+        &empty,
+        Correlation::Exponential,
+        Path::DEFAULT,
+        &|| {},
+    )
+    .unwrap_err();
+    assert!(matches!(e, GridError::Empty { axis: "a" }), "{e}");
+    let e = error_surface(&scene, &empty, Correlation::Exponential, Path::DEFAULT).unwrap_err();
+    assert!(matches!(e, GridError::Empty { axis: "a" }), "{e}");
+    let outside = Grid {
+        n: Axis { values: vec![0.5] },
+        ..Grid::paper()
+    };
+    assert!(Fitter::new(outside).is_err());
+    let e = Fitter::new(Grid::paper())
+        .unwrap()
+        .threads(0)
+        .err()
+        .unwrap();
+    assert_eq!(
+        e.to_string(),
+        "cannot start 0 worker threads: at least one thread is needed"
     );
 }

@@ -134,7 +134,7 @@ fn per_channel_files_are_read_and_fitted() {
     for j in &js {
         let scene = j.set.scene(j.channel.name()).unwrap();
         assert_eq!(scene.len(), 12);
-        assert_eq!(scene.channel, j.channel.name());
+        assert_eq!(scene.channel(), j.channel.name());
         let r = fitter.fit(&scene, Model::Exp);
         assert!(r.best.rms.is_finite());
     }

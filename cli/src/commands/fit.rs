@@ -93,7 +93,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         Format::Markdown => fits::markdown(&records),
     };
     emit(args.out.as_ref(), &text)?;
-    if jobs.iter().any(|j| j.scene.sample == "synthetic") {
+    if jobs.iter().any(|j| j.scene.sample() == "synthetic") {
         let (s, b, n, a) = synthetic::TRUE_PARAMS;
         eprintln!(
             "synthetic scene: true parameters slope={s};beta={b};n={n};a={a} (exp model, noise σ = {})",

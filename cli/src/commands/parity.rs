@@ -71,8 +71,8 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
                 .count();
             println!(
                 "sample {} channel {} model {} ({simd_path} vs {scalar_path}): {equal} of {} grid values identical",
-                job.scene.sample,
-                job.scene.channel,
+                job.scene.sample(),
+                job.scene.channel(),
                 model.name(),
                 simd.len()
             );

@@ -138,7 +138,11 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                     "give --geometry FILE.csv, --measurements FILE or --data DIR".into(),
                 ));
             };
-            (scene.rows, scene.angles, Some(scene.data))
+            (
+                scene.rows().to_vec(),
+                scene.angles().to_vec(),
+                Some(scene.data().to_vec()),
+            )
         };
     let prediction = sel.fitted.predict(&angles)?;
     let mut w = csv::Writer::from_writer(Vec::new());

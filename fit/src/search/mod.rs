@@ -353,24 +353,27 @@ fn search_with<L: Lane + Send + Sync>(
     }
 }
 
-/// Runs the exhaustive search on `path`; `progress` is called once per σ/T
-/// shard. Deterministic whatever the thread count (docs/conventions.md §6).
+/// Runs the exhaustive search on `path` (after [`Grid::validate`]);
+/// `progress` is called once per σ/T shard. Deterministic whatever the
+/// thread count (docs/conventions.md §6).
 pub fn search(
     scene: &Scene,
     grid: &Grid,
     corr: Correlation,
     path: Path,
     progress: &(dyn Fn() + Sync),
-) -> SearchResult {
-    match path.arith {
+) -> Result<SearchResult, GridError> {
+    grid.validate()?;
+    Ok(match path.arith {
         Arith::F32x8 => search_with::<f32x8>(scene, grid, corr, path.method, progress),
         Arith::F32 => search_with::<f32>(scene, grid, corr, path.method, progress),
         Arith::F64 => search_with::<f64>(scene, grid, corr, path.method, progress),
-    }
+    })
 }
 
 /// Every grid value's RMS on `path`, in flattened order (widened exactly to
-/// `f64`). A grid whose table cannot be allocated is refused with its size.
+/// `f64`), after [`Grid::validate`]. A grid whose table cannot be allocated
+/// is refused with its size.
 pub fn error_surface(
     scene: &Scene,
     grid: &Grid,
@@ -402,6 +405,7 @@ pub fn error_surface(
             });
         Ok(out)
     }
+    grid.validate()?;
     match path.arith {
         Arith::F32x8 => run::<f32x8>(scene, grid, corr, path.method),
         Arith::F32 => run::<f32>(scene, grid, corr, path.method),

@@ -1,5 +1,5 @@
 //! A `cdylib` that exports the probe values of `cases.rs`; built for
-//! `wasm32-unknown-unknown` and run by node in `tests/wasm_parity.rs`.
+//! `wasm32-unknown-unknown` and run by node in `core/tests/wasm_parity.rs`.
 #![cfg_attr(target_arch = "wasm32", no_std)]
 
 mod cases;
