@@ -667,3 +667,78 @@ fn specular_tolerance_is_an_option() {
     assert_eq!(kept(&[]), "21");
     assert_eq!(kept(&["--specular-tolerance", "1e-3"]), "20");
 }
+
+/// `CURET_DIR`, or `None` after saying the test is skipped.
+fn curet_dir() -> Option<String> {
+    match std::env::var("CURET_DIR") {
+        Ok(d) => Some(d),
+        Err(_) if std::env::var_os("LAMINAR_REQUIRE_CURET").is_some() => {
+            panic!("LAMINAR_REQUIRE_CURET is set but CURET_DIR is not")
+        }
+        Err(_) => {
+            eprintln!("SKIPPED CUReT test: CURET_DIR is not set");
+            None
+        }
+    }
+}
+
+/// The 78 fits of the paper's 13 samples (avg channel, six models) are byte
+/// for byte those of the runner before the library split (`golden/`).
+#[test]
+fn curet_paper_fits_are_unchanged() {
+    let Some(dir) = curet_dir() else { return };
+    let out = ok(&["fit", "--data", &dir, "--brdf", "abrdf.dat"]);
+    let golden = include_str!("golden/curet_paper_fits.csv");
+    for (i, (a, b)) in out.lines().zip(golden.lines()).enumerate() {
+        assert_eq!(a, b, "line {}", i + 1);
+    }
+    assert_eq!(out, golden);
+}
+
+/// `predict --data` on the fit's own CUReT measurements reproduces its Δ_RMS.
+#[test]
+fn predict_reproduces_curet_fits() {
+    let Some(dir) = curet_dir() else { return };
+    let d = tempfile::tempdir().unwrap();
+    let fits = d.path().join("fits.json");
+    ok(&[
+        "fit",
+        "--data",
+        &dir,
+        "--brdf",
+        "abrdf.dat",
+        "--samples",
+        "21,61",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+    ]);
+    let mut worst: f64 = 0.0;
+    for sample in ["21", "61"] {
+        for model in ["exp", "gauss", "rh-exp", "rh-gauss", "jensen", "oren-nayar"] {
+            let sel = format!("{sample}/avg/{model}");
+            let args = [
+                "predict",
+                "--fit",
+                s(&fits),
+                "--select",
+                &sel,
+                "--data",
+                &dir,
+            ];
+            let (code, out, err) = laminar(&args);
+            assert_eq!(code, 0, "{err}");
+            assert_eq!(out.lines().count(), 199, "{sel}: 198 kept measurements");
+            let number = |key: &str| -> f64 {
+                let at = err.find(key).unwrap() + key.len();
+                let word = err[at..].split_whitespace().next().unwrap();
+                word.trim_end_matches(')').parse().unwrap()
+            };
+            let (got, own) = (number("Δ_RMS (eq. 15) = "), number("the fit's own: "));
+            worst = worst.max((got - own).abs() / own);
+        }
+    }
+    eprintln!("predict on CUReT: max relative Δ_RMS difference {worst:e}");
+    assert!(worst <= 1e-12, "{worst:e}");
+}

@@ -182,8 +182,8 @@ pub struct Channel {
 ///     .with_channel("value", vec![0.5, 9.0, 0.25], None)?;
 /// let scene = set.scene("value")?;
 /// assert_eq!(scene.len(), 2); // the specular measurement is dropped
-/// assert_eq!(scene.data, vec![1.0, 0.5]); // normalised by the max
-/// assert_eq!(scene.rows, vec![1, 3]);
+/// assert_eq!(scene.data(), [1.0, 0.5]); // normalised by the max
+/// assert_eq!(scene.rows(), [1, 3]);
 /// # Ok::<(), laminar_fit::MeasurementError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]

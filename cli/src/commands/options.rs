@@ -52,7 +52,7 @@ impl CuretArgs {
 pub struct FileArgs {
     /// Measurement file: long-format CSV (.csv) or MERL (.binary, needs
     /// --sample-at). Takes precedence over --data and CURET_DIR.
-    #[arg(long)]
+    #[arg(long, conflicts_with_all = ["brdf", "samples"])]
     pub measurements: Option<PathBuf>,
     /// Format of --measurements (default: from the extension).
     #[arg(long, value_enum, requires = "measurements")]
