@@ -517,8 +517,7 @@ fn csv_measurements_are_fitted_by_channel_with_the_file_stem_as_sample() {
 /// geometries the MERL binning changes the values by up to 3% here.
 #[test]
 fn export_merl_and_fit_it_back() {
-    use laminar_io::merl::std_coords;
-    use std::f64::consts::{FRAC_PI_2, PI};
+    use laminar_io::merl::bin_centre;
     let d = tempfile::tempdir().unwrap();
     let (_, _, fits) = eval_and_fit(d.path(), "0.001:1:1000");
     let merl = d.path().join("model.binary");
@@ -531,13 +530,7 @@ fn export_merl_and_fit_it_back() {
     for ih in (2..80).step_by(7) {
         for id in (1..80).step_by(9) {
             for ip in (3..180).step_by(41) {
-                let u = (ih as f64 + 0.5) / 90.0;
-                let (ti, pi, to, po) = std_coords(
-                    u * u * FRAC_PI_2,
-                    0.0,
-                    (id as f64 + 0.5) / 90.0 * FRAC_PI_2,
-                    (ip as f64 + 0.5) / 180.0 * PI,
-                );
+                let (ti, pi, to, po) = bin_centre(ih, id, ip);
                 if ti < 1.5 && to < 1.5 {
                     centres += &format!("{ti},{pi},{to},{po}\n");
                     count += 1;

@@ -3,8 +3,7 @@
 
 use laminar_cli::reproduce::{reproduce, FITTED};
 use laminar_cli::selection::curet_jobs;
-use laminar_core::{Correlation, Params};
-use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+use laminar_fit::{Axis, Fitter, Grid, Model};
 use std::path::{Path as FsPath, PathBuf};
 
 fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {
@@ -13,32 +12,34 @@ fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {
     p
 }
 
-/// A CUReT-format directory of `rows` synthetic geometries with samples 19
-/// and 21 in `abrdf.dat` and `rbrdf.dat` (radiance made by the exp model).
-fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
+/// A CUReT-format directory of `rows` geometries (none specular) with
+/// samples 19 and 21 in `abrdf.dat` and `rbrdf.dat`: smooth made-up BRDFs,
+/// enough to fit and draw (the values do not matter here).
+fn curet_dir(rows: usize) -> tempfile::TempDir {
     let d = tempfile::tempdir().unwrap();
-    let angles = synthetic::geometries();
-    let mut table = String::new();
-    for (i, a) in angles.iter().take(rows).enumerate() {
-        let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
-        table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
-    }
+    let angle = |k: usize, m: usize| 0.1 + 1.3 * (k % m) as f64 / m as f64;
+    let table: String = (0..rows)
+        .map(|k| {
+            format!(
+                "{} {} {} {} 0\n",
+                k + 1,
+                angle(k, 7),
+                0.15 * k as f64,
+                angle(k, 5)
+            )
+        })
+        .collect();
     write(d.path(), "table.txt", &table);
     for (file, scale) in [("abrdf.dat", 1.0), ("rbrdf.dat", 0.7)] {
-        let mut text = String::new();
-        for (sample, beta) in [(19, 0.3), (21, 0.5)] {
-            let p = Params::new(1.48, beta, 1.44, 0.2).unwrap();
-            let values: Vec<String> = angles[..rows]
-                .iter()
-                .map(|a| {
-                    let g = laminar_core::Geometry::<f64>::splat(a);
-                    let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
-                    // BRDF = radiance / cos θi (docs/conventions.md §4).
-                    format!("{:.6}", scale * l / a.theta_i().cos())
-                })
-                .collect();
-            text += &format!("{sample} {}\n", values.join(" "));
-        }
+        let text: String = [(19, 0.3), (21, 0.5)]
+            .iter()
+            .map(|(sample, lobe)| {
+                let values: Vec<String> = (0..rows)
+                    .map(|k| format!("{:.6}", scale * (0.2 + lobe * angle(k, 7).cos())))
+                    .collect();
+                format!("{sample} {}\n", values.join(" "))
+            })
+            .collect();
         write(d.path(), file, &text);
     }
     d
@@ -46,7 +47,7 @@ fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
 
 #[test]
 fn reproduce_writes_every_table_and_figure() {
-    let d = synthetic_curet_dir(40);
+    let d = curet_dir(40);
     write(d.path(), "op.dat", "21 0.6 0.25 1.0\n");
     let js = curet_jobs(d.path(), &[], Some(&[19, 21])).unwrap();
     assert_eq!(js.len(), 4, "2 samples × (avg, r)");

@@ -11,7 +11,7 @@ use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, Jense
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
-use laminar_core::{chi_square_per_dof, normalise_by_max, rms_error, ChiSquare};
+use laminar_core::{chi_square_per_dof, normalise_by_max, rms_error, Angles, ChiSquare};
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -306,50 +306,48 @@ impl Fitter {
                     ..self.record(scene, model, best, rh, grid.size())
                 }
             }
-            None if model == Model::Jensen => {
-                let geometry: Vec<JensenGeometry<f64>> = scene
-                    .angles
-                    .iter()
-                    .map(|a| JensenGeometry::from_lanes(|_| *a))
-                    .collect();
-                let (sa, ss) = jensen_grid();
-                let (rms, sigma_a, sigma_s) = grid2(
-                    scene,
-                    &sa,
-                    &ss,
-                    &geometry,
-                    |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain"),
-                    jensen_radiance,
-                );
-                let best = estimate(model, ModelParams::Jensen { sigma_a, sigma_s });
-                tick();
-                Fit {
-                    search_rms: rms,
-                    ..self.record(scene, model, best, None, sa.len() * ss.len())
-                }
-            }
-            None => {
-                let geometry: Vec<OrenNayarGeometry<f64>> = scene
-                    .angles
-                    .iter()
-                    .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
-                    .collect();
-                let (sigma_axis, rho_axis) = oren_nayar_grid();
-                let (rms, sigma, rho) = grid2(
-                    scene,
-                    &sigma_axis,
-                    &rho_axis,
-                    &geometry,
-                    |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain"),
-                    oren_nayar_radiance,
-                );
-                let best = estimate(model, ModelParams::OrenNayar { sigma, rho });
-                tick();
-                Fit {
-                    search_rms: rms,
-                    ..self.record(scene, model, best, None, sigma_axis.len() * rho_axis.len())
-                }
-            }
+            None if model == Model::Jensen => self.baseline(
+                scene,
+                model,
+                jensen_grid(),
+                |a| JensenGeometry::from_lanes(|_| *a),
+                |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain"),
+                jensen_radiance,
+                |sigma_a, sigma_s| ModelParams::Jensen { sigma_a, sigma_s },
+            ),
+            None => self.baseline(
+                scene,
+                model,
+                oren_nayar_grid(),
+                |a| OrenNayarGeometry::from_lanes(|_| *a),
+                |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain"),
+                oren_nayar_radiance,
+                |sigma, rho| ModelParams::OrenNayar { sigma, rho },
+            ),
+        }
+    }
+
+    /// A baseline's fit: its geometry once per measurement, then the 2-D
+    /// grid search of its max-normalised radiance (docs/conventions.md §7).
+    #[allow(clippy::too_many_arguments)]
+    fn baseline<G: Sync, K>(
+        &self,
+        scene: &Scene,
+        model: Model,
+        (outer, inner): (Axis, Axis),
+        geometry: impl Fn(&Angles) -> G,
+        coefficients: impl Fn(f64, f64) -> K + Sync,
+        radiance: impl Fn(&G, &K) -> f64 + Sync,
+        params: impl Fn(f64, f64) -> ModelParams,
+    ) -> Fit {
+        let geometry: Vec<G> = scene.angles.iter().map(geometry).collect();
+        let (rms, x, y) = grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
+        let best =
+            Estimate::new(scene, model, params(x, y)).expect("grid values are in the domain");
+        self.tick();
+        Fit {
+            search_rms: rms,
+            ..self.record(scene, model, best, None, outer.len() * inner.len())
         }
     }
 }

@@ -130,6 +130,20 @@ pub fn std_coords(theta_h: f64, phi_h: f64, theta_d: f64, phi_d: f64) -> (f64, f
     (polar(i), i[1].atan2(i[0]), polar(o), o[1].atan2(o[0]))
 }
 
+/// The directions `(θi, φi, θo, φo)` at the centre, in index space, of bin
+/// `(ih, id, ip)` (θh, θd, φd indices), with φh = 0: θh = ((ih + ½)/90)² π/2,
+/// θd = (id + ½)/90 · π/2, φd = (ip + ½)/180 · π. Reading it back finds the
+/// same bin; either direction may be below the horizon (θ ≥ π/2).
+pub fn bin_centre(ih: usize, id: usize, ip: usize) -> (f64, f64, f64, f64) {
+    let u = (ih as f64 + 0.5) / THETA_H as f64;
+    std_coords(
+        u * u * FRAC_PI_2,
+        0.0,
+        (id as f64 + 0.5) / THETA_D as f64 * FRAC_PI_2,
+        (ip as f64 + 0.5) / PHI_D as f64 * PI,
+    )
+}
+
 /// The flat index within a plane of the bin holding the geometry.
 pub fn bin(theta_i: f64, phi_i: f64, theta_o: f64, phi_o: f64) -> usize {
     let (th, _, td, pd) = half_diff(theta_i, phi_i, theta_o, phi_o);
@@ -155,13 +169,9 @@ impl Merl {
     pub fn tabulate(brdf: impl Fn(f64, f64, f64, f64) -> [f64; 3]) -> Self {
         let mut values = vec![-1.0; 3 * PLANE];
         for ih in 0..THETA_H {
-            let u = (ih as f64 + 0.5) / THETA_H as f64;
-            let theta_h = u * u * FRAC_PI_2;
             for id in 0..THETA_D {
-                let theta_d = (id as f64 + 0.5) / THETA_D as f64 * FRAC_PI_2;
                 for ip in 0..PHI_D {
-                    let phi_d = (ip as f64 + 0.5) / PHI_D as f64 * PI;
-                    let (ti, pi, to, po) = std_coords(theta_h, 0.0, theta_d, phi_d);
+                    let (ti, pi, to, po) = bin_centre(ih, id, ip);
                     if ti >= FRAC_PI_2 || to >= FRAC_PI_2 {
                         continue;
                     }
@@ -354,13 +364,7 @@ mod tests {
         for ih in (0..90).step_by(5) {
             for id in (0..90).step_by(7) {
                 for ip in (0..180).step_by(11) {
-                    let u = (ih as f64 + 0.5) / 90.0;
-                    let (ti, pi, to, po) = std_coords(
-                        u * u * FRAC_PI_2,
-                        0.0,
-                        (id as f64 + 0.5) / 90.0 * FRAC_PI_2,
-                        (ip as f64 + 0.5) / 180.0 * PI,
-                    );
+                    let (ti, pi, to, po) = bin_centre(ih, id, ip);
                     let got = table.lookup(ti, pi, to, po);
                     if ti >= FRAC_PI_2 || to >= FRAC_PI_2 {
                         assert!(got.iter().all(|&v| v < 0.0));
@@ -385,12 +389,20 @@ mod tests {
     #[test]
     fn bin_centres_read_back_into_their_bins() {
         for (ih, id, ip) in [(0, 0, 0), (45, 30, 90), (89, 10, 179), (3, 80, 5)] {
+            let (ti, pi, to, po) = bin_centre(ih, id, ip);
+            // The centre in index space, computed here from the definitions
+            // (to 1e-9 rad: acos loses digits near θh = 0; the smallest bin
+            // is 1.9e-4 rad wide).
             let u = (ih as f64 + 0.5) / 90.0;
-            let (ti, pi, to, po) = std_coords(
-                u * u * FRAC_PI_2,
-                0.0,
-                (id as f64 + 0.5) / 90.0 * FRAC_PI_2,
-                (ip as f64 + 0.5) / 180.0 * PI,
+            let (th, _, td, pd) = half_diff(ti, pi, to, po);
+            assert!((th - u * u * FRAC_PI_2).abs() < 1e-9, "θh {th}");
+            assert!(
+                (td - (id as f64 + 0.5) / 90.0 * FRAC_PI_2).abs() < 1e-9,
+                "θd {td}"
+            );
+            assert!(
+                (pd - (ip as f64 + 0.5) / 180.0 * PI).abs() < 1e-9,
+                "φd {pd}"
             );
             assert_eq!(bin(ti, pi, to, po), ip + 180 * (id + 90 * ih));
         }
