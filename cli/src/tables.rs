@@ -12,6 +12,8 @@ pub struct Table {
     pub name: &'static str,
     /// Title line.
     pub title: String,
+    /// What the numbers are (printed under the title in Markdown).
+    pub note: String,
     /// Column names.
     pub header: Vec<String>,
     /// Rows of cells, as many as `header`.
@@ -22,7 +24,7 @@ impl Table {
     /// GitHub-flavoured Markdown, title as a heading.
     pub fn markdown(&self) -> String {
         let line = |cells: &[String]| format!("| {} |\n", cells.join(" | "));
-        let mut out = format!("## {}\n\n", self.title);
+        let mut out = format!("## {}\n\n{}\n\n", self.title, self.note);
         out += &line(&self.header);
         out += &line(&vec!["---".to_string(); self.header.len()]);
         for r in &self.rows {
@@ -95,6 +97,9 @@ fn header(rest: &[&str]) -> Vec<String> {
         .collect()
 }
 
+/// What Δ_RMS is.
+const RMS_NOTE: &str = "Δ_RMS = 100·sqrt(Σ_k (D_k − P_k)²)/K (eq. 15): D the measured radiance (BRDF·cos θi) and P the model's prediction, each divided by its max over the K kept (non-specular) measurements.";
+
 /// Table II: `Δ_RMS` (eq. 15) of every model.
 pub fn rms_table(records: &[Fit]) -> Table {
     let rows = groups(records)
@@ -112,6 +117,7 @@ pub fn rms_table(records: &[Fit]) -> Table {
     Table {
         name: "table2_rms",
         title: "Table II: Δ_RMS (eq. 15) of every model".into(),
+        note: RMS_NOTE.into(),
         header: header(&Model::ALL.map(Model::name)),
         rows,
     }
@@ -120,6 +126,12 @@ pub fn rms_table(records: &[Fit]) -> Table {
 /// Tables III and IV: the estimated parameters of an absorptive model.
 pub fn parameter_table(records: &[Fit], model: Model) -> Table {
     let names = ["slope", "beta", "n", "a"];
+    let beta_eq8 = |e: &Estimate| {
+        e.fitted
+            .beta_eq8
+            .map(|b| format!("{b:.4}"))
+            .unwrap_or_default()
+    };
     let rows = groups(records)
         .iter()
         .filter_map(|g| {
@@ -130,6 +142,7 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
                     .iter()
                     .map(|n| e.get(n).map(format_value).unwrap_or_default()),
             );
+            row.push(beta_eq8(e));
             row.push(cell(Some(e.rms)));
             Some(row)
         })
@@ -142,7 +155,10 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
     Table {
         name,
         title: format!("Table {number}: estimated parameters of the absorptive {label} model"),
-        header: header(&["slope", "beta", "n", "a", "rms"]),
+        note: format!(
+            "slope = σ/T, n, a as fitted; beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). {RMS_NOTE}"
+        ),
+        header: header(&["slope", "beta", "n", "a", "beta_eq8", "rms"]),
         rows,
     }
 }
@@ -164,6 +180,7 @@ pub fn chi_square_table(records: &[Fit]) -> Table {
     Table {
         name: "table5_chi2",
         title: "Table V: χ²/ν (eq. 16), absorptive against Ragheb–Hancock".into(),
+        note: "χ²/ν = Σ (P_k − D_k)²/D_k over the measurements with D_k > 0, divided by ν = d − p (d terms used, p = 4 absorptive, 3 Ragheb–Hancock); left_out counts the measurements with D_k ≤ 0.".into(),
         header: header(&["exp", "rh-exp", "gauss", "rh-gauss", "left_out"]),
         rows,
     }
