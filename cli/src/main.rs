@@ -31,6 +31,11 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // An empty CURET_DIR means "no CUReT directory", as if it were unset
+    // (clap would otherwise read it as `--data` without a value).
+    if std::env::var_os("CURET_DIR").is_some_and(|v| v.is_empty()) {
+        std::env::remove_var("CURET_DIR");
+    }
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Fit(args) => commands::fit::run(args).map(|_| true),

@@ -735,3 +735,83 @@ fn predict_reproduces_curet_fits() {
     eprintln!("predict on CUReT: max relative Δ_RMS difference {worst:e}");
     assert!(worst <= 1e-12, "{worst:e}");
 }
+
+/// Inputs that used to panic or print non-finite numbers are refused with
+/// a message naming what is wrong.
+#[test]
+fn hostile_inputs_are_refused_not_panicked() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    let mut table = String::new();
+    for i in 0..12 {
+        table += &format!("{} {} 1.0 {} 0.5\n", i + 1, 0.1 * i as f64, 0.05 * i as f64);
+    }
+    // A byte-order mark before the first line is accepted.
+    write(dir, "table.txt", &format!("\u{feff}{table}"));
+    let mut tiny = vec!["-0.5"; 12];
+    tiny[3] = "1e-300";
+    let mut huge = vec!["0.5"; 12];
+    huge[2] = "1e308";
+    write(
+        dir,
+        "abrdf.dat",
+        &format!(
+            "5 {}\n6 {}\n7 {}\n",
+            tiny.join(" "),
+            huge.join(" "),
+            ["0.3"; 12].join(" ")
+        ),
+    );
+    let data = s(dir);
+    fails(
+        &["fit", "--data", data, "--samples", "5"],
+        &["abrdf.dat", "5: row 1", "value -0.5", "larger in magnitude"],
+    );
+    fails(
+        &["fit", "--data", data, "--samples", "6"],
+        &["abrdf.dat", "6: row 1", "value 0.5", "below 1e-100"],
+    );
+    ok(&[
+        "fit",
+        "--data",
+        data,
+        "--samples",
+        "7",
+        "--models",
+        "jensen",
+    ]);
+    fails(&["fit", "--threads", "100000"], &["100000", "at most 1024"]);
+    // An empty CURET_DIR is no CUReT directory: the synthetic scene.
+    let out = Command::new(env!("CARGO_BIN_EXE_laminar"))
+        .args(["fit", "--models", "jensen"])
+        .env("CURET_DIR", "")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("synthetic,avg,jensen"));
+    fails(
+        &["fit", "--slope=-1e308:1e308:3"],
+        &["slope = -1e308 is outside [1e-3, 1e3]"],
+    );
+    fails(
+        &["fit", "--beta", "0.5:1:18446744073709551615"],
+        &["18446744073709551615 values"],
+    );
+    // A dangling Oren–Nayar parameter file is an error, not a silent search.
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink(dir.join("missing"), dir.join("op.dat")).unwrap();
+        fails(
+            &[
+                "fit",
+                "--data",
+                data,
+                "--samples",
+                "7",
+                "--models",
+                "oren-nayar",
+            ],
+            &["op.dat", "cannot read"],
+        );
+    }
+}

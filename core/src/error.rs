@@ -38,7 +38,16 @@ impl fmt::Display for InputError {
                 name,
                 value,
                 allowed,
-            } => write!(f, "{name} = {value} is outside {allowed}"),
+            } => {
+                // Very large or small values in scientific notation, not
+                // hundreds of digits.
+                let a = value.abs();
+                if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) {
+                    write!(f, "{name} = {value:e} is outside {allowed}")
+                } else {
+                    write!(f, "{name} = {value} is outside {allowed}")
+                }
+            }
             Self::LengthMismatch { data, prediction } => write!(
                 f,
                 "data has {data} values but the prediction has {prediction}"

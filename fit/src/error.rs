@@ -163,6 +163,22 @@ pub enum MeasurementError {
         /// Non-specular measurements.
         kept: usize,
     },
+    /// A value that cannot be normalised with the others: every error measure
+    /// stays finite only when `−max ≤ D ≤ max` and positive values are at
+    /// least 1e-100 of the max (docs/conventions.md §8).
+    #[error("{set}: row {row}: channel `{channel}`: value {value} cannot be fitted with the others: {why}")]
+    OutOfScale {
+        /// The set's name.
+        set: String,
+        /// Source row.
+        row: usize,
+        /// The channel.
+        channel: String,
+        /// The value as given.
+        value: f64,
+        /// Why.
+        why: &'static str,
+    },
     /// A negative specular tolerance, or NaN.
     #[error("specular tolerance {0} is not a finite non-negative angle")]
     BadTolerance(f64),

@@ -118,13 +118,17 @@ fn grid2<G: Sync, K>(
             best
         })
         .collect();
-    rows.into_iter().fold(
-        (f64::INFINITY, 0.0, 0.0),
-        |b, r| if r.0 < b.0 { r } else { b },
-    )
+    // Starting from the first row keeps the result a grid point even if no
+    // error is finite.
+    rows.into_iter()
+        .reduce(|b, r| if r.0 < b.0 { r } else { b })
+        .expect("the axes are not empty")
 }
 
 type Progress = Arc<dyn Fn() + Send + Sync>;
+
+/// Most worker threads a [`Fitter`] starts.
+pub const MAX_THREADS: usize = 1024;
 
 /// Fits scenes: the grid, the search path, the worker threads and a progress
 /// callback, set once.
@@ -172,12 +176,19 @@ impl Fitter {
         self
     }
 
-    /// Runs every fit on `threads` worker threads (default: rayon's global
-    /// pool, all cores). Results do not depend on it.
+    /// Runs every fit on `threads` worker threads, 1 to [`MAX_THREADS`]
+    /// (default: rayon's global pool, all cores). Results do not depend on it.
+    ///
+    /// # Errors
+    /// [`FitError::Threads`] for 0, more than [`MAX_THREADS`], or threads
+    /// the system will not start.
     pub fn threads(mut self, threads: usize) -> Result<Self, FitError> {
         let error = |message: String| FitError::Threads { threads, message };
         if threads == 0 {
             return Err(error("at least one thread is needed".into()));
+        }
+        if threads > MAX_THREADS {
+            return Err(error(format!("at most {MAX_THREADS} are allowed")));
         }
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)

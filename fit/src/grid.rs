@@ -23,14 +23,23 @@ pub struct Axis {
 
 impl Axis {
     /// `count` values `start + i (stop − start)/(count − 1)`, `i = 0..count`
-    /// (a single value when `count = 1`).
+    /// (a single value when `count = 1`). When `stop − start` overflows,
+    /// the values are `start (1 − t) + stop t`, `t = i/(count − 1)`, so they
+    /// stay finite.
     pub fn linspace(start: f64, stop: f64, count: usize) -> Self {
+        let span = stop - start;
+        let at = |i: usize| {
+            let t = i as f64 / (count - 1) as f64;
+            if span.is_finite() {
+                start + span * i as f64 / (count - 1) as f64
+            } else {
+                start * (1.0 - t) + stop * t
+            }
+        };
         let values = if count <= 1 {
             vec![start]
         } else {
-            (0..count)
-                .map(|i| start + (stop - start) * i as f64 / (count - 1) as f64)
-                .collect()
+            (0..count).map(at).collect()
         };
         Self { values }
     }
@@ -229,6 +238,9 @@ mod tests {
         assert!(Axis::parse("1:2").is_err());
         assert!(Axis::parse("1:2:x").is_err());
         assert!(Axis::parse("1:nan:3").is_err());
+        // A span that overflows still gives finite values, ends exact.
+        let wide = Axis::parse("-1e308:1e308:3").unwrap();
+        assert_eq!(wide.values, vec![-1e308, 0.0, 1e308]);
         assert!(matches!(
             Axis::parse("0.12:4.04:100000000000"),
             Err(GridError::AxisTooLong {

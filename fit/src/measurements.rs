@@ -20,6 +20,11 @@ use std::str::FromStr;
 /// Default tolerance of the specular test, radians (docs/conventions.md §1).
 pub const SPECULAR_TOLERANCE: f64 = 1e-4;
 
+/// The smallest positive radiance accepted, relative to the channel's max
+/// (docs/conventions.md §8): below it χ² (which divides by the value) could
+/// overflow.
+pub const MIN_RELATIVE_VALUE: f64 = 1e-100;
+
 /// What a measured value is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Quantity {
@@ -395,6 +400,23 @@ impl MeasurementSet {
                 kept: kept.len(),
             });
         }
+        let max = radiance.iter().copied().fold(0.0, f64::max);
+        for (&v, &k) in radiance.iter().zip(&kept) {
+            let why = if v < -max {
+                "a negative value larger in magnitude than the largest positive one"
+            } else if v > 0.0 && v < max * MIN_RELATIVE_VALUE {
+                "a positive value below 1e-100 of the max (χ² divides by it)"
+            } else {
+                continue;
+            };
+            return Err(MeasurementError::OutOfScale {
+                set: self.name.clone(),
+                row: self.rows[k],
+                channel: c.name.clone(),
+                value: c.values[k],
+                why,
+            });
+        }
         let rows = kept.iter().map(|&k| self.rows[k]).collect();
         Ok(
             Scene::from_radiance(angles, radiance, rows, nonpositive, sigma)
@@ -485,6 +507,22 @@ mod tests {
             .scene("v")
             .unwrap_err();
         assert!(matches!(e, MeasurementError::NoPositiveValue { .. }), "{e}");
+        // Values that would overflow an error measure are refused, named.
+        for (values, needle) in [
+            (vec![1e-300, -0.5], "row 2: channel `v`: value -0.5"),
+            (vec![1e308, 0.5], "row 2: channel `v`: value 0.5"),
+        ] {
+            let two = MeasurementSet::new(
+                "s",
+                vec![lab(0.2, 0.0, 0.3, 0.0), lab(0.3, 0.0, 0.3, 1.0)],
+                Quantity::Radiance,
+            )
+            .unwrap()
+            .with_channel("v", values, None)
+            .unwrap();
+            let e = two.scene("v").unwrap_err().to_string();
+            assert!(e.contains(needle), "{e}");
+        }
         let e = set
             .with_channel("v", vec![1.0], None)
             .unwrap()

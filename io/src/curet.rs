@@ -15,7 +15,9 @@ fn err(file: &Path, line: usize, message: impl Into<String>) -> ReadError {
 /// The non-blank lines of a file with their 1-based numbers.
 fn read_lines(file: &Path) -> Result<Vec<(usize, String)>, ReadError> {
     let text = std::fs::read_to_string(file).map_err(|e| ReadError::io(file, "read", e))?;
+    // A UTF-8 byte-order mark (as some editors write) is not part of the data.
     let lines: Vec<(usize, String)> = text
+        .trim_start_matches('\u{feff}')
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l.trim_end_matches('\r').to_string()))
@@ -396,7 +398,9 @@ impl CuretDir {
             let rows = read_brdf(&file, self.table.len())?;
             let channel = Channel::from_file(&file);
             let op_file = self.dir.join(channel.oren_nayar_file_name());
-            let op_rows = if op_file.exists() {
+            // An entry that exists but cannot be read (a dangling link, a
+            // loop) is an error, not a silent grid search.
+            let op_rows = if std::fs::symlink_metadata(&op_file).is_ok() {
                 read_oren_nayar(&op_file)?
             } else {
                 Vec::new()

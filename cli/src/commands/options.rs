@@ -177,8 +177,11 @@ pub fn fitter(grid: &GridArgs, threads: &ThreadArgs, path: SearchPath) -> Result
 /// Sets the global thread pool (for work outside a [`Fitter`]).
 pub fn global_threads(threads: &ThreadArgs) -> Result<(), CliError> {
     if let Some(t) = threads.threads {
-        if t == 0 {
-            return Err(CliError::Usage("--threads must be at least 1".into()));
+        if !(1..=laminar_fit::fit::MAX_THREADS).contains(&t) {
+            return Err(CliError::Usage(format!(
+                "--threads {t}: give 1 to {} threads",
+                laminar_fit::fit::MAX_THREADS
+            )));
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
