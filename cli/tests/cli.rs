@@ -748,9 +748,9 @@ fn hostile_inputs_are_refused_not_panicked() {
     }
     // A byte-order mark before the first line is accepted.
     write(dir, "table.txt", &format!("\u{feff}{table}"));
-    let mut tiny = vec!["-0.5"; 12];
+    let mut tiny = ["-0.5"; 12];
     tiny[3] = "1e-300";
-    let mut huge = vec!["0.5"; 12];
+    let mut huge = ["0.5"; 12];
     huge[2] = "1e308";
     write(
         dir,
@@ -787,7 +787,11 @@ fn hostile_inputs_are_refused_not_panicked() {
         .env("CURET_DIR", "")
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(String::from_utf8_lossy(&out.stdout).contains("synthetic,avg,jensen"));
     fails(
         &["fit", "--slope=-1e308:1e308:3"],
