@@ -15,6 +15,9 @@ fn failed(e: impl std::fmt::Display) -> String {
 
 /// Fig. 2: transmission `T` (solid) and absorption `A` (dashed) against the
 /// incidence angle for n = 1.7 and each a of [`FIG2_ABSORPTION`] (eq. 9).
+///
+/// # Errors
+/// The drawing backend's message when the SVG cannot be drawn.
 pub fn energy_budget_svg() -> Result<String, String> {
     let mut svg = String::new();
     {
@@ -88,6 +91,9 @@ pub fn energy_budget_svg() -> Result<String, String> {
 /// Figs. 3–4 style: normalised measured radiance (x) against the model's
 /// normalised prediction (y), one point per kept measurement, with the line
 /// y = x of a perfect fit.
+///
+/// # Errors
+/// The drawing backend's message when the SVG cannot be drawn.
 pub fn data_vs_model_svg(title: &str, data: &[f64], model: &[f64]) -> Result<String, String> {
     let top = data
         .iter()

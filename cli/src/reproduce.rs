@@ -47,6 +47,9 @@ fn is_ours(name: &str) -> bool {
 
 /// Fits one job with `model`: a CUReT directory's own Oren–Nayar parameters
 /// when it has them (docs/conventions.md §7), else the fitter's search.
+///
+/// # Errors
+/// [`CliError`] when the given parameters are outside their domain.
 pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError> {
     match (model, job.oren_nayar) {
         (Model::OrenNayar, Some(given)) => Ok(fitter.assess(
@@ -62,6 +65,9 @@ pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError
 }
 
 /// Creates `out` if missing and checks that files can be written in it.
+///
+/// # Errors
+/// [`CliError::Read`] when the directory cannot be created or written.
 pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
     std::fs::create_dir_all(out).map_err(|e| laminar_io::ReadError::io(out, "create", e))?;
     laminar_io::check_writable(&out.join("summary.md"))?;
@@ -71,6 +77,9 @@ pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
 /// Fits [`FITTED`] on every job with `fitter` and writes the tables and
 /// figures into `out` (created if missing; figures of an earlier run that
 /// this run does not write are removed and listed).
+///
+/// # Errors
+/// [`CliError`] when a fit, a figure or a file write fails.
 pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproduction, CliError> {
     prepare_out_dir(out)?;
     let mut records = Vec::new();

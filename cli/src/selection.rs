@@ -54,6 +54,9 @@ pub fn material(sample: &str) -> &'static str {
 }
 
 /// Parses `--samples`: `all` or a comma-separated list of positive integers.
+///
+/// # Errors
+/// A message naming the entry that is not a positive integer.
 pub fn parse_samples(text: &str) -> Result<Option<Vec<u32>>, String> {
     if text.trim() == "all" {
         return Ok(None);
@@ -77,6 +80,9 @@ pub fn synthetic_jobs() -> Vec<Job> {
 
 /// The jobs of `samples` (`None`: all) of `brdf` files (default: every
 /// CUReT BRDF file present) in the CUReT directory `dir`.
+///
+/// # Errors
+/// [`CliError`] for a file defect, a missing sample, or a channel that cannot be fitted.
 pub fn curet_jobs(
     dir: &Path,
     brdf: &[PathBuf],
@@ -138,6 +144,9 @@ pub struct FileInput {
 
 impl FileInput {
     /// The format, from the option or the extension.
+    ///
+    /// # Errors
+    /// [`CliError::Usage`] when neither the option nor the extension names a format.
     pub fn format(&self) -> Result<InputFormat, CliError> {
         if let Some(f) = self.format {
             return Ok(f);
@@ -153,6 +162,9 @@ impl FileInput {
     }
 
     /// Reads the file as a measurement set.
+    ///
+    /// # Errors
+    /// [`CliError`] for a file defect, or a MERL file without `--sample-at`.
     pub fn read(&self) -> Result<MeasurementSet, CliError> {
         let set = self.read_format()?;
         match self.specular_tolerance {
@@ -188,6 +200,9 @@ impl FileInput {
     }
 
     /// The scenes of `channels` (`None`: every channel) of the file.
+    ///
+    /// # Errors
+    /// As [`FileInput::read`], and for a channel the file lacks or cannot fit.
     pub fn jobs(&self, channels: Option<&[String]>) -> Result<Vec<Job>, CliError> {
         let set = self.read()?;
         let names: Vec<String> = match channels {

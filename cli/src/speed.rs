@@ -58,6 +58,9 @@ fn argmin(v: &[f64]) -> usize {
 }
 
 /// Runs every path on `scenes` × {exp, gauss}; `progress(path)` is called as each run starts.
+///
+/// # Errors
+/// [`GridError`] when the grid is invalid or a surface cannot be allocated.
 pub fn speed_vs_error(
     scenes: &[Scene],
     grid: &Grid,

@@ -21,8 +21,9 @@ use crate::lane::{Lane, Real};
 /// | `f32`, `f32x8` | `[−87, 88]` | 1.22 ulp | 0.064 ulp |
 /// | `f64` | `[−708, 709]` | 1.00 ulp | 0.066 ulp |
 ///
-/// Below `EXP_MIN` (−87 for `f32`, −708 for `f64`) the result is exactly
-/// `+0.0` (the true value would be subnormal); above `EXP_MAX` it is `+∞`;
+/// Below `EXP_MIN` (−87 for `f32`, −708 for `f64`) the result is flushed to
+/// exactly `+0.0` (true values below about 1.6e-38 and 3.3e-308, the last
+/// few of them still normal); above `EXP_MAX` it is `+∞`;
 /// `−∞` gives `+0.0`. The model only uses `x ≤ 0`. NaN in gives NaN out.
 #[inline]
 #[must_use]

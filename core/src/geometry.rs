@@ -19,6 +19,9 @@ pub struct Angles {
 impl Angles {
     /// Validates `θi, θs ∈ [0, π/2]` and a finite `φs` (any value; it is
     /// periodic). Returns [`InputError`] naming the offending angle otherwise.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
     pub fn new(theta_i: f64, theta_s: f64, phi_s: f64) -> Result<Self, InputError> {
         let zenith = |name, v: f64| {
             if (0.0..=FRAC_PI_2).contains(&v) {
@@ -47,6 +50,9 @@ impl Angles {
 
     /// Maps a CUReT row (`θv φv θi φi`, docs/conventions.md §1) to the Beckmann
     /// geometry: `θs = θv`, `φs = φv − φi − π` wrapped to `(−π, π]`.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] as [`Angles::new`] (θv is named `theta_s`).
     pub fn from_curet(
         theta_v: f64,
         phi_v: f64,

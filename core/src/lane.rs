@@ -41,9 +41,20 @@ impl Mask for f32x8 {
     }
 }
 
+/// Seals [`Lane`]: its three implementations are the whole determinism
+/// policy, so no other type may join them.
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for f32 {}
+    impl Sealed for f64 {}
+    impl Sealed for wide::f32x8 {}
+}
+
 /// A vector of one or more floating-point lanes (see the module docs).
+/// Sealed: implemented for `f32`, `f64` and `wide::f32x8` only.
 pub trait Lane:
-    Copy
+    sealed::Sealed
+    + Copy
     + core::fmt::Debug
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -108,9 +119,10 @@ pub trait Real: Lane<Scalar = Self, Mask = bool> + PartialOrd + Default {
     fn to_bits_u64(self) -> u64;
     /// Unit in the last place of 1.0 (machine epsilon).
     const EPSILON: f64;
-    /// Taylor coefficients `1/k!`, `k = 0..=degree`, used by `exp`.
+    /// Degree of the Taylor polynomial of `exp` on its reduced argument.
     const EXP_DEGREE: usize;
-    /// Below this argument `exp` returns exactly 0 (its result would be subnormal).
+    /// Below this argument `exp` returns exactly 0 (a flush: `exp(EXP_MIN)`
+    /// is just above the smallest normal number).
     const EXP_MIN: f64;
     /// Above this argument `exp` returns +∞.
     const EXP_MAX: f64;
@@ -311,6 +323,7 @@ impl Lane for f32x8 {
         target_feature = "sse"
     ))]
     #[inline]
+    #[allow(clippy::disallowed_methods)] // the one sanctioned use (clippy.toml)
     fn max(self, rhs: Self) -> Self {
         rhs.fast_max(self)
     }
@@ -321,6 +334,7 @@ impl Lane for f32x8 {
         target_feature = "sse"
     ))]
     #[inline]
+    #[allow(clippy::disallowed_methods)] // the one sanctioned use (clippy.toml)
     fn min(self, rhs: Self) -> Self {
         rhs.fast_min(self)
     }

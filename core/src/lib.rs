@@ -16,9 +16,13 @@
 //!   by lane, on every target: only IEEE-exact operations are used
 //!   (`+ − × ÷ sqrt`, comparisons, selects, exact power-of-two scaling), never
 //!   `mul_add`, vendor `exp` or horizontal reductions. [`exp`](exp::exp) is our
-//!   own, written once generically.
-//! * The `f64` path is the accuracy reference; the `f32` error budgets are
-//!   stated on each component and checked by the workspace's property tests.
+//!   own, written once generically. The workspace's `clippy.toml` forbids
+//!   `wide`'s fused, approximate and horizontal operations, so this is a lint.
+//! * The `f64` path is the accuracy reference. The `f32` path is checked
+//!   against it by `core/tests/error_budgets.rs`, in the scaled measure that
+//!   file states (absolute for Fresnel and absorption, relative to a leading
+//!   factor for the radiances); per-function error bounds in plain relative
+//!   ulps are not stated yet.
 //!
 //! ## Validation and NaN policy
 //! Validating constructors ([`Params::new`], [`Angles::new`], the baseline

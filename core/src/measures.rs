@@ -46,6 +46,9 @@ pub fn normalise_by_max<T: Real>(values: &mut [T]) -> T {
 /// radiance for balance β, written to `out` (docs/conventions.md §4). `surface` and
 /// `subsurface` are normalised in place for [`Normalisation::Paper`].
 /// `data` is used only by [`Normalisation::Lsq`].
+///
+/// # Errors
+/// [`InputError::LengthMismatch`] when a slice's length differs from `out`'s.
 pub fn normalised_prediction<T: Real>(
     norm: Normalisation,
     beta: T,
@@ -100,6 +103,9 @@ fn check_lengths<T>(data: &[T], prediction: &[T]) -> Result<(), InputError> {
 
 /// `Δ_RMS = 100 · sqrt(Σ_k (D_k − P_k)²) / K` (eq. 15 as printed, 1/K outside
 /// the root; docs/conventions.md §5). Zero and negative data are kept.
+///
+/// # Errors
+/// [`InputError::LengthMismatch`] for slices of different or zero length.
 pub fn rms_error<T: Real>(data: &[T], prediction: &[T]) -> Result<T, InputError> {
     check_lengths(data, prediction)?;
     let mut sum = T::c(0.0);
@@ -123,6 +129,10 @@ pub struct ChiSquare<T> {
 
 /// `χ²/ν = Σ (P_k − D_k)² / D_k / (d − p)` over measurements with `D_k > 0`
 /// (eq. 16; docs/conventions.md §5: `p = 4` absorptive, `p = 3` Ragheb–Hancock).
+///
+/// # Errors
+/// [`InputError::LengthMismatch`] for slices of different or zero length;
+/// [`InputError::NoDegreesOfFreedom`] when at most `params` terms have `D_k > 0`.
 pub fn chi_square_per_dof<T: Real>(
     data: &[T],
     prediction: &[T],

@@ -29,6 +29,9 @@ pub struct Params {
 impl Params {
     /// Validates and builds a parameter set; the error names the first
     /// parameter out of its domain (NaN is always out).
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
     pub fn new(slope: f64, beta: f64, n: f64, a: f64) -> Result<Self, InputError> {
         Ok(Self {
             slope: check_range("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,

@@ -29,6 +29,9 @@ pub struct Estimate {
 
 impl Estimate {
     /// Normalises `model` at `params` on `scene` and measures its error there.
+    ///
+    /// # Errors
+    /// [`ModelError`] when the parameters are outside their domain or not the model's.
     pub fn new(scene: &Scene, model: Model, params: ModelParams) -> Result<Self, ModelError> {
         let fitted = FittedModel::normalised_on(model, params, &scene.angles, scene.data_scale)?;
         let prediction = fitted.predict(&scene.angles)?;
@@ -160,6 +163,9 @@ pub struct Fitter {
 impl Fitter {
     /// A fitter on `grid` (validated: [`Grid::validate`]) with the default
     /// search path, all cores, no progress callback.
+    ///
+    /// # Errors
+    /// [`FitError::Grid`] when the grid fails [`Grid::validate`].
     pub fn new(grid: Grid) -> Result<Self, FitError> {
         grid.validate()?;
         Ok(Self {
@@ -255,6 +261,9 @@ impl Fitter {
 
     /// The fit record of `model` at given parameters, without a search (e.g.
     /// a data set's own Oren–Nayar parameters, docs/conventions.md §7).
+    ///
+    /// # Errors
+    /// [`FitError::Model`] when the parameters are outside their domain or not the model's.
     pub fn assess(
         &self,
         scene: &Scene,

@@ -84,6 +84,10 @@ impl ModelParams {
     }
 
     /// The core's validated parameters of a layered model.
+    ///
+    /// # Errors
+    /// [`ModelError::WrongParameters`] for a baseline's parameters,
+    /// [`ModelError::OutOfDomain`] for values outside [`Params::new`]'s domain.
     pub fn layered(&self) -> Result<Params, ModelError> {
         match *self {
             Self::Layered { slope, beta, n, a } => {
@@ -243,6 +247,9 @@ impl FittedModel {
     /// The model `model` at `params`, normalised on the geometries `angles`
     /// (the fit's kept measurements) as the paper normalisation does;
     /// `data_scale` is the max the data were divided by.
+    ///
+    /// # Errors
+    /// [`ModelError`] when the parameters are outside their domain or not the model's.
     pub fn normalised_on(
         model: Model,
         params: ModelParams,
@@ -300,6 +307,10 @@ impl FittedModel {
     /// The normalised prediction `P` at each geometry (the quantity the fit
     /// compared with its normalised data). On the fit's own geometries it is
     /// bit for bit the prediction the fit's Δ_RMS was computed from.
+    ///
+    /// # Errors
+    /// [`ModelError`] for parameters outside their domain or not the model's, and
+    /// [`ModelError::BadConstant`] for a negative or non-finite constant.
     pub fn predict(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
         self.check_constants()?;
         let raw = raw(self.model, &self.params, angles)?;
@@ -335,6 +346,9 @@ impl FittedModel {
     }
 
     /// The prediction in the input's radiance units (`P · data_scale`).
+    ///
+    /// # Errors
+    /// As [`FittedModel::predict`].
     pub fn predict_radiance(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
         Ok(self
             .predict(angles)?

@@ -60,6 +60,9 @@ impl Axis {
     /// assert_eq!(Axis::parse("0.5").unwrap().values, vec![0.5]);
     /// assert!(Axis::parse("0.12:4.04:100000000000").is_err());
     /// ```
+    ///
+    /// # Errors
+    /// [`GridError`] naming the malformed field, or the count when it exceeds [`MAX_AXIS_LEN`].
     pub fn parse(text: &str) -> Result<Self, GridError> {
         let parts: Vec<&str> = text.split(':').collect();
         let num = |s: &str| {
@@ -162,6 +165,10 @@ impl Grid {
     /// g.a = Axis::parse("-0.1").unwrap();
     /// assert_eq!(g.validate().unwrap_err().to_string(), "axis a: a = -0.1 is outside [0, 1]");
     /// ```
+    ///
+    /// # Errors
+    /// [`GridError::Empty`], [`GridError::OutOfDomain`] naming the axis and value,
+    /// or [`GridError::TooLarge`] with the size.
     pub fn validate(&self) -> Result<(), GridError> {
         // A point inside the domain, to vary one axis at a time.
         let (s0, b0, n0, a0) = (1.0, 0.5, 1.5, 0.5);

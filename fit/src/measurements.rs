@@ -95,6 +95,10 @@ pub enum MeasurementAngles {
 impl MeasurementAngles {
     /// The paper-frame angles: `θs = θv`, `φs = φv − φi − π` wrapped to
     /// `(−π, π]` (docs/conventions.md §1). Errors name the angle out of its domain.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming the polar angle outside `[0, π/2]` or
+    /// the azimuth that is not finite.
     pub fn paper(&self) -> Result<Angles, InputError> {
         match *self {
             Self::Lab {
@@ -206,6 +210,9 @@ impl MeasurementSet {
     /// at `angles`, without channels yet. Rows are numbered 1, 2, … unless
     /// [`MeasurementSet::with_rows`] says otherwise. Every angle is checked:
     /// polar angles in `[0, π/2]`, azimuths finite.
+    ///
+    /// # Errors
+    /// [`MeasurementError::Angle`] naming the row and the angle.
     pub fn new(
         name: impl Into<String>,
         angles: Vec<MeasurementAngles>,
@@ -232,6 +239,9 @@ impl MeasurementSet {
 
     /// Numbers the measurements by their rows in the source (used in errors
     /// and in [`Scene::rows`]).
+    ///
+    /// # Errors
+    /// [`MeasurementError::Length`] when there is not one row per measurement.
     pub fn with_rows(mut self, rows: Vec<usize>) -> Result<Self, MeasurementError> {
         self.check_len("the row list", rows.len())?;
         self.rows = rows;
@@ -239,6 +249,9 @@ impl MeasurementSet {
     }
 
     /// Sets the specular test's tolerance (radians; default [`SPECULAR_TOLERANCE`]).
+    ///
+    /// # Errors
+    /// [`MeasurementError::BadTolerance`] for a negative or non-finite tolerance.
     pub fn with_specular_tolerance(mut self, tolerance: f64) -> Result<Self, MeasurementError> {
         if !(tolerance >= 0.0 && tolerance.is_finite()) {
             return Err(MeasurementError::BadTolerance(tolerance));
@@ -249,6 +262,10 @@ impl MeasurementSet {
 
     /// Adds a channel: one finite value per measurement and optionally one
     /// positive finite uncertainty per value.
+    ///
+    /// # Errors
+    /// [`MeasurementError::DuplicateChannel`], [`MeasurementError::Length`],
+    /// [`MeasurementError::NotFinite`] or [`MeasurementError::BadSigma`], naming the row.
     pub fn with_channel(
         mut self,
         name: impl Into<String>,
@@ -357,6 +374,11 @@ impl MeasurementSet {
     /// in the paper frame, radiance `D = v cos θi` for BRDF values (`D = v`
     /// for radiance), divided by its max over the kept measurements
     /// (docs/conventions.md §1, §4). Uncertainties are scaled alike.
+    ///
+    /// # Errors
+    /// [`MeasurementError::NoChannel`], [`MeasurementError::NothingToFit`] (every
+    /// measurement specular), [`MeasurementError::NoPositiveValue`] or
+    /// [`MeasurementError::OutOfScale`] (a value that would overflow an error measure).
     pub fn scene(&self, channel: &str) -> Result<Scene, MeasurementError> {
         let c = self
             .channels
@@ -425,6 +447,9 @@ impl MeasurementSet {
     }
 
     /// The scene of every channel, in order.
+    ///
+    /// # Errors
+    /// As [`MeasurementSet::scene`].
     pub fn scenes(&self) -> Result<Vec<Scene>, MeasurementError> {
         self.channels.iter().map(|c| self.scene(&c.name)).collect()
     }

@@ -220,6 +220,9 @@ fn geometry(
 
 /// Reads a file of geometries only: the geometry columns of a CSV file
 /// (other columns are ignored), as for `--geometry` and `--sample-at`.
+///
+/// # Errors
+/// [`ReadError`] naming the file, and for a defect the line, column and value.
 pub fn read_geometry(file: &Path, unit: AngleUnit) -> Result<Vec<MeasurementAngles>, ReadError> {
     let (header, rows) = records(file)?;
     geometry(file, &header, &rows, unit)
@@ -243,6 +246,10 @@ pub fn read_geometry(file: &Path, unit: AngleUnit) -> Result<Vec<MeasurementAngl
 /// assert_eq!(set.len(), 2);
 /// # Ok::<(), laminar_io::ReadError>(())
 /// ```
+///
+/// # Errors
+/// [`ReadError`] naming the file, and for a defect the line, column and value;
+/// [`ReadError::Measurements`] when the values do not make a measurement set.
 pub fn read_csv(
     file: &Path,
     unit: AngleUnit,

@@ -91,6 +91,9 @@ pub struct TableRow {
 
 /// Reads `table.txt`: exactly 5 columns per row, indices 1, 2, … in order,
 /// polar angles in [0, π/2], azimuths in [−2π, 2π].
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
 pub fn read_table(file: &Path) -> Result<Vec<TableRow>, ReadError> {
     let mut rows = Vec::new();
     for (line, text) in read_lines(file)? {
@@ -169,6 +172,9 @@ pub struct BrdfRow {
 
 /// Reads a BRDF table whose rows must each hold a sample number and exactly
 /// `measurements` values; sample numbers must be unique positive integers.
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
 pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, ReadError> {
     let mut rows: Vec<BrdfRow> = Vec::new();
     for (line, text) in read_lines(file)? {
@@ -210,6 +216,9 @@ pub struct OrenNayarRow {
 
 /// Reads an Oren–Nayar parameter file; σ must be in radians (a value above
 /// π/2, as a file in degrees would have, is an error naming it).
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
 pub fn read_oren_nayar(file: &Path) -> Result<Vec<OrenNayarRow>, ReadError> {
     let mut rows: Vec<OrenNayarRow> = Vec::new();
     for (line, text) in read_lines(file)? {
@@ -315,6 +324,9 @@ impl Channel {
 /// The measurement set of one sample's BRDF row on the geometry table:
 /// named by the sample number, lab-frame angles, one channel named after
 /// `channel`, values read as BRDF, rows numbered by the table's index.
+///
+/// # Errors
+/// [`ReadError::Measurements`] when the angles or values are invalid.
 pub fn measurement_set(
     file: &Path,
     table: &[TableRow],
@@ -365,6 +377,9 @@ pub struct CuretSample {
 
 impl CuretDir {
     /// Reads `dir/table.txt`.
+    ///
+    /// # Errors
+    /// [`ReadError`] for `table.txt`.
     pub fn open(dir: &Path) -> Result<Self, ReadError> {
         Ok(Self {
             dir: dir.to_path_buf(),
@@ -383,6 +398,9 @@ impl CuretDir {
 
     /// The samples `samples` (`None`: every sample) of each of `files`
     /// (relative paths are looked up in the directory first), file-major.
+    ///
+    /// # Errors
+    /// [`ReadError`] for a BRDF or Oren–Nayar file, or a sample not in a file.
     pub fn samples(
         &self,
         files: &[PathBuf],

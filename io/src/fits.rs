@@ -186,6 +186,9 @@ pub fn json(records: &[Fit]) -> String {
 }
 
 /// Reads a fitted-model file written by [`json`].
+///
+/// # Errors
+/// [`ReadError`] when the file cannot be read or is not a fitted-model file of this version.
 pub fn read_fits(file: &Path) -> Result<FitsFile, ReadError> {
     let text = std::fs::read_to_string(file).map_err(|e| ReadError::io(file, "read", e))?;
     let fits: FitsFile = serde_json::from_str(&text).map_err(|e| {
@@ -245,11 +248,17 @@ pub fn markdown(records: &[Fit]) -> String {
 }
 
 /// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+///
+/// # Errors
+/// [`ReadError::Io`] when the file cannot be written.
 pub fn write_atomic(path: &Path, contents: &str) -> Result<(), ReadError> {
     write_atomic_bytes(path, contents.as_bytes())
 }
 
 /// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+///
+/// # Errors
+/// [`ReadError::Io`] when the file cannot be written.
 pub fn write_atomic_bytes(path: &Path, contents: &[u8]) -> Result<(), ReadError> {
     let dir = path
         .parent()
@@ -272,6 +281,9 @@ pub fn write_atomic_bytes(path: &Path, contents: &[u8]) -> Result<(), ReadError>
 /// Checks before any work that `path` can be written: its directory exists
 /// and accepts a new file (a probe file is created and removed; an existing
 /// `path` is left untouched).
+///
+/// # Errors
+/// [`ReadError::Io`] when `path` is a directory or its directory refuses a new file.
 pub fn check_writable(path: &Path) -> Result<(), ReadError> {
     let dir = path
         .parent()

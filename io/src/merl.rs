@@ -193,6 +193,9 @@ impl Merl {
 }
 
 /// Reads a MERL `.binary` file, checking its dimensions and length.
+///
+/// # Errors
+/// [`ReadError`] for a file that cannot be read, has other dimensions or length, or a non-finite value.
 pub fn read_merl(file: &Path) -> Result<Merl, ReadError> {
     let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
     if bytes.len() < 12 {
@@ -242,6 +245,9 @@ pub fn read_merl(file: &Path) -> Result<Merl, ReadError> {
 }
 
 /// Writes a MERL `.binary` file.
+///
+/// # Errors
+/// [`ReadError::Io`] when the file cannot be written.
 pub fn write_merl(file: &Path, merl: &Merl) -> Result<(), ReadError> {
     let mut bytes = Vec::with_capacity(FILE_LEN);
     for d in [THETA_H, THETA_D, PHI_D] {
@@ -257,6 +263,9 @@ pub fn write_merl(file: &Path, merl: &Merl) -> Result<(), ReadError> {
 /// geometry; paper-frame geometries are placed at φi = 0): channels r, g, b,
 /// values read as BRDF. Geometries whose bin is not measured (negative) in
 /// any channel are left out; their count is returned beside the set.
+///
+/// # Errors
+/// [`ReadError::Measurements`] when no geometry is measured or the angles are invalid.
 pub fn sample(
     file: &Path,
     merl: &Merl,

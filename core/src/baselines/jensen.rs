@@ -64,6 +64,10 @@ impl<S: Real> JensenCoefficients<S> {
     /// computes `α′ = σs′/(σa + σs′)`,
     /// `R_d = (α′/2)(1 + e^{−(4/3) A √(3(1−α′))}) e^{−√(3(1−α′))}`,
     /// `A = (1 + F_dr)/(1 − F_dr)`, `F_dr = −1.440/η² + 0.710/η + 0.668 + 0.0636 η`.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `sigma_a` or `sigma_s` when it is
+    /// outside `(0, 100]` or NaN.
     pub fn new(sigma_a: f64, sigma_s_prime: f64) -> Result<Self, InputError> {
         check_range("sigma_a", sigma_a, f64::MIN_POSITIVE, 100.0, "(0, 100]")?;
         check_range(

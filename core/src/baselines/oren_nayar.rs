@@ -76,6 +76,10 @@ pub struct OrenNayarCoefficients<S> {
 
 impl<S: Real> OrenNayarCoefficients<S> {
     /// Validates `σ ∈ [0, π/2]` and `ρ ∈ [0, 1]` and computes the coefficients.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `sigma` or `rho` when it is outside
+    /// its domain or NaN.
     pub fn new(sigma: f64, rho: f64) -> Result<Self, InputError> {
         check_range("sigma", sigma, 0.0, FRAC_PI_2, "[0, π/2]")?;
         check_range("rho", rho, 0.0, 1.0, "[0, 1]")?;

@@ -356,6 +356,9 @@ fn search_with<L: Lane + Send + Sync>(
 /// Runs the exhaustive search on `path` (after [`Grid::validate`]);
 /// `progress` is called once per σ/T shard. Deterministic whatever the
 /// thread count (docs/conventions.md §6).
+///
+/// # Errors
+/// [`GridError`] from [`Grid::validate`].
 pub fn search(
     scene: &Scene,
     grid: &Grid,
@@ -374,6 +377,9 @@ pub fn search(
 /// Every grid value's RMS on `path`, in flattened order (widened exactly to
 /// `f64`), after [`Grid::validate`]. A grid whose table cannot be allocated
 /// is refused with its size.
+///
+/// # Errors
+/// [`GridError`] from [`Grid::validate`], or [`GridError::Allocation`].
 pub fn error_surface(
     scene: &Scene,
     grid: &Grid,
