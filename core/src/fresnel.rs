@@ -2,30 +2,61 @@
 
 use crate::lane::Lane;
 
+/// Unpolarised Fresnel reflectance `f` and transmittance `t = 1 − f` from
+/// the cosines of the incident and transmitted angles and the index ratio
+/// `r = n_t / n_i` (eq. 6 in the `r_s, r_p` form, exact at normal incidence
+/// where the printed sine form is 0/0), each to a few ulps relative.
+///
+/// With `S = cos_i + r cos_t`, `P = r cos_i + cos_t` and Snell's law
+/// (`r² cos²_t = r² − 1 + cos²_i`), the amplitudes are
+/// `r_s = −(r² − 1)/S²` and `r_p = (r² − 1)((r² + 1) cos²_i − 1)/(r² P²)`:
+/// the factor `r² − 1 = (r − 1)(r + 1)` is explicit, so `f` keeps its
+/// relative accuracy as `r → 1` (the textbook numerators `cos_i − r cos_t`
+/// cancel there). `t = 2 r cos_i cos_t (1/S² + 1/P²)` has no cancellation,
+/// so it stays accurate near grazing incidence, where `f → 1`.
+/// `f = 0, t = 1` for `r = 1` (no interface); `f = 1, t = 0` when both
+/// cosines are 0. Both lie in `[0, 1]` for cosines in `[0, 1]`.
+/// Accuracy (crate docs, Accuracy): `f` within 7.1 ulps (f64) and 7.0 (f32).
+#[inline]
+#[must_use]
+pub fn fresnel_pair<L: Lane>(cos_i: L, cos_t: L, r: L) -> (L, L) {
+    let one = L::c(1.0);
+    let zero = L::c(0.0);
+    let s_den = cos_i + r * cos_t;
+    let p_den = r * cos_i + cos_t;
+    // Both sums vanish only when both cosines are 0 (grazing with r = 1).
+    let degenerate = s_den.eq(zero) | p_den.eq(zero);
+    let s_den = L::select(degenerate, one, s_den);
+    let p_den = L::select(degenerate, one, p_den);
+    let (s2, p2) = (s_den * s_den, p_den * p_den);
+    let r2m1 = (r - one) * (r + one);
+    let r2 = r * r;
+    let rs = r2m1 / s2;
+    let rp = r2m1 * ((r2 + one) * (cos_i * cos_i) - one) / (r2 * p2);
+    let f = (L::c(0.5) * (rs * rs + rp * rp)).min(one);
+    let t = (L::c(2.0) * r * cos_i * cos_t * (one / s2 + one / p2)).min(one);
+    let no_interface = r.eq(one);
+    (
+        L::select(no_interface, zero, L::select(degenerate, one, f)),
+        L::select(no_interface, one, L::select(degenerate, zero, t)),
+    )
+}
+
 /// Unpolarised Fresnel reflectance from the cosines of the incident and
-/// transmitted angles and the index ratio `r = n_t / n_i` (eq. 6 in the
-/// `r_s, r_p` form, exact at normal incidence where the printed sine form is
-/// 0/0): `f = (r_s² + r_p²) / 2` with
-/// `r_s = (cos_i − r cos_t)/(cos_i + r cos_t)`, `r_p = (r cos_i − cos_t)/(r cos_i + cos_t)`.
-/// Exactly 0 for `r = 1` (no interface) and in `[0, 1]` for cosines in `[0, 1]`.
+/// transmitted angles and the index ratio `r = n_t / n_i`: the `f` of
+/// [`fresnel_pair`].
 #[inline]
 #[must_use]
 pub fn fresnel_from_cosines<L: Lane>(cos_i: L, cos_t: L, r: L) -> L {
-    let one = L::c(1.0);
-    let rc_t = r * cos_t;
-    let rc_i = r * cos_i;
-    let s_den = cos_i + rc_t;
-    let p_den = rc_i + cos_t;
-    // Both denominators vanish only when both cosines are 0 (grazing with
-    // r = 1), which the r = 1 select below covers; guard the division anyway.
-    let degenerate = s_den.eq(L::c(0.0)) | p_den.eq(L::c(0.0));
-    let s_den = L::select(degenerate, one, s_den);
-    let p_den = L::select(degenerate, one, p_den);
-    let rs = (cos_i - rc_t) / s_den;
-    let rp = (rc_i - cos_t) / p_den;
-    let f = L::c(0.5) * (rs * rs + rp * rp);
-    let f = L::select(degenerate, one, f);
-    L::select(r.eq(one), L::c(0.0), f)
+    fresnel_pair(cos_i, cos_t, r).0
+}
+
+/// Fresnel transmittance `1 − f` from the cosines: the `t` of
+/// [`fresnel_pair`], accurate where `f → 1`.
+#[inline]
+#[must_use]
+pub fn transmittance_from_cosines<L: Lane>(cos_i: L, cos_t: L, r: L) -> L {
+    fresnel_pair(cos_i, cos_t, r).1
 }
 
 /// Cosine of the transmitted angle by Snell's law (eq. 7) for an index ratio
@@ -54,6 +85,15 @@ pub fn refract_cos<L: Lane>(cos_i: L, r: L) -> (L, L::Mask) {
 pub fn fresnel<L: Lane>(cos_i: L, r: L) -> L {
     let (cos_t, tir) = refract_cos(cos_i, r);
     L::select(tir, L::c(1.0), fresnel_from_cosines(cos_i, cos_t, r))
+}
+
+/// Fresnel transmittance `1 − f(α, r)` (eqs. 6–7), computed without the
+/// subtraction (see [`fresnel_pair`]); 0 under total internal reflection.
+#[inline]
+#[must_use]
+pub fn transmittance<L: Lane>(cos_i: L, r: L) -> L {
+    let (cos_t, tir) = refract_cos(cos_i, r);
+    L::select(tir, L::c(0.0), transmittance_from_cosines(cos_i, cos_t, r))
 }
 
 /// Solid-angle factor `dω′ = cos θi / (n² cos θi′)` (eq. 5, with dω = 1).

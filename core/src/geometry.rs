@@ -99,6 +99,9 @@ pub fn wrap_pi(phi: f64) -> f64 {
     p
 }
 
+/// `π/2 − FRAC_PI_2`: the part of π/2 that `f64` cannot hold.
+const FRAC_PI_2_LO: f64 = 6.123_233_995_736_766e-17;
+
 /// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²` (docs/conventions.md §2)
 /// in `f64`, free of cancellation: the x component is evaluated as
 /// `sin θi − sin θs + sin θs (1 − cos φs)
@@ -108,9 +111,13 @@ pub fn wrap_pi(phi: f64) -> f64 {
 fn vxy2(a: &Angles) -> f64 {
     let sin_s = libm::sin(a.theta_s);
     let half_phi = libm::sin(0.5 * a.phi_s);
-    let dx =
-        2.0 * libm::cos(0.5 * (a.theta_i + a.theta_s)) * libm::sin(0.5 * (a.theta_i - a.theta_s))
-            + 2.0 * sin_s * half_phi * half_phi;
+    // cos((θi + θs)/2) = sin((ci + cs)/2) with the complements c = π/2 − θ,
+    // which are exact (Sterbenz, plus the low part of π/2) where the
+    // half-sum nears π/2: there the rounding of θi + θs would dominate.
+    let complement = |t: f64| (FRAC_PI_2 - t) + FRAC_PI_2_LO;
+    let cos_half_sum = libm::sin(0.5 * (complement(a.theta_i) + complement(a.theta_s)));
+    let dx = 2.0 * cos_half_sum * libm::sin(0.5 * (a.theta_i - a.theta_s))
+        + 2.0 * sin_s * half_phi * half_phi;
     let dy = sin_s * libm::sin(a.phi_s);
     dx * dx + dy * dy
 }
@@ -123,6 +130,10 @@ pub struct Geometry<L> {
     pub cos_i: L,
     /// cos θs (clamped to `[0, 1]`).
     pub cos_s: L,
+    /// sin²θi, from the angle (accurate where `1 − cos²θi` would cancel).
+    pub sin2_i: L,
+    /// sin²θs, from the angle.
+    pub sin2_s: L,
     /// `v_xy² = (sin θi − sin θs cos φs)² + (sin θs sin φs)²`.
     pub vxy2: L,
     /// `v_z² = (cos θi + cos θs)²` (docs/conventions.md §2: `v_z = −(cos θi + cos θs)`).
@@ -147,9 +158,19 @@ impl<L: Lane> Geometry<L> {
             *slot = angles(i);
         }
         let cos01 = |v: f64| libm::cos(v).clamp(0.0, 1.0);
+        let sin2 = |v: f64| {
+            let s = libm::sin(v);
+            (s * s).min(1.0)
+        };
         Self::from_parts(
-            L::from_f64_lanes(|i| cos01(a[i].theta_i)),
-            L::from_f64_lanes(|i| cos01(a[i].theta_s)),
+            [
+                L::from_f64_lanes(|i| cos01(a[i].theta_i)),
+                L::from_f64_lanes(|i| cos01(a[i].theta_s)),
+            ],
+            [
+                L::from_f64_lanes(|i| sin2(a[i].theta_i)),
+                L::from_f64_lanes(|i| sin2(a[i].theta_s)),
+            ],
             L::from_f64_lanes(|i| vxy2(&a[i])),
         )
     }
@@ -164,7 +185,7 @@ impl<L: Lane> Geometry<L> {
     /// it cancels near the forward-specular direction: from rounded sines
     /// its relative error grows without bound there.
     #[must_use]
-    fn from_parts(cos_i: L, cos_s: L, vxy2: L) -> Self {
+    fn from_parts([cos_i, cos_s]: [L; 2], [sin2_i, sin2_s]: [L; 2], vxy2: L) -> Self {
         let sz = cos_i + cos_s;
         let vz2 = sz * sz;
         let zero = L::c(0.0);
@@ -174,6 +195,8 @@ impl<L: Lane> Geometry<L> {
         Self {
             cos_i,
             cos_s,
+            sin2_i,
+            sin2_s,
             vxy2,
             vz2,
             lead: L::select(lit, cos_i / safe_vz2, zero),
@@ -191,7 +214,12 @@ impl<L: Lane> Geometry<L> {
     pub fn refracted(&self, n: L) -> Self {
         let (ci, _) = refract_cos(self.cos_i, n);
         let (cs, _) = refract_cos(self.cos_s, n);
-        Self::from_parts(ci, cs, self.vxy2 / (n * n))
+        let n2 = n * n;
+        Self::from_parts(
+            [ci, cs],
+            [self.sin2_i / n2, self.sin2_s / n2],
+            self.vxy2 / n2,
+        )
     }
 }
 
@@ -229,7 +257,7 @@ mod tests {
         let g = Geometry::<f32>::splat(&Angles::new(FRAC_PI_2, FRAC_PI_2, 0.0).unwrap());
         assert!(g.lead.is_finite() && g.ratio.is_finite());
         // Exactly zero cosines (v_z = 0): no irradiance, no division by zero.
-        let g = Geometry::<f32>::from_parts(0.0, 0.0, 0.0);
+        let g = Geometry::<f32>::from_parts([0.0, 0.0], [1.0, 1.0], 0.0);
         assert_eq!(g.lead, 0.0);
         assert_eq!(g.ratio, f32::INFINITY);
     }

@@ -116,6 +116,8 @@ pub fn mix<L: Lane>(beta: L, subsurface: L, surface: L) -> L {
 }
 
 /// Evaluates every component of the model (eqs. 1–14) at `g`.
+/// Accuracy per field: the table in the crate docs (Accuracy); `total`
+/// within 9.9 ulps (f64) and 5.5 (f32), plus the Gaussian-tail allowance.
 #[must_use]
 pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Components<L> {
     let inv_slope2 = inverse_slope_squared(L::c(p.slope));
@@ -126,8 +128,8 @@ pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Co
     Components {
         fresnel_in: iface.fresnel_in,
         fresnel_out: iface.fresnel_out,
-        absorb_in: absorbed(a, g.cos_i, iface.fresnel_in),
-        absorb_out: absorbed(a, g.cos_s, iface.fresnel_out),
+        absorb_in: absorbed(a, g.cos_i, iface.transmit_in),
+        absorb_out: absorbed(a, g.cos_s, iface.transmit_out),
         surface,
         subsurface,
         total: mix(L::c(p.beta), subsurface, surface),

@@ -2,7 +2,7 @@
 //! absorption, eqs. 12–14; docs/conventions.md §3).
 
 use crate::absorption::attenuation;
-use crate::fresnel::{fresnel_from_cosines, solid_angle};
+use crate::fresnel::{fresnel_pair, solid_angle};
 use crate::geometry::Geometry;
 use crate::lane::Lane;
 use crate::surface::{surface_radiance, Correlation};
@@ -18,6 +18,10 @@ pub struct Interface<L> {
     /// `f(θs′, 1/n)`, dielectric to air at the internal angle (eq. 6;
     /// evaluated as the equal `f(θs, n)` from the same two cosines).
     pub fresnel_out: L,
+    /// `1 − f(θi, n)`, without cancellation ([`fresnel_pair`]).
+    pub transmit_in: L,
+    /// `1 − f(θs′, 1/n)`, without cancellation.
+    pub transmit_out: L,
     /// `dω′ = cos θi / (n² cos θi′)` (eq. 5).
     pub solid_angle: L,
 }
@@ -27,9 +31,13 @@ impl<L: Lane> Interface<L> {
     #[must_use]
     pub fn new(g: &Geometry<L>, n: L) -> Self {
         let refracted = g.refracted(n);
+        let (fresnel_in, transmit_in) = fresnel_pair(g.cos_i, refracted.cos_i, n);
+        let (fresnel_out, transmit_out) = fresnel_pair(g.cos_s, refracted.cos_s, n);
         Self {
-            fresnel_in: fresnel_from_cosines(g.cos_i, refracted.cos_i, n),
-            fresnel_out: fresnel_from_cosines(g.cos_s, refracted.cos_s, n),
+            fresnel_in,
+            fresnel_out,
+            transmit_in,
+            transmit_out,
             solid_angle: solid_angle(g.cos_i, refracted.cos_i, n),
             refracted,
         }
@@ -42,10 +50,9 @@ impl<L: Lane> Interface<L> {
 #[inline]
 #[must_use]
 pub fn subsurface_base<L: Lane>(iface: &Interface<L>, corr: Correlation, inv_slope2: L) -> L {
-    let one = L::c(1.0);
     surface_radiance(&iface.refracted, corr, inv_slope2)
-        * (one - iface.fresnel_in)
-        * (one - iface.fresnel_out)
+        * iface.transmit_in
+        * iface.transmit_out
         * iface.solid_angle
 }
 
@@ -55,13 +62,15 @@ pub fn subsurface_base<L: Lane>(iface: &Interface<L>, corr: Correlation, inv_slo
 #[inline]
 #[must_use]
 pub fn absorption_factor<L: Lane>(g: &Geometry<L>, a: L) -> L {
-    attenuation(a, g.cos_i) * attenuation(a, g.cos_s)
+    attenuation(a, g.sin2_i) * attenuation(a, g.sin2_s)
 }
 
 /// Absorptive subsurface radiance (eq. 12 Gaussian, eq. 13 Exponential):
 /// `L^sf(θi′, θs′) · (1 − f1 − A1)(1 − f2 − A2) · dω′`, evaluated as
 /// [`subsurface_base`] × [`absorption_factor`]; at `a = 0` this is bit for
 /// bit the Ragheb–Hancock value.
+/// Accuracy (crate docs, Accuracy): within 9.0 ulps (f64) and 6.1 (f32),
+/// plus up to `2x′` ulps in the Gaussian tail.
 #[inline]
 #[must_use]
 pub fn subsurface_radiance<L: Lane>(

@@ -6,7 +6,7 @@
 
 use crate::error::{check_range, InputError};
 use crate::exp::exp;
-use crate::fresnel::{fresnel_from_cosines, refract_cos};
+use crate::fresnel::{refract_cos, transmittance_from_cosines};
 use crate::geometry::Angles;
 use crate::lane::{Lane, Real};
 use core::f64::consts::PI;
@@ -40,8 +40,8 @@ impl<L: Lane> JensenGeometry<L> {
         let one = L::c(1.0);
         let (ti, _) = refract_cos(ci, eta);
         let (ts, _) = refract_cos(cs, eta);
-        let ft_i = one - fresnel_from_cosines(ci, ti, eta);
-        let ft_s = one - fresnel_from_cosines(cs, ts, eta);
+        let ft_i = transmittance_from_cosines(ci, ti, eta);
+        let ft_s = transmittance_from_cosines(cs, ts, eta);
         Self {
             weight: ci * ft_i * ft_s,
             inv_cos_sum: one / (ti + ts),
