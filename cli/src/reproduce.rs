@@ -26,8 +26,8 @@ pub struct Reproduction {
     /// Files written, in order.
     pub files: Vec<PathBuf>,
     /// Figures of an earlier run in the directory that this run did not
-    /// write (other samples or channels), removed so that the directory
-    /// shows only this run.
+    /// write (other samples or channels): gone, since the directory now
+    /// holds exactly this run.
     pub removed: Vec<PathBuf>,
     /// (parameter set, measurement) pairs evaluated.
     pub pairs: f64,
@@ -40,9 +40,54 @@ fn write(out: &Path, name: &str, text: &str, files: &mut Vec<PathBuf>) -> Result
     Ok(())
 }
 
-/// True for a file name that `reproduce` writes (figures and tables).
+/// True for a file name that `reproduce` writes (figures, tables, fits, summary).
 fn is_ours(name: &str) -> bool {
-    name.ends_with(".svg") && name.starts_with("fig")
+    (name.starts_with("fig") && name.ends_with(".svg"))
+        || (name.starts_with("table") && (name.ends_with(".md") || name.ends_with(".csv")))
+        || name == "fits.csv"
+        || name == "summary.md"
+}
+
+/// A sibling of `out` for this process: `.{name}.{what}-{pid}`.
+fn sibling(out: &Path, what: &str) -> PathBuf {
+    let name = out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "reproduce".into());
+    let parent = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    parent.join(format!(".{name}.{what}-{}", std::process::id()))
+}
+
+/// The names of the files in `out` (none if it does not exist), which must
+/// all be files a reproduction writes: the directory is replaced whole.
+fn previous_files(out: &Path) -> Result<Vec<String>, CliError> {
+    let io = |e| laminar_io::ReadError::io(out, "read", e);
+    if !out.exists() {
+        return Ok(Vec::new());
+    }
+    let mut names = Vec::new();
+    let mut foreign = Vec::new();
+    for entry in std::fs::read_dir(out).map_err(io)? {
+        let entry = entry.map_err(io)?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        if is_ours(&name) && entry.file_type().map(|t| t.is_file()).unwrap_or(false) {
+            names.push(name);
+        } else {
+            foreign.push(name);
+        }
+    }
+    if !foreign.is_empty() {
+        foreign.sort();
+        return Err(CliError::Usage(format!(
+            "{} holds entries reproduce does not write ({}); it replaces its output directory whole, so choose a new or empty one",
+            out.display(),
+            foreign.join(", ")
+        )));
+    }
+    Ok(names)
 }
 
 /// Fits one job with `model`: a CUReT directory's own Oren–Nayar parameters
@@ -64,24 +109,44 @@ pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError
     }
 }
 
-/// Creates `out` if missing and checks that files can be written in it.
+/// Checks before any work that `out` can be replaced by a reproduction: it
+/// is missing, or holds only files a reproduction writes, and its parent
+/// accepts new entries.
 ///
 /// # Errors
-/// [`CliError::Read`] when the directory cannot be created or written.
+/// [`CliError::Usage`] for a directory with other entries, [`CliError::Read`]
+/// when the parent cannot be written.
 pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
-    std::fs::create_dir_all(out).map_err(|e| laminar_io::ReadError::io(out, "create", e))?;
-    laminar_io::check_writable(&out.join("summary.md"))?;
+    previous_files(out)?;
+    laminar_io::check_writable(&sibling(out, "probe"))?;
+    Ok(())
+}
+
+/// Moves the finished `staging` directory to `out`, replacing an earlier
+/// run as a whole (two renames; the earlier run is then deleted).
+fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
+    let io = |p: &Path, e| CliError::Read(laminar_io::ReadError::io(p, "rename", e));
+    if out.exists() {
+        let old = sibling(out, "old");
+        std::fs::rename(out, &old).map_err(|e| io(out, e))?;
+        std::fs::rename(staging, out).map_err(|e| io(staging, e))?;
+        std::fs::remove_dir_all(&old)
+            .map_err(|e| CliError::Read(laminar_io::ReadError::io(&old, "remove", e)))?;
+    } else {
+        std::fs::rename(staging, out).map_err(|e| io(staging, e))?;
+    }
     Ok(())
 }
 
 /// Fits [`FITTED`] on every job with `fitter` and writes the tables and
-/// figures into `out` (created if missing; figures of an earlier run that
-/// this run does not write are removed and listed).
+/// figures into `out` as one set: everything is written into a fresh
+/// sibling directory that then replaces `out` whole, so an interrupted run
+/// leaves the earlier set untouched and a finished one never mixes with it.
 ///
 /// # Errors
 /// [`CliError`] when a fit, a figure or a file write fails.
 pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproduction, CliError> {
-    prepare_out_dir(out)?;
+    let previous = previous_files(out)?;
     let mut records = Vec::new();
     let mut pairs = 0.0;
     for job in jobs {
@@ -91,10 +156,46 @@ pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproducti
             records.push(r);
         }
     }
+    let staging = sibling(out, "partial");
+    std::fs::create_dir_all(&staging)
+        .map_err(|e| laminar_io::ReadError::io(&staging, "create", e))?;
+    let written = write_set(fitter, jobs, &records, &staging);
+    let files = match written.and_then(|files| replace_dir(&staging, out).map(|_| files)) {
+        Ok(files) => files,
+        Err(e) => {
+            let _ = std::fs::remove_dir_all(&staging);
+            return Err(e);
+        }
+    };
+    let files: Vec<PathBuf> = files
+        .iter()
+        .map(|f| out.join(f.file_name().expect("a file")))
+        .collect();
+    let mut removed: Vec<PathBuf> = previous
+        .iter()
+        .map(|name| out.join(name))
+        .filter(|p| !files.contains(p))
+        .collect();
+    removed.sort();
+    Ok(Reproduction {
+        records,
+        files,
+        removed,
+        pairs,
+    })
+}
+
+/// Writes the tables, figures, fits and summary of `records` into `out`.
+fn write_set(
+    fitter: &Fitter,
+    jobs: &[Job],
+    records: &[Fit],
+    out: &Path,
+) -> Result<Vec<PathBuf>, CliError> {
     let grid = fitter.grid();
     let path = fitter.search_path();
     let mut files = Vec::new();
-    let tables = paper_tables(&records);
+    let tables = paper_tables(records);
     let mut summary = String::from("# Reproduction of Dahlan & Hancock (2016), §IV\n\n");
     summary += &format!("Search grid: {grid}; search path `{path}`.\n\n");
     for t in &tables {
@@ -103,7 +204,7 @@ pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproducti
         summary += &t.markdown();
         summary += "\n";
     }
-    write(out, "fits.csv", &fit_csv(&records), &mut files)?;
+    write(out, "fits.csv", &fit_csv(records), &mut files)?;
     write(
         out,
         "fig2_transmission_absorption.svg",
@@ -147,22 +248,5 @@ pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproducti
         }
     }
     write(out, "summary.md", &summary, &mut files)?;
-    let mut removed = Vec::new();
-    let entries = std::fs::read_dir(out).map_err(|e| laminar_io::ReadError::io(out, "read", e))?;
-    for entry in entries.flatten() {
-        let path = entry.path();
-        let name = entry.file_name().to_string_lossy().into_owned();
-        if is_ours(&name) && !files.contains(&path) {
-            std::fs::remove_file(&path)
-                .map_err(|e| laminar_io::ReadError::io(&path, "remove", e))?;
-            removed.push(path);
-        }
-    }
-    removed.sort();
-    Ok(Reproduction {
-        records,
-        files,
-        removed,
-        pairs,
-    })
+    Ok(files)
 }

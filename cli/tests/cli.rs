@@ -678,8 +678,8 @@ fn curet_dir() -> Option<String> {
 /// The 78 fits of the paper's 13 samples (avg channel, six models) are byte
 /// for byte the recorded ones (`golden/`). Recorded from the runner before
 /// the library split; the core's accuracy fixes (transmittance, attenuation,
-/// Fresnel near n = 1) then moved one f32 `search_rms` (61/rh-exp) by 1e-6
-/// in its last printed digit, and no parameter.
+/// Fresnel near n = 1) then moved three f32 `search_rms` values (53/exp,
+/// 53/rh-exp, 61/rh-exp) by 1e-6 in their last printed digit, and no parameter.
 #[test]
 fn curet_paper_fits_are_unchanged() {
     let Some(dir) = curet_dir() else { return };

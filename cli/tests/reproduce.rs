@@ -106,3 +106,29 @@ fn reproduce_writes_every_table_and_figure() {
     assert!(on("21", "r").evaluated > 1, "no opr.dat: grid search");
     assert!(on("19", "avg").evaluated > 1, "19 not in op.dat");
 }
+
+/// `reproduce` replaces its output directory whole, so it refuses one that
+/// holds anything it did not write, before any work.
+#[test]
+fn reproduce_refuses_a_directory_with_other_files() {
+    let d = curet_dir(12);
+    let out = d.path().join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    write(&out, "notes.txt", "mine");
+    let js = curet_jobs(d.path(), &[], Some(&[21])).unwrap();
+    let e = reproduce(&Fitter::new(Grid::paper()).unwrap(), &js, &out)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("notes.txt") && e.contains("new or empty"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    // No staging directory is left behind.
+    let leftovers: Vec<_> = std::fs::read_dir(d.path())
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().contains(".partial-"))
+        .collect();
+    assert!(leftovers.is_empty());
+}

@@ -13,9 +13,11 @@ use crate::lane::Lane;
 /// the factor `r² − 1 = (r − 1)(r + 1)` is explicit, so `f` keeps its
 /// relative accuracy as `r → 1` (the textbook numerators `cos_i − r cos_t`
 /// cancel there). `t = 2 r cos_i cos_t (1/S² + 1/P²)` has no cancellation,
-/// so it stays accurate near grazing incidence, where `f → 1`.
-/// `f = 0, t = 1` for `r = 1` (no interface); `f = 1, t = 0` when both
-/// cosines are 0. Both lie in `[0, 1]` for cosines in `[0, 1]`.
+/// so it stays accurate near grazing incidence, where `f → 1`. The smaller
+/// of the two is kept and the larger is 1 minus it, so `f + t = 1` up to
+/// one rounding.
+/// `f = 0, t = 1` for `r = 1` (no interface); `f = 1, t = 0` at grazing
+/// incidence (`cos_i = 0`). Both lie in `[0, 1]` for cosines in `[0, 1]`.
 /// Accuracy (crate docs, Accuracy): `f` within 7.1 ulps (f64) and 7.0 (f32).
 #[inline]
 #[must_use]
@@ -33,11 +35,26 @@ pub fn fresnel_pair<L: Lane>(cos_i: L, cos_t: L, r: L) -> (L, L) {
     let r2 = r * r;
     let rs = r2m1 / s2;
     let rp = r2m1 * ((r2 + one) * (cos_i * cos_i) - one) / (r2 * p2);
-    let f = (L::c(0.5) * (rs * rs + rp * rp)).min(one);
-    let t = (L::c(2.0) * r * cos_i * cos_t * (one / s2 + one / p2)).min(one);
+    // At normal incidence eq. 6 is ((r − 1)/(r + 1))², with two roundings.
+    let normal = (r - one) / (r + one);
+    let f = L::select(
+        cos_i.eq(one),
+        normal * normal,
+        L::c(0.5) * (rs * rs + rp * rp),
+    );
+    let t = L::c(2.0) * r * cos_i * cos_t * (one / s2 + one / p2);
+    // Each is accurate on its own; the smaller one is then taken as computed
+    // and the larger as 1 minus it (no cancellation: it is at least 1/2), so
+    // that f + t = 1 up to one rounding, as energy conservation asks.
+    let f_small = f.le(t);
+    let f = L::select(f_small, f, one - t).min(one);
+    let t = L::select(f_small, one - f, t).min(one);
+    // Grazing incidence reflects everything (t has the factor cos_i, so it
+    // is already 0 there; f would be 1 only up to rounding).
+    let reflects_all = degenerate | cos_i.eq(zero);
     let no_interface = r.eq(one);
     (
-        L::select(no_interface, zero, L::select(degenerate, one, f)),
+        L::select(no_interface, zero, L::select(reflects_all, one, f)),
         L::select(no_interface, one, L::select(degenerate, zero, t)),
     )
 }

@@ -33,11 +33,11 @@
 //! |---|---|---|
 //! | `fresnel_in` (eq. 6) | 7.10 | 6.43 |
 //! | `fresnel_out` (eq. 6) | 6.39 | 6.95 |
-//! | `absorb_in` (eq. 10) | 3.60 | 3.90 |
-//! | `absorb_out` (eqs. 11, 14) | 3.87 | 3.58 |
+//! | `absorb_in` (eq. 10) | 4.79 | 4.93 |
+//! | `absorb_out` (eqs. 11, 14) | 4.41 | 4.25 |
 //! | `surface` (eqs. 1–2) | 9.80 | 3.51 |
-//! | `subsurface` (eqs. 12–13) | 8.95 | 6.07 |
-//! | `total` (eq. 8) | 9.88 | 5.51 |
+//! | `subsurface` (eqs. 12–13) | 8.42 | 6.80 |
+//! | `total` (eq. 8) | 9.88 | 6.23 |
 //!
 //! The test asserts 16 ulps, with two stated exceptions: the Gaussian tail
 //! `exp(−x/4)` has condition number `x/4` in `x = (T/σ)² v_xy²/v_z²`, which

@@ -117,7 +117,7 @@ pub fn mix<L: Lane>(beta: L, subsurface: L, surface: L) -> L {
 
 /// Evaluates every component of the model (eqs. 1–14) at `g`.
 /// Accuracy per field: the table in the crate docs (Accuracy); `total`
-/// within 9.9 ulps (f64) and 5.5 (f32), plus the Gaussian-tail allowance.
+/// within 9.9 ulps (f64) and 6.2 (f32), plus the Gaussian-tail allowance.
 #[must_use]
 pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Components<L> {
     let inv_slope2 = inverse_slope_squared(L::c(p.slope));

@@ -69,7 +69,7 @@ pub fn absorption_factor<L: Lane>(g: &Geometry<L>, a: L) -> L {
 /// `L^sf(θi′, θs′) · (1 − f1 − A1)(1 − f2 − A2) · dω′`, evaluated as
 /// [`subsurface_base`] × [`absorption_factor`]; at `a = 0` this is bit for
 /// bit the Ragheb–Hancock value.
-/// Accuracy (crate docs, Accuracy): within 9.0 ulps (f64) and 6.1 (f32),
+/// Accuracy (crate docs, Accuracy): within 8.4 ulps (f64) and 6.8 (f32),
 /// plus up to `2x′` ulps in the Gaussian tail.
 #[inline]
 #[must_use]
