@@ -12,34 +12,11 @@ use core::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 use wide::{f32x8, i32x8};
 
 /// A lane mask produced by comparisons and consumed by [`Lane::select`].
-pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> {
-    /// True when at least one lane is set.
-    fn any(self) -> bool;
-    /// True when every lane is set.
-    fn all(self) -> bool;
-}
+pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> {}
 
-impl Mask for bool {
-    #[inline]
-    fn any(self) -> bool {
-        self
-    }
-    #[inline]
-    fn all(self) -> bool {
-        self
-    }
-}
+impl Mask for bool {}
 
-impl Mask for f32x8 {
-    #[inline]
-    fn any(self) -> bool {
-        f32x8::any(self)
-    }
-    #[inline]
-    fn all(self) -> bool {
-        f32x8::all(self)
-    }
-}
+impl Mask for f32x8 {}
 
 /// Seals [`Lane`]: its three implementations are the whole determinism
 /// policy, so no other type may join them.
@@ -115,10 +92,6 @@ pub trait Real: Lane<Scalar = Self, Mask = bool> + PartialOrd + Default {
     fn from_f64(v: f64) -> Self;
     /// The value widened to `f64` (exact).
     fn to_f64(self) -> f64;
-    /// The IEEE bit pattern, widened to `u64` (for parity checks).
-    fn to_bits_u64(self) -> u64;
-    /// Unit in the last place of 1.0 (machine epsilon).
-    const EPSILON: f64;
     /// Degree of the Taylor polynomial of `exp` on its reduced argument.
     const EXP_DEGREE: usize;
     /// Below this argument `exp` returns exactly 0 (a flush: `exp(EXP_MIN)`
@@ -189,11 +162,6 @@ impl Real for f32 {
     fn to_f64(self) -> f64 {
         self as f64
     }
-    #[inline]
-    fn to_bits_u64(self) -> u64 {
-        self.to_bits() as u64
-    }
-    const EPSILON: f64 = f32::EPSILON as f64;
     const EXP_DEGREE: usize = 7;
     const EXP_MIN: f64 = -87.0;
     const EXP_MAX: f64 = 88.0;
@@ -257,11 +225,6 @@ impl Real for f64 {
     fn to_f64(self) -> f64 {
         self
     }
-    #[inline]
-    fn to_bits_u64(self) -> u64 {
-        self.to_bits()
-    }
-    const EPSILON: f64 = f64::EPSILON;
     const EXP_DEGREE: usize = 13;
     const EXP_MIN: f64 = -708.0;
     const EXP_MAX: f64 = 709.0;

@@ -7,6 +7,21 @@
 //! repository's statement of what the paper leaves open, which also indexes
 //! each equation to the function that computes it.
 //!
+//! ```
+//! use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
+//! // σ/T = 0.5, β = 0.4, n = 1.45, a = 0.2; θi = 30°, θs = 40°, φs = 1 rad.
+//! let p = Params::new(0.5, 0.4, 1.45, 0.2)?;
+//! let a = Angles::new(30f64.to_radians(), 40f64.to_radians(), 1.0)?;
+//! let c = components(&Geometry::<f64>::splat(&a), Correlation::Exponential, &p);
+//! // Eq. 8 mixes the two terms with β.
+//! assert!((c.total - (0.4 * c.subsurface + 0.6 * c.surface)).abs() < 1e-15);
+//! // The same in f32, and eight geometries at once in f32x8 (same bits per lane).
+//! let one = total_radiance(&Geometry::<f32>::splat(&a), Correlation::Exponential, &p);
+//! let eight = total_radiance(&Geometry::<laminar_core::f32x8>::splat(&a), Correlation::Exponential, &p);
+//! assert_eq!(eight.to_array()[5].to_bits(), one.to_bits());
+//! # Ok::<(), laminar_core::InputError>(())
+//! ```
+//!
 //! ## One implementation, three lane types
 //! Every equation is written once against [`Lane`], implemented for `f32`,
 //! `f64` and `wide::f32x8` (eight measurement geometries per vector).

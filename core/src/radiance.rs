@@ -137,6 +137,16 @@ pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Co
 }
 
 /// Total radiance (eq. 8), computing only the terms with non-zero weight:
+///
+/// ```
+/// use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
+/// let g = Geometry::<f64>::splat(&Angles::new(0.3, 0.9, 2.1)?);
+/// let p = Params::new(0.5, 0.0, 1.45, 0.3)?; // β = 0: the surface term only
+/// let t = total_radiance(&g, Correlation::Gaussian, &p);
+/// assert_eq!(t.to_bits(), components(&g, Correlation::Gaussian, &p).total.to_bits());
+/// # Ok::<(), laminar_core::InputError>(())
+/// ```
+///
 /// no subsurface work at β = 0, no surface work at β = 1, no absorption
 /// work at a = 0. Bitwise equal to [`components`]`.total`.
 #[must_use]

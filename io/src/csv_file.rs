@@ -89,13 +89,12 @@ fn frame(file: &Path, header: &[String]) -> Result<Frame, ReadError> {
 type Rows = Vec<(usize, ::csv::StringRecord)>;
 
 /// The rows of a CSV file: header (trimmed) and records with their line numbers.
-fn records(file: &Path) -> Result<(Vec<String>, Rows), ReadError> {
-    let text = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
+fn records(file: &Path, text: &[u8]) -> Result<(Vec<String>, Rows), ReadError> {
     let mut reader = ::csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .trim(::csv::Trim::All)
         .flexible(true)
-        .from_reader(text.as_slice());
+        .from_reader(text);
     let header: Vec<String> = reader
         .headers()
         .map_err(|e| ReadError::format(file, 1, format!("cannot read the header: {e}")))?
@@ -224,8 +223,25 @@ fn geometry(
 /// # Errors
 /// [`ReadError`] naming the file, and for a defect the line, column and value.
 pub fn read_geometry(file: &Path, unit: AngleUnit) -> Result<Vec<MeasurementAngles>, ReadError> {
-    let (header, rows) = records(file)?;
+    parse_geometry(file, &read(file)?, unit)
+}
+
+/// [`read_geometry`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// [`ReadError`] naming the file, and for a defect the line, column and value.
+pub fn parse_geometry(
+    file: &Path,
+    bytes: &[u8],
+    unit: AngleUnit,
+) -> Result<Vec<MeasurementAngles>, ReadError> {
+    let (header, rows) = records(file, bytes)?;
     geometry(file, &header, &rows, unit)
+}
+
+/// The contents of `file`.
+fn read(file: &Path) -> Result<Vec<u8>, ReadError> {
+    std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))
 }
 
 /// Reads a long-format CSV file of measurements (module docs) as a set named
@@ -255,7 +271,21 @@ pub fn read_csv(
     unit: AngleUnit,
     quantity: Quantity,
 ) -> Result<MeasurementSet, ReadError> {
-    let (header, rows) = records(file)?;
+    parse_csv(file, &read(file)?, unit, quantity)
+}
+
+/// [`read_csv`] on contents already in memory (`file` names the set and the
+/// errors).
+///
+/// # Errors
+/// As [`read_csv`].
+pub fn parse_csv(
+    file: &Path,
+    bytes: &[u8],
+    unit: AngleUnit,
+    quantity: Quantity,
+) -> Result<MeasurementSet, ReadError> {
+    let (header, rows) = records(file, bytes)?;
     let angles = geometry(file, &header, &rows, unit)?;
     let geometry_columns: &[&str] = if position(&header, "phi_i").is_some() {
         &LAB

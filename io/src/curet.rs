@@ -12,9 +12,23 @@ fn err(file: &Path, line: usize, message: impl Into<String>) -> ReadError {
     ReadError::format(file, line, message)
 }
 
-/// The non-blank lines of a file with their 1-based numbers.
-fn read_lines(file: &Path) -> Result<Vec<(usize, String)>, ReadError> {
-    let text = std::fs::read_to_string(file).map_err(|e| ReadError::io(file, "read", e))?;
+/// The contents of `file`.
+fn read(file: &Path) -> Result<Vec<u8>, ReadError> {
+    std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))
+}
+
+/// `bytes` as UTF-8, or an error naming the line of the first bad byte.
+pub(crate) fn utf8<'a>(file: &Path, bytes: &'a [u8]) -> Result<&'a str, ReadError> {
+    std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
+        err(file, line, format!("byte {at} is not UTF-8 text"))
+    })
+}
+
+/// The non-blank lines of a file's contents with their 1-based numbers.
+fn lines(file: &Path, bytes: &[u8]) -> Result<Vec<(usize, String)>, ReadError> {
+    let text = utf8(file, bytes)?;
     // A UTF-8 byte-order mark (as some editors write) is not part of the data.
     let lines: Vec<(usize, String)> = text
         .trim_start_matches('\u{feff}')
@@ -95,8 +109,16 @@ pub struct TableRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_table(file: &Path) -> Result<Vec<TableRow>, ReadError> {
+    parse_table(file, &read(file)?)
+}
+
+/// [`read_table`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
+pub fn parse_table(file: &Path, bytes: &[u8]) -> Result<Vec<TableRow>, ReadError> {
     let mut rows = Vec::new();
-    for (line, text) in read_lines(file)? {
+    for (line, text) in lines(file, bytes)? {
         let fields: Vec<&str> = text.split_whitespace().collect();
         if fields.len() != 5 {
             return Err(err(
@@ -176,8 +198,20 @@ pub struct BrdfRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, ReadError> {
+    parse_brdf(file, &read(file)?, measurements)
+}
+
+/// [`read_brdf`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
+pub fn parse_brdf(
+    file: &Path,
+    bytes: &[u8],
+    measurements: usize,
+) -> Result<Vec<BrdfRow>, ReadError> {
     let mut rows: Vec<BrdfRow> = Vec::new();
-    for (line, text) in read_lines(file)? {
+    for (line, text) in lines(file, bytes)? {
         let fields: Vec<&str> = text.split_whitespace().collect();
         if fields.len() != measurements + 1 {
             return Err(err(
@@ -220,8 +254,16 @@ pub struct OrenNayarRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_oren_nayar(file: &Path) -> Result<Vec<OrenNayarRow>, ReadError> {
+    parse_oren_nayar(file, &read(file)?)
+}
+
+/// [`read_oren_nayar`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// [`ReadError`] naming the file, line, column and value.
+pub fn parse_oren_nayar(file: &Path, bytes: &[u8]) -> Result<Vec<OrenNayarRow>, ReadError> {
     let mut rows: Vec<OrenNayarRow> = Vec::new();
-    for (line, text) in read_lines(file)? {
+    for (line, text) in lines(file, bytes)? {
         let fields: Vec<&str> = text.split_whitespace().collect();
         if fields.len() != 4 {
             return Err(err(

@@ -198,6 +198,14 @@ impl Merl {
 /// [`ReadError`] for a file that cannot be read, has other dimensions or length, or a non-finite value.
 pub fn read_merl(file: &Path) -> Result<Merl, ReadError> {
     let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
+    parse_merl(file, &bytes)
+}
+
+/// [`read_merl`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// As [`read_merl`].
+pub fn parse_merl(file: &Path, bytes: &[u8]) -> Result<Merl, ReadError> {
     if bytes.len() < 12 {
         return Err(ReadError::format(
             file,

@@ -1,0 +1,22 @@
+//! Long-format CSV measurements and geometry files: any bytes give a set or
+//! an error naming the file, never a panic; sets become scenes or named
+//! errors.
+#![no_main]
+
+use laminar_fit::Quantity;
+use laminar_io::csv_file::{parse_csv, parse_geometry};
+use laminar_io::AngleUnit;
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    let file = Path::new("fuzz.csv");
+    for unit in [AngleUnit::Radians, AngleUnit::Degrees] {
+        let _ = parse_geometry(file, data, unit);
+        if let Ok(set) = parse_csv(file, data, unit, Quantity::Brdf) {
+            for c in set.channel_names() {
+                let _ = set.scene(c);
+            }
+        }
+    }
+});

@@ -1,0 +1,11 @@
+//! MERL `.binary` files: any bytes give a table or an error naming the
+//! file, never a panic.
+#![no_main]
+
+use laminar_io::merl::parse_merl;
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    let _ = parse_merl(Path::new("fuzz.binary"), data);
+});
