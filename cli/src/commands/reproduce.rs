@@ -11,10 +11,13 @@ use std::time::Instant;
 
 /// Reproduce the paper's experiment on CUReT: Tables II–V and figures.
 ///
-/// Fits exp, gauss, jensen and oren-nayar (the Ragheb–Hancock fits are the a = 0 slices of the
-/// absorptive searches), Tables II–V (Markdown, CSV), fits.csv, summary.md,
-/// Fig. 2 and data-against-model figures (SVG). Figures of an earlier run in
-/// the output directory that this run does not write are removed and listed.
+/// Fits exp, gauss, jensen and oren-nayar (the Ragheb–Hancock fits are the
+/// a = 0 slices of the absorptive searches), then writes Tables II–V
+/// (Markdown, CSV), fits.csv, summary.md, Fig. 2 and data-against-model
+/// figures (SVG) as one set: into a fresh sibling directory that replaces
+/// --out whole, so an interrupted run leaves the earlier set as it was.
+/// Figures of an earlier run that this run does not write are listed as
+/// removed; a directory holding other files is refused.
 #[derive(Args, Debug)]
 pub struct ReproduceArgs {
     #[command(flatten)]
@@ -47,7 +50,7 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let r = reproduce(&fitter, &jobs, &args.out)?;
     bar.finish_and_clear();
     for path in &r.removed {
-        eprintln!("reproduce: removed stale figure {}", path.display());
+        eprintln!("reproduce: removed stale figure {} (earlier run)", path.display());
     }
     eprintln!(
         "reproduce: {} fits of {} jobs, {} files written to {}",
