@@ -109,6 +109,43 @@ pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError
     }
 }
 
+/// Fits every model of `models` to every job, in job-major order (the order
+/// of `fit`'s output). Layered models on jobs that share their geometry go
+/// through one batch search per model ([`Fitter::fit_batch`]); the results
+/// are bit for bit those of fitting each job alone.
+///
+/// # Errors
+/// As [`fit_job`].
+pub fn fit_jobs(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> Result<Vec<Fit>, CliError> {
+    let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
+    let mut by_model = Vec::with_capacity(models.len());
+    for &model in models {
+        by_model.push(if model.correlation().is_some() {
+            fitter.fit_batch(&scenes, model)
+        } else {
+            jobs.iter()
+                .map(|j| fit_job(fitter, j, model))
+                .collect::<Result<Vec<_>, _>>()?
+        });
+    }
+    let mut records = Vec::with_capacity(jobs.len() * models.len());
+    for j in 0..jobs.len() {
+        for fits in &by_model {
+            records.push(fits[j].clone());
+        }
+    }
+    Ok(records)
+}
+
+/// Progress calls of [`fit_jobs`].
+pub fn fit_jobs_shards(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> u64 {
+    let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
+    models
+        .iter()
+        .map(|&m| fitter.batch_shards(&scenes, m))
+        .sum()
+}
+
 /// Checks before any work that `out` can be replaced by a reproduction: it
 /// is missing, or holds only files a reproduction writes, and its parent
 /// accepts new entries.
@@ -147,15 +184,11 @@ fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
 /// [`CliError`] when a fit, a figure or a file write fails.
 pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproduction, CliError> {
     let previous = previous_files(out)?;
-    let mut records = Vec::new();
-    let mut pairs = 0.0;
-    for job in jobs {
-        for model in FITTED {
-            let r = fit_job(fitter, job, model)?;
-            pairs += r.evaluated as f64 * r.measurements as f64;
-            records.push(r);
-        }
-    }
+    let records = fit_jobs(fitter, jobs, &FITTED)?;
+    let pairs = records
+        .iter()
+        .map(|r| r.evaluated as f64 * r.measurements as f64)
+        .sum();
     let staging = sibling(out, "partial");
     std::fs::create_dir_all(&staging)
         .map_err(|e| laminar_io::ReadError::io(&staging, "create", e))?;

@@ -6,7 +6,8 @@ use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::{Axis, Grid};
 use crate::model::Model;
 use crate::scene::Scene;
-use crate::search::{point, search, Path};
+use crate::search::batch::{search_batch, share_geometry};
+use crate::search::{point, search, Method, Path, SearchResult};
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
@@ -299,32 +300,100 @@ impl Fitter {
         }
     }
 
-    fn fit_here(&self, scene: &Scene, model: Model) -> Fit {
+    /// The grid a layered model searches: a = 0 only for Ragheb–Hancock.
+    fn model_grid(&self, model: Model) -> Grid {
+        if model.is_ragheb_hancock() {
+            self.grid.ragheb_hancock()
+        } else {
+            self.grid.clone()
+        }
+    }
+
+    /// The fit record of a layered model's search result.
+    fn layered_fit(&self, scene: &Scene, model: Model, grid: &Grid, r: &SearchResult) -> Fit {
         let estimate =
             |model, params| Estimate::new(scene, model, params).expect("grid values are validated");
+        let layered = |flat| {
+            let (slope, n, a, beta) = point(grid, flat);
+            ModelParams::Layered { slope, beta, n, a }
+        };
+        let best = estimate(model, layered(r.best));
+        let rh = model
+            .ragheb_hancock()
+            .zip(r.rh_best)
+            .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
+        Fit {
+            search_rms: r.best_rms,
+            ..self.record(scene, model, best, rh, grid.size())
+        }
+    }
+
+    /// Progress calls of [`Fitter::fit_batch`] on `scenes` with `model`.
+    pub fn batch_shards(&self, scenes: &[Scene], model: Model) -> u64 {
+        if self.batches(scenes, model) {
+            self.shards(model)
+        } else {
+            scenes.len() as u64 * self.shards(model)
+        }
+    }
+
+    /// True when [`Fitter::fit_batch`] runs one batch search.
+    fn batches(&self, scenes: &[Scene], model: Model) -> bool {
+        model.correlation().is_some()
+            && self.path.method == Method::Envelope
+            && share_geometry(scenes)
+    }
+
+    /// Fits `model` to every scene of `scenes`. When the scenes share their
+    /// geometry ([`share_geometry`]), the model is layered and the path is
+    /// the envelope method, one batch search does the model-side work once
+    /// for all of them ([`crate::search::batch`]); otherwise each scene is
+    /// fitted alone. Either way every fit is bit for bit [`Fitter::fit`]'s.
+    /// Progress: [`Fitter::shards`] calls for the whole batch, or per scene
+    /// when fitted alone. Memory grows with the number of scenes: pass large
+    /// collections (pixels of a texture) in blocks.
+    ///
+    /// ```
+    /// use laminar_core::{Correlation, Params};
+    /// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+    /// let scenes: Vec<_> = (0..3)
+    ///     .map(|seed| synthetic::scene(Correlation::Exponential, &Params::new(1.48, 0.39, 1.44, 0.2).unwrap(), 0.01, seed))
+    ///     .collect();
+    /// let grid = Grid { slope: Axis::stepped(1.32, 0.08, 5), a: Axis::stepped(0.0, 0.1, 5), ..Grid::paper() };
+    /// let fitter = Fitter::new(grid)?;
+    /// let batch = fitter.fit_batch(&scenes, Model::Exp);
+    /// for (scene, fit) in scenes.iter().zip(&batch) {
+    ///     assert_eq!(fit, &fitter.fit(scene, Model::Exp));
+    /// }
+    /// # Ok::<(), laminar_fit::FitError>(())
+    /// ```
+    pub fn fit_batch(&self, scenes: &[Scene], model: Model) -> Vec<Fit> {
+        match model.correlation() {
+            Some(corr) if self.batches(scenes, model) => {
+                let grid = self.model_grid(model);
+                let tick = || self.tick();
+                let results = self.run(|| {
+                    search_batch(scenes, &grid, corr, self.path.arith, &tick)
+                        .expect("the grid was validated by Fitter::new")
+                });
+                scenes
+                    .iter()
+                    .zip(&results)
+                    .map(|(scene, r)| self.layered_fit(scene, model, &grid, r))
+                    .collect()
+            }
+            _ => scenes.iter().map(|s| self.fit(s, model)).collect(),
+        }
+    }
+
+    fn fit_here(&self, scene: &Scene, model: Model) -> Fit {
         let tick = || self.tick();
         match model.correlation() {
             Some(corr) => {
-                let grid = if model.is_ragheb_hancock() {
-                    self.grid.ragheb_hancock()
-                } else {
-                    self.grid.clone()
-                };
+                let grid = self.model_grid(model);
                 let r = search(scene, &grid, corr, self.path, &tick)
                     .expect("the grid was validated by Fitter::new");
-                let layered = |flat| {
-                    let (slope, n, a, beta) = point(&grid, flat);
-                    ModelParams::Layered { slope, beta, n, a }
-                };
-                let best = estimate(model, layered(r.best));
-                let rh = model
-                    .ragheb_hancock()
-                    .zip(r.rh_best)
-                    .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
-                Fit {
-                    search_rms: r.best_rms,
-                    ..self.record(scene, model, best, rh, grid.size())
-                }
+                self.layered_fit(scene, model, &grid, &r)
             }
             None if model == Model::Jensen => self.baseline(
                 scene,

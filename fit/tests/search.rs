@@ -4,7 +4,9 @@
 
 use laminar_core::{Correlation, Params};
 use laminar_fit::search::{error_surface, point, search, Arith, Method, Path};
-use laminar_fit::{synthetic, Axis, Fitter, Grid, GridError, Model, Scene};
+use laminar_fit::{
+    synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Scene,
+};
 use laminar_io::curet::CuretDir;
 use std::path::PathBuf;
 
@@ -322,4 +324,82 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         e.to_string(),
         "cannot start 0 worker threads: at least one thread is needed"
     );
+}
+
+/// Scenes on one geometry: different truths and noise.
+fn batch_scenes(corr: Correlation) -> Vec<Scene> {
+    [
+        (1.48, 0.39, 1.44, 0.2),
+        (0.6, 0.7, 1.3, 0.0),
+        (2.5, 0.1, 1.5, 0.9),
+    ]
+    .iter()
+    .enumerate()
+    .flat_map(|(i, &(s, b, n, a))| {
+        let p = Params::new(s, b, n, a).unwrap();
+        [0.0, 0.01, 0.05].map(|noise| synthetic::scene(corr, &p, noise, 7 + i as u64))
+    })
+    .collect()
+}
+
+/// The batch search shares the model-side work and gives, bit for bit, the
+/// fit of each scene alone: every arithmetic, layered model and thread count.
+#[test]
+fn batch_fits_equal_single_fits_bit_for_bit() {
+    let grid = test_grid();
+    for corr in [Correlation::Exponential, Correlation::Gaussian] {
+        let scenes = batch_scenes(corr);
+        for arith in [Arith::F32x8, Arith::F32, Arith::F64] {
+            let path = Path::new(Method::Envelope, arith);
+            for threads in [1, 3] {
+                let fitter = Fitter::new(grid.clone())
+                    .unwrap()
+                    .path(path)
+                    .threads(threads)
+                    .unwrap();
+                for model in [Model::Exp, Model::Gauss, Model::RhExp] {
+                    let batch = fitter.fit_batch(&scenes, model);
+                    assert_eq!(batch.len(), scenes.len());
+                    for (scene, fit) in scenes.iter().zip(&batch) {
+                        assert_eq!(fit, &fitter.fit(scene, model), "{path} {model} {threads}");
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Scenes that do not share their geometry, baselines and other methods are
+/// fitted one by one by `fit_batch`, with the same results.
+#[test]
+fn batch_falls_back_to_single_fits() {
+    let grid = small_grid();
+    let mut scenes = batch_scenes(Correlation::Exponential);
+    assert!(laminar_fit::search::batch::share_geometry(&scenes));
+    // A scene on the first 60 of the geometries only.
+    let angles: Vec<MeasurementAngles> = synthetic::geometries()[..60]
+        .iter()
+        .map(|a| MeasurementAngles::Paper {
+            theta_i: a.theta_i(),
+            theta_s: a.theta_s(),
+            phi_s: a.phi_s(),
+        })
+        .collect();
+    let values = scenes[1].data()[..60].to_vec();
+    let fewer = MeasurementSet::new("fewer", angles, laminar_fit::Quantity::Radiance)
+        .and_then(|s| s.with_channel("v", values, None))
+        .and_then(|s| s.scene("v"))
+        .unwrap();
+    scenes.push(fewer);
+    assert!(!laminar_fit::search::batch::share_geometry(&scenes));
+    let fitter = Fitter::new(grid).unwrap();
+    for model in [Model::Exp, Model::Jensen] {
+        let batch = fitter.fit_batch(&scenes, model);
+        for (scene, fit) in scenes.iter().zip(&batch) {
+            assert_eq!(fit, &fitter.fit(scene, model));
+        }
+    }
+    let onepass = fitter.path(Path::new(Method::OnePass, Arith::F32x8));
+    let batch = onepass.fit_batch(&scenes[..2], Model::Gauss);
+    assert_eq!(batch[1], onepass.fit(&scenes[1], Model::Gauss));
 }

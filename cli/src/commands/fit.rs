@@ -5,7 +5,7 @@ use super::options::{
     GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, ValueEnum};
-use laminar_cli::reproduce::fit_job;
+use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
 use laminar_cli::CliError;
 use laminar_fit::{synthetic, Model};
 use laminar_io::fits;
@@ -73,19 +73,14 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
     let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     let models = args.models.clone().unwrap_or_else(|| Model::ALL.to_vec());
-    let total: u64 = jobs.len() as u64 * models.iter().map(|&m| fitter.shards(m)).sum::<u64>();
-    let bar = progress(total, "fit");
+    let bar = progress(fit_jobs_shards(&fitter, &jobs, &models), "fit");
     let tick = bar.clone();
     let fitter = fitter.on_progress(move || tick.inc(1));
-    let mut records = Vec::new();
-    let mut pairs = 0.0;
-    for job in &jobs {
-        for &model in &models {
-            let r = fit_job(&fitter, job, model)?;
-            pairs += r.evaluated as f64 * r.measurements as f64;
-            records.push(r);
-        }
-    }
+    let records = fit_jobs(&fitter, &jobs, &models)?;
+    let pairs: f64 = records
+        .iter()
+        .map(|r| r.evaluated as f64 * r.measurements as f64)
+        .sum();
     bar.finish_and_clear();
     let text = match args.format {
         Format::Csv => fits::csv(&records),

@@ -4,7 +4,7 @@ use super::options::{
     fitter, progress, report_time, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
-use laminar_cli::reproduce::{prepare_out_dir, reproduce, FITTED};
+use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
 use laminar_cli::CliError;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -43,14 +43,17 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
             "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),
         )
     })?;
-    let total = jobs.len() as u64 * FITTED.iter().map(|&m| fitter.shards(m)).sum::<u64>();
+    let total = fit_jobs_shards(&fitter, &jobs, &FITTED);
     let bar = progress(total, "reproduce");
     let tick = bar.clone();
     let fitter = fitter.on_progress(move || tick.inc(1));
     let r = reproduce(&fitter, &jobs, &args.out)?;
     bar.finish_and_clear();
     for path in &r.removed {
-        eprintln!("reproduce: removed stale figure {} (earlier run)", path.display());
+        eprintln!(
+            "reproduce: removed stale figure {} (earlier run)",
+            path.display()
+        );
     }
     eprintln!(
         "reproduce: {} fits of {} jobs, {} files written to {}",

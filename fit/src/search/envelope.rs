@@ -41,17 +41,24 @@ use laminar_core::{mix, Lane};
 /// Reusable per-shard buffers.
 #[derive(Default)]
 pub struct Scratch {
-    u: Vec<f64>,
+    pub(super) u: Vec<f64>,
     /// The Pareto front as `(S_k, U_k)`, by decreasing `S` and increasing `U`.
     front: Vec<(f64, f64)>,
     /// The upper hull of the front's lines, as `(S_k, U_k)`.
-    hull: Vec<(f64, f64)>,
+    pub(super) hull: Vec<(f64, f64)>,
     /// Total front size over the sweeps (for the report).
     pub front_total: usize,
     /// Number of sweeps whose β loop ran.
     pub sweeps: usize,
     /// Number of sweeps skipped by the lower bound.
     pub pruned: usize,
+}
+
+impl Scratch {
+    /// The size of the Pareto front built last.
+    pub(super) fn front_len(&self) -> usize {
+        self.front.len()
+    }
 }
 
 /// Calls `visit(i_b, Σ (D − P)²)` for every β of `betas`, in order, for one
@@ -65,7 +72,7 @@ pub fn sweep<L: Lane>(
     betas: &[f64],
     threshold: f64,
     scratch: &mut Scratch,
-    mut visit: impl FnMut(usize, f64),
+    visit: impl FnMut(usize, f64),
 ) {
     let k = packed.k;
     scratch.u.resize(k, 0.0);
@@ -76,6 +83,14 @@ pub fn sweep<L: Lane>(
         scratch.pruned += 1;
         return;
     }
+    build_hull(surface, scratch);
+    sweep_hull(&scratch.hull, surface, &sums, betas, visit);
+}
+
+/// The Pareto front of `(S_k, U_k)` (`U` already widened into `scratch.u`)
+/// and the upper hull of its lines, into `scratch`; counts one sweep.
+pub(super) fn build_hull(surface: &SurfaceSums, scratch: &mut Scratch) {
+    let u = &scratch.u;
     scratch.front.clear();
     let mut top = f64::NEG_INFINITY;
     for &i in &surface.order {
@@ -92,7 +107,16 @@ pub fn sweep<L: Lane>(
     scratch.front_total += scratch.front.len();
     scratch.sweeps += 1;
     upper_hull(&scratch.front, &mut scratch.hull);
-    let hull = &scratch.hull;
+}
+
+/// Calls `visit(i_b, Σ (D − P)²)` for every β, walking `M(β)` along `hull`.
+pub(super) fn sweep_hull(
+    hull: &[(f64, f64)],
+    surface: &SurfaceSums,
+    sums: &DeltaSums,
+    betas: &[f64],
+    mut visit: impl FnMut(usize, f64),
+) {
     let mut p = 0;
     for (i_b, &beta) in betas.iter().enumerate() {
         let value = |i: usize| mix(beta, hull[i].1, hull[i].0);
@@ -128,7 +152,7 @@ pub fn sweep<L: Lane>(
 /// The bound returned is `R − 10⁻⁸ Σ D²`, so every computed error of the
 /// triple is at least the bound: a triple is skipped only if none of its
 /// values could reach the threshold.
-fn lower_bound(surface: &SurfaceSums, sums: &DeltaSums) -> f64 {
+pub(super) fn lower_bound(surface: &SurfaceSums, sums: &DeltaSums) -> f64 {
     let (ss, del_del) = (surface.ss, sums.del_del);
     if ss <= 0.0 || del_del <= 0.0 {
         return 0.0;

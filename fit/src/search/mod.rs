@@ -16,6 +16,7 @@
 //! (scene, a); the normalised surface term once per σ/T; the subsurface base
 //! once per (σ/T, n); the normalised subsurface term once per (σ/T, n, a).
 
+pub mod batch;
 pub mod direct;
 pub mod envelope;
 pub mod one_pass;
@@ -203,7 +204,7 @@ impl<L: Lane> Prepared<L> {
 
 /// What the envelope method did in a shard (zeros for the other methods).
 #[derive(Debug, Clone, Copy, Default)]
-struct SweepStats {
+pub(crate) struct SweepStats {
     /// Total Pareto-front size over the sweeps that ran.
     front_total: usize,
     /// Sweeps whose β loop ran.
@@ -297,10 +298,49 @@ fn better(current: Candidate, flat: usize, rms: f64) -> Candidate {
 }
 
 /// What one σ/T shard found.
+#[derive(Default)]
 struct ShardBest {
     best: Candidate,
     rh: Candidate,
     stats: SweepStats,
+}
+
+impl ShardBest {
+    /// Records the objective `e` of grid point `flat` (a index `i_a`) and
+    /// offers an improvement to every shard through `shared`.
+    fn visit(&mut self, shared: &SharedBest, flat: usize, i_a: usize, e: f64) {
+        if self.best.is_none_or(|(_, b)| e < b) {
+            self.best = Some((flat, e));
+            SharedBest::offer(&shared.best, e);
+        }
+        if shared.zero_a == Some(i_a) && self.rh.is_none_or(|(_, b)| e < b) {
+            self.rh = Some((flat, e));
+            SharedBest::offer(&shared.rh, e);
+        }
+    }
+}
+
+/// The search result of the shards of one scene with `k` measurements.
+fn combine(shards: impl IntoIterator<Item = ShardBest>, k: usize) -> SearchResult {
+    let (mut best, mut rh, mut stats) = (None, None, SweepStats::default());
+    for s in shards {
+        if let Some((f, v)) = s.best {
+            best = better(best, f, v);
+        }
+        if let Some((f, v)) = s.rh {
+            rh = better(rh, f, v);
+        }
+        stats = stats.add(s.stats);
+    }
+    let (best, best_sum) = best.unwrap_or((0, f64::INFINITY));
+    SearchResult {
+        best,
+        best_rms: rms_of_sum(best_sum, k),
+        rh_best: rh.map(|(flat, e)| (flat, rms_of_sum(e, k))),
+        mean_front: (stats.sweeps > 0).then(|| stats.front_total as f64 / stats.sweeps as f64),
+        pruned: (stats.sweeps + stats.pruned > 0)
+            .then(|| stats.pruned as f64 / (stats.sweeps + stats.pruned) as f64),
+    }
 }
 
 fn search_with<L: Lane + Send + Sync>(
@@ -316,41 +356,17 @@ fn search_with<L: Lane + Send + Sync>(
     let shards: Vec<ShardBest> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
-            let (mut best, mut rh): (Candidate, Candidate) = (None, None);
+            let mut found = ShardBest::default();
             let threshold = |i_a| shared.threshold(i_a);
             let stats = prepared.shard(method, grid, corr, i_s, threshold, |flat, i_a, e| {
-                if best.is_none_or(|(_, b)| e < b) {
-                    best = Some((flat, e));
-                    SharedBest::offer(&shared.best, e);
-                }
-                if zero_a == Some(i_a) && rh.is_none_or(|(_, b)| e < b) {
-                    rh = Some((flat, e));
-                    SharedBest::offer(&shared.rh, e);
-                }
+                found.visit(&shared, flat, i_a, e)
             });
+            found.stats = stats;
             progress();
-            ShardBest { best, rh, stats }
+            found
         })
         .collect();
-    let (mut best, mut rh, mut stats) = (None, None, SweepStats::default());
-    for s in shards {
-        if let Some((f, v)) = s.best {
-            best = better(best, f, v);
-        }
-        if let Some((f, v)) = s.rh {
-            rh = better(rh, f, v);
-        }
-        stats = stats.add(s.stats);
-    }
-    let (best, best_sum) = best.unwrap_or((0, f64::INFINITY));
-    SearchResult {
-        best,
-        best_rms: rms_of_sum(best_sum, scene.len()),
-        rh_best: rh.map(|(flat, e)| (flat, rms_of_sum(e, scene.len()))),
-        mean_front: (stats.sweeps > 0).then(|| stats.front_total as f64 / stats.sweeps as f64),
-        pruned: (stats.sweeps + stats.pruned > 0)
-            .then(|| stats.pruned as f64 / (stats.sweeps + stats.pruned) as f64),
-    }
+    combine(shards, scene.len())
 }
 
 /// Runs the exhaustive search on `path` (after [`Grid::validate`]);

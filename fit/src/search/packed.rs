@@ -34,33 +34,54 @@ pub struct Packed<L> {
 impl<L: Lane> Packed<L> {
     /// Packs `scene`.
     pub fn new(scene: &Scene) -> Self {
-        let streams = WIDTH / L::LANES;
         let per_stream = scene.len().div_ceil(WIDTH);
         let last = scene.len().saturating_sub(1);
-        let (mut geom, mut data, mut valid) = (Vec::new(), Vec::new(), Vec::new());
-        for s in 0..streams {
+        let mut geom = Vec::new();
+        for s in 0..WIDTH / L::LANES {
             for c in 0..per_stream {
                 let k = move |lane: usize| c * WIDTH + s * L::LANES + lane;
                 geom.push(Geometry::from_lanes(|lane| scene.angles[k(lane).min(last)]));
-                data.push(L::from_f64_lanes(|lane| {
-                    scene.data.get(k(lane)).copied().unwrap_or(0.0)
-                }));
-                valid.push(L::from_f64_lanes(|lane| {
-                    if k(lane) < scene.len() {
-                        1.0
+            }
+        }
+        let k = scene.len();
+        Self {
+            geom,
+            data: Self::pack(k, |i| scene.data[i]),
+            valid: Self::pack(k, |_| 1.0),
+            per_stream,
+            k,
+        }
+    }
+
+    /// The packing of `scene`, whose kept geometry is this one's: its data,
+    /// this packing's geometry (bit for bit what [`Packed::new`] would give).
+    pub fn with_data(&self, scene: &Scene) -> Self {
+        Self {
+            geom: self.geom.clone(),
+            data: Self::pack(self.k, |i| scene.data[i]),
+            valid: self.valid.clone(),
+            per_stream: self.per_stream,
+            k: self.k,
+        }
+    }
+
+    /// `value(k)` for the `k` measurements in packing order, 0 in padding lanes.
+    fn pack(k: usize, value: impl Fn(usize) -> f64) -> Vec<L> {
+        let per_stream = k.div_ceil(WIDTH);
+        let mut out = Vec::with_capacity(per_stream * WIDTH / L::LANES);
+        for s in 0..WIDTH / L::LANES {
+            for c in 0..per_stream {
+                out.push(L::from_f64_lanes(|lane| {
+                    let i = c * WIDTH + s * L::LANES + lane;
+                    if i < k {
+                        value(i)
                     } else {
                         0.0
                     }
                 }));
             }
         }
-        Self {
-            geom,
-            data,
-            valid,
-            per_stream,
-            k: scene.len(),
-        }
+        out
     }
 
     /// Number of streams (`WIDTH / L::LANES`).

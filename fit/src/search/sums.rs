@@ -49,7 +49,28 @@ impl SurfaceSums {
     }
 }
 
+impl SurfaceSums {
+    /// The same surface term with the data of `packed` (a scene on the same
+    /// geometry): `S`, its order and `Σ S²` are shared, `D`, `Σ S D` and
+    /// `Σ D²` computed as [`SurfaceSums::new`] does, so the bits are equal.
+    pub fn with_data<L: Lane>(&self, packed: &Packed<L>) -> Self {
+        let mut d = vec![0.0; packed.k];
+        packed.widen(&packed.data, &mut d);
+        let sd = self.s.iter().zip(&d).map(|(a, b)| a * b).sum();
+        let dd = d.iter().map(|v| v * v).sum();
+        Self {
+            s: self.s.clone(),
+            d,
+            order: self.order.clone(),
+            ss: self.ss,
+            sd,
+            dd,
+        }
+    }
+}
+
 /// The per-(σ/T, n, a) sums over `Δ`.
+#[derive(Clone, Copy)]
 pub struct DeltaSums {
     /// `Σ Δ²`.
     pub del_del: f64,
@@ -74,6 +95,17 @@ impl DeltaSums {
             s_del,
             d_del,
         }
+    }
+
+    /// The sums for the data of `surface` (a scene on the same geometry) when
+    /// `Σ Δ²` and `Σ S Δ` are this one's: `Σ D Δ` in measurement order, as
+    /// [`DeltaSums::new`] sums it, so the bits are equal.
+    pub fn with_data(&self, surface: &SurfaceSums, delta: &[f64]) -> Self {
+        let mut d_del = 0.0;
+        for (d, del) in surface.d.iter().zip(delta) {
+            d_del += d * del;
+        }
+        Self { d_del, ..*self }
     }
 
     /// `(Σ X D, Σ X²)` of the mix `X = S + β Δ`.
