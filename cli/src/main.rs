@@ -20,6 +20,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Fit(commands::fit::FitArgs),
+    FitBatch(commands::fit_batch::FitBatchArgs),
     Predict(commands::predict::PredictArgs),
     Export(commands::export::ExportArgs),
     Eval(commands::eval::EvalArgs),
@@ -39,6 +40,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Command::Fit(args) => commands::fit::run(args).map(|_| true),
+        Command::FitBatch(args) => commands::fit_batch::run(args).map(|_| true),
         Command::Predict(args) => commands::predict::run(args).map(|_| true),
         Command::Export(args) => commands::export::run(args).map(|_| true),
         Command::Eval(args) => commands::eval::run(args).map(|_| true),

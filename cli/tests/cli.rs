@@ -822,3 +822,169 @@ fn hostile_inputs_are_refused_not_panicked() {
         );
     }
 }
+
+/// A version-1.0 `.npy` file of little-endian f32 or f64 values, written by
+/// hand from the format's definition.
+fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
+    let mut header =
+        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend(payload);
+    out
+}
+
+/// `fit-batch` on CSV and `.npy` (f64, f32) values gives, per row, the
+/// columns `fit` gives for that row alone (sample = row index).
+#[test]
+fn fit_batch_equals_fit_per_row() {
+    let d = tempfile::tempdir().unwrap();
+    let geometry = geometry_csv(d.path());
+    let radiance = ok(&[
+        "eval",
+        "--model",
+        "exp",
+        "--slope",
+        "1.48",
+        "--beta",
+        "0.4",
+        "--n",
+        "1.44",
+        "--a",
+        "0.2",
+        "--geometry",
+        s(&geometry),
+    ]);
+    let total: Vec<f64> = radiance
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(9).unwrap().parse().unwrap())
+        .collect();
+    let rows: Vec<Vec<f64>> = [1.0, 0.5, 2.0]
+        .iter()
+        .enumerate()
+        .map(|(i, scale)| {
+            total
+                .iter()
+                .enumerate()
+                .map(|(k, v)| scale * v * (1.0 + 0.02 * ((k * (i + 3)) % 7) as f64))
+                .collect()
+        })
+        .collect();
+    let csv_values: String = rows
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|v| format!("{v:e}"))
+                .collect::<Vec<_>>()
+                .join(",")
+                + "\n"
+        })
+        .collect();
+    let values_csv = write(d.path(), "values.csv", &csv_values);
+    let f64_bytes: Vec<u8> = rows
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let values_npy = d.path().join("values.npy");
+    std::fs::write(&values_npy, npy("<f8", 3, total.len(), f64_bytes)).unwrap();
+    let grid = ["--slope", "1.32:1.64:5", "--a", "0:0.4:5"];
+    let tail = |line: &str| line.splitn(4, ',').nth(3).unwrap().to_string();
+    for values in [&values_csv, &values_npy] {
+        let out = d.path().join("batch.csv");
+        ok(&[
+            &[
+                "fit-batch",
+                "--geometry",
+                s(&geometry),
+                "--values",
+                s(values),
+            ][..],
+            &[
+                "--quantity",
+                "radiance",
+                "--models",
+                "exp,jensen",
+                "--out",
+                s(&out),
+            ],
+            &grid,
+        ]
+        .concat());
+        let batch = std::fs::read_to_string(&out).unwrap();
+        let lines: Vec<&str> = batch.lines().skip(1).collect();
+        assert_eq!(lines.len(), 6, "{batch}");
+        for (i, row) in rows.iter().enumerate() {
+            assert!(
+                lines[2 * i].starts_with(&format!("{i},value,exp,")),
+                "{batch}"
+            );
+            let mut one = String::from("theta_i,theta_s,phi_s,value\n");
+            for (line, v) in std::fs::read_to_string(&geometry)
+                .unwrap()
+                .lines()
+                .skip(1)
+                .zip(row)
+            {
+                one += &format!("{line},{v:e}\n");
+            }
+            let single = write(d.path(), "one.csv", &one);
+            let alone = ok(&[
+                &[
+                    "fit",
+                    "--measurements",
+                    s(&single),
+                    "--quantity",
+                    "radiance",
+                ][..],
+                &["--models", "exp,jensen"],
+                &grid,
+            ]
+            .concat());
+            let alone: Vec<&str> = alone.lines().skip(1).collect();
+            assert_eq!(tail(lines[2 * i]), tail(alone[0]), "row {i} exp");
+            assert_eq!(tail(lines[2 * i + 1]), tail(alone[1]), "row {i} jensen");
+        }
+    }
+    // f32 values read as f32, and shape mismatches are named.
+    let f32_bytes: Vec<u8> = rows
+        .iter()
+        .flatten()
+        .flat_map(|v| (*v as f32).to_le_bytes())
+        .collect();
+    let npy32 = d.path().join("v32.npy");
+    std::fs::write(&npy32, npy("<f4", 3, total.len(), f32_bytes)).unwrap();
+    let out = d.path().join("b32.json");
+    ok(&[
+        &[
+            "fit-batch",
+            "--geometry",
+            s(&geometry),
+            "--values",
+            s(&npy32),
+        ][..],
+        &["--quantity", "radiance", "--out", s(&out)],
+        &grid,
+    ]
+    .concat());
+    assert_eq!(json(&out)["fits"].as_array().unwrap().len(), 3);
+    let short = write(d.path(), "short.csv", "0.1,0.2\n");
+    fails(
+        &[
+            "fit-batch",
+            "--geometry",
+            s(&geometry),
+            "--values",
+            s(&short),
+            "--out",
+            s(&out),
+        ],
+        &["short.csv has 2 values per set", "200 geometries"],
+    );
+}

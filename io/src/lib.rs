@@ -10,12 +10,14 @@
 //! * [`csv_file`]: long-format CSV (one row per measurement, columns by name).
 //! * [`merl`]: MERL isotropic `.binary` files, read and written.
 //! * [`fits`]: fits as CSV, Markdown and the JSON fitted-model file, read back.
+//! * [`values`]: N × K arrays of values (`.npy`, CSV) for batch fits.
 
 pub mod csv_file;
 pub mod curet;
 pub mod error;
 pub mod fits;
 pub mod merl;
+pub mod values;
 
 pub use csv_file::{read_csv, read_geometry, AngleUnit};
 pub use error::ReadError;

@@ -3,6 +3,7 @@
 pub mod eval;
 pub mod export;
 pub mod fit;
+pub mod fit_batch;
 pub mod options;
 pub mod parity;
 pub mod predict;
