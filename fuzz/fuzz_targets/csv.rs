@@ -5,12 +5,16 @@
 
 use laminar_fit::Quantity;
 use laminar_io::csv_file::{parse_csv, parse_geometry};
+use laminar_io::values::parse_csv_values;
 use laminar_io::AngleUnit;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 
 fuzz_target!(|data: &[u8]| {
     let file = Path::new("fuzz.csv");
+    if let Ok(v) = parse_csv_values(file, data) {
+        assert_eq!(v.data.len(), v.rows * v.cols);
+    }
     for unit in [AngleUnit::Radians, AngleUnit::Degrees] {
         let _ = parse_geometry(file, data, unit);
         if let Ok(set) = parse_csv(file, data, unit, Quantity::Brdf) {
