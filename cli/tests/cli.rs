@@ -283,9 +283,9 @@ fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
-/// Noise-free radiance from `eval` (eq. 8, β = 0.4) at 200 geometries,
-/// fitted with `fit` on `beta` (the other axes: the paper's).
-fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
+/// `laminar eval` of the exp model at σ/T 1.48, β 0.4, n 1.44, a 0.2 on the
+/// 200 geometries of [`geometry_csv`]: the geometry file and the output CSV.
+fn eval_truth(dir: &Path) -> (PathBuf, String) {
     let geometry = geometry_csv(dir);
     let radiance = ok(&[
         "eval",
@@ -302,6 +302,13 @@ fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
         "--geometry",
         s(&geometry),
     ]);
+    (geometry, radiance)
+}
+
+/// Noise-free radiance from `eval` (eq. 8, β = 0.4) at 200 geometries,
+/// fitted with `fit` on `beta` (the other axes: the paper's).
+fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let (geometry, radiance) = eval_truth(dir);
     let data = write(dir, "made.csv", &radiance);
     let fits = dir.join("fits.json");
     ok(&[
@@ -844,22 +851,7 @@ fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
 #[test]
 fn fit_batch_equals_fit_per_row() {
     let d = tempfile::tempdir().unwrap();
-    let geometry = geometry_csv(d.path());
-    let radiance = ok(&[
-        "eval",
-        "--model",
-        "exp",
-        "--slope",
-        "1.48",
-        "--beta",
-        "0.4",
-        "--n",
-        "1.44",
-        "--a",
-        "0.2",
-        "--geometry",
-        s(&geometry),
-    ]);
+    let (geometry, radiance) = eval_truth(d.path());
     let total: Vec<f64> = radiance
         .lines()
         .skip(1)

@@ -3,7 +3,7 @@
 //! SIMD/scalar parity, and (with `CURET_DIR`) the paper's 13 samples.
 
 use laminar_core::{Correlation, Params};
-use laminar_fit::search::{error_surface, point, search, Arith, Method, Path};
+use laminar_fit::search::{error_surface, point, search, Arith, Method, Path, Twins};
 use laminar_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Scene,
 };
@@ -189,14 +189,8 @@ fn simd_grid_equals_scalar_twin_bit_for_bit() {
             } else {
                 hoisted.clone()
             };
-            let (simd_path, scalar_path) = Path::new(method, Arith::F32x8).twins();
-            let simd = error_surface(&scene, &grid, corr, simd_path).unwrap();
-            let scalar = error_surface(&scene, &grid, corr, scalar_path).unwrap();
-            let same = simd
-                .iter()
-                .zip(&scalar)
-                .filter(|(a, b)| a.to_bits() == b.to_bits())
-                .count();
+            let twins = Twins::new(&scene, &grid, corr, method).unwrap();
+            let (same, simd) = (twins.identical(), twins.simd);
             assert_eq!(
                 same,
                 simd.len(),
@@ -258,14 +252,9 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
                 "absorptive fit worse than its a = 0 slice"
             );
             for method in [Method::OnePass, Method::Envelope] {
-                let (simd_path, scalar_path) = Path::new(method, Arith::F32x8).twins();
-                let simd = error_surface(&scene, &grid, corr, simd_path).unwrap();
-                let scalar = error_surface(&scene, &grid, corr, scalar_path).unwrap();
-                let same = simd
-                    .iter()
-                    .zip(&scalar)
-                    .filter(|(a, b)| a.to_bits() == b.to_bits())
-                    .count();
+                let simd_path = Path::new(method, Arith::F32x8);
+                let twins = Twins::new(&scene, &grid, corr, method).unwrap();
+                let (same, simd) = (twins.identical(), twins.simd);
                 assert_eq!(
                     same,
                     simd.len(),

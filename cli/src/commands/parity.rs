@@ -6,7 +6,7 @@ use super::options::{
 };
 use clap::Args;
 use laminar_cli::CliError;
-use laminar_fit::search::error_surface;
+use laminar_fit::search::Twins;
 use laminar_fit::Model;
 use std::time::Instant;
 
@@ -62,13 +62,8 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
                 grid.clone()
             };
             let (simd_path, scalar_path) = args.path.path.twins();
-            let simd = error_surface(&job.scene, &g, corr, simd_path)?;
-            let scalar = error_surface(&job.scene, &g, corr, scalar_path)?;
-            let equal = simd
-                .iter()
-                .zip(&scalar)
-                .filter(|(a, b)| a.to_bits() == b.to_bits())
-                .count();
+            let twins = Twins::new(&job.scene, &g, corr, args.path.path.method)?;
+            let (equal, simd) = (twins.identical(), twins.simd);
             println!(
                 "sample {} channel {} model {} ({simd_path} vs {scalar_path}): {equal} of {} grid values identical",
                 job.scene.sample(),

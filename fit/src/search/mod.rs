@@ -435,6 +435,44 @@ pub fn error_surface(
     }
 }
 
+/// The error surfaces of a method's `f32x8` path and its scalar `f32` twin
+/// ([`Path::twins`]), which must agree bit for bit (the parity check).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Twins {
+    /// Every grid value on the `f32x8` path, in flattened order.
+    pub simd: Vec<f64>,
+    /// Every grid value on the scalar `f32` twin.
+    pub scalar: Vec<f64>,
+}
+
+impl Twins {
+    /// The error surfaces of `method`'s twins on `scene`.
+    ///
+    /// # Errors
+    /// As [`error_surface`].
+    pub fn new(
+        scene: &Scene,
+        grid: &Grid,
+        corr: Correlation,
+        method: Method,
+    ) -> Result<Self, GridError> {
+        let (simd, scalar) = Path::new(method, Arith::F32x8).twins();
+        Ok(Self {
+            simd: error_surface(scene, grid, corr, simd)?,
+            scalar: error_surface(scene, grid, corr, scalar)?,
+        })
+    }
+
+    /// How many grid values are bitwise identical on both paths.
+    pub fn identical(&self) -> usize {
+        self.simd
+            .iter()
+            .zip(&self.scalar)
+            .filter(|(a, b)| a.to_bits() == b.to_bits())
+            .count()
+    }
+}
+
 /// The grid point of a flattened index as (σ/T, n, a, β).
 pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
     let b = flat % grid.beta.len();
