@@ -1,19 +1,16 @@
 //! Many scenes on one geometry (every sample of a database, every channel,
-//! every pixel of a texture): the envelope search with the model-side work
-//! done once per (σ/T, n, a) and shared by every scene — the terms `S` and
-//! `U`, `Σ S²`, `Σ Δ²`, `Σ S Δ`, the Pareto front of `(S_k, U_k)` and the
-//! upper hull of its lines. Per scene remain `Σ S D`, `Σ D²` (per σ/T),
-//! `Σ D Δ`, the lower bound and the β sweep of the triples it does not skip.
+//! every pixel of a texture): the envelope search ([`super::envelope`]) with
+//! the model-side work done once per σ/T shard and shared by every scene.
 //!
 //! Every value a scene sees is computed by the same operations, in the same
-//! order, as in the one-scene envelope search ([`super::envelope`]), so each
-//! result is bit for bit the one of searching that scene alone, whatever the
-//! thread count (each scene keeps its own shared best for the skipping).
+//! order, as in the one-scene envelope search (both run
+//! [`envelope::shard`]), so each result is bit for bit the one of searching
+//! that scene alone, whatever the thread count (each scene keeps its own
+//! shared best for the skipping).
 
-use super::envelope::{build_hull, lower_bound, sweep_hull, Scratch};
-use super::packed::{Packed, Tables};
-use super::sums::{DeltaSums, SurfaceSums};
-use super::{combine, Arith, SearchResult, ShardBest, SharedBest};
+use super::envelope::{self, SceneData};
+use super::packed::Tables;
+use super::{combine, Arith, SearchResult, ShardBest, SharedBest, SweepStats};
 use crate::error::GridError;
 use crate::grid::Grid;
 use crate::scene::Scene;
@@ -67,46 +64,35 @@ fn run<L: Lane + Send + Sync>(
     progress: &(dyn Fn() + Sync),
 ) -> Vec<SearchResult> {
     let tables = Tables::<L>::new(&scenes[0], grid);
-    let packs: Vec<Packed<L>> = scenes.iter().map(|s| tables.packed.with_data(s)).collect();
+    let sines = envelope::sines(&tables.packed);
+    let model = envelope::Model {
+        tables: &tables,
+        sines: &sines,
+        grid,
+        corr,
+    };
+    let data: Vec<SceneData> = scenes
+        .iter()
+        .map(|s| SceneData::new(&tables.packed.with_data(s)))
+        .collect();
     let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
     let shared: Vec<SharedBest> = scenes.iter().map(|_| SharedBest::new(zero_a)).collect();
-    let k = tables.packed.k;
     let shards: Vec<Vec<ShardBest>> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
-            let slope = grid.slope.values[i_s];
-            let surface = tables.surface(corr, slope);
-            let base = SurfaceSums::new(&tables.packed, &surface);
-            let sums: Vec<SurfaceSums> = packs.iter().map(|p| base.with_data(p)).collect();
             let mut found: Vec<ShardBest> = scenes.iter().map(|_| ShardBest::default()).collect();
-            let mut scratch = Scratch::default();
-            let mut delta = vec![0.0; k];
-            tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
-                scratch.u.resize(k, 0.0);
-                tables.packed.widen(u, &mut scratch.u);
-                for (d, (u, s)) in delta.iter_mut().zip(scratch.u.iter().zip(&base.s)) {
-                    *d = u - s;
-                }
-                let shared_sums = DeltaSums::new(&base, |i| delta[i]);
-                let mut hull_ready = false;
-                for (j, sums_j) in sums.iter().enumerate() {
-                    let ds = shared_sums.with_data(sums_j, &delta);
-                    let f = &mut found[j];
-                    if lower_bound(sums_j, &ds) > shared[j].threshold(i_a) {
-                        f.stats.pruned += 1;
-                        continue;
-                    }
-                    if !hull_ready {
-                        build_hull(&base, &mut scratch);
-                        hull_ready = true;
-                    }
-                    f.stats.sweeps += 1;
-                    f.stats.front_total += scratch.front_len();
-                    sweep_hull(&scratch.hull, sums_j, &ds, &grid.beta.values, |i_b, e| {
-                        f.visit(&shared[j], grid.flat(i_s, i_n, i_a, i_b), i_a, e)
-                    });
-                }
-            });
+            let mut stats = vec![SweepStats::default(); scenes.len()];
+            envelope::shard(
+                &model,
+                i_s,
+                &data,
+                |j, i_a| shared[j].threshold(i_a),
+                |j, flat, i_a, e| found[j].visit(&shared[j], flat, i_a, e),
+                &mut stats,
+            );
+            for (f, s) in found.iter_mut().zip(stats) {
+                f.stats = s;
+            }
             progress();
             found
         })
@@ -118,5 +104,6 @@ fn run<L: Lane + Send + Sync>(
             per_scene[j].push(f);
         }
     }
+    let k = tables.packed.k;
     per_scene.into_iter().map(|s| combine(s, k)).collect()
 }

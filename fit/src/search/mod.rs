@@ -129,14 +129,27 @@ impl FromStr for Path {
 /// Per-scene state of a search.
 enum Prepared<L> {
     Direct(Packed<L>),
-    Hoisted(Tables<L>),
+    OnePass(Tables<L>),
+    Envelope {
+        tables: Tables<L>,
+        sines: Vec<[f64; 2]>,
+        data: [envelope::SceneData; 1],
+    },
 }
 
 impl<L: Lane> Prepared<L> {
     fn new(scene: &Scene, grid: &Grid, method: Method) -> Self {
         match method {
             Method::Direct => Self::Direct(Packed::new(scene)),
-            Method::OnePass | Method::Envelope => Self::Hoisted(Tables::new(scene, grid)),
+            Method::OnePass => Self::OnePass(Tables::new(scene, grid)),
+            Method::Envelope => {
+                let tables = Tables::new(scene, grid);
+                Self::Envelope {
+                    sines: envelope::sines(&tables.packed),
+                    data: [envelope::SceneData::new(&tables.packed)],
+                    tables,
+                }
+            }
         }
     }
 
@@ -147,7 +160,6 @@ impl<L: Lane> Prepared<L> {
     /// certainly above `threshold(a index)`; the other methods visit all.
     fn shard(
         &self,
-        method: Method,
         grid: &Grid,
         corr: Correlation,
         i_s: usize,
@@ -155,62 +167,71 @@ impl<L: Lane> Prepared<L> {
         mut visit: impl FnMut(usize, usize, f64),
     ) -> SweepStats {
         let slope = grid.slope.values[i_s];
-        let tables = match self {
+        match self {
             Self::Direct(packed) => {
                 direct::shard(packed, grid, corr, i_s, &mut visit);
-                return SweepStats::default();
+                SweepStats::default()
             }
-            Self::Hoisted(tables) => tables,
-        };
-        let surface = tables.surface(corr, slope);
-        let packed = &tables.packed;
-        if method == Method::Envelope {
-            let sums = sums::SurfaceSums::new(packed, &surface);
-            let mut scratch = envelope::Scratch::default();
-            tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
-                envelope::sweep(
-                    packed,
-                    &sums,
-                    u,
-                    &grid.beta.values,
-                    threshold(i_a),
-                    &mut scratch,
-                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
+            Self::Envelope {
+                tables,
+                sines,
+                data,
+            } => {
+                let model = envelope::Model {
+                    tables,
+                    sines,
+                    grid,
+                    corr,
+                };
+                let mut stats = [SweepStats::default()];
+                envelope::shard(
+                    &model,
+                    i_s,
+                    data,
+                    |_, i_a| threshold(i_a),
+                    |_, flat, i_a, e| visit(flat, i_a, e),
+                    &mut stats,
                 );
-            });
-            SweepStats {
-                front_total: scratch.front_total,
-                sweeps: scratch.sweeps,
-                pruned: scratch.pruned,
+                stats[0]
             }
-        } else {
-            let widened = sums::SurfaceSums::new(packed, &surface);
-            let mut scratch = one_pass::Scratch::default();
-            tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
-                one_pass::sweep(
-                    packed,
-                    &surface,
-                    &widened,
-                    u,
-                    &grid.beta.values,
-                    &mut scratch,
-                    |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
-                );
-            });
-            SweepStats::default()
+            Self::OnePass(tables) => {
+                let packed = &tables.packed;
+                let surface = tables.surface(corr, slope);
+                let widened = sums::SurfaceSums::new(packed, &surface);
+                let mut d = vec![0.0; packed.k];
+                packed.widen(&packed.data, &mut d);
+                let wide = one_pass::Widened {
+                    data: sums::DataSums::new(&widened, &d),
+                    surface: &widened,
+                    d: &d,
+                };
+                let mut scratch = one_pass::Scratch::default();
+                tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
+                    one_pass::sweep(
+                        packed,
+                        &surface,
+                        &wide,
+                        u,
+                        &grid.beta.values,
+                        &mut scratch,
+                        |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
+                    );
+                });
+                SweepStats::default()
+            }
         }
     }
 }
 
 /// What the envelope method did in a shard (zeros for the other methods).
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct SweepStats {
+pub struct SweepStats {
     /// Total Pareto-front size over the sweeps that ran.
-    front_total: usize,
+    pub front_total: usize,
     /// Sweeps whose β loop ran.
-    sweeps: usize,
+    pub sweeps: usize,
     /// Sweeps skipped by the lower bound.
-    pruned: usize,
+    pub pruned: usize,
 }
 
 impl SweepStats {
@@ -358,7 +379,7 @@ fn search_with<L: Lane + Send + Sync>(
         .map(|i_s| {
             let mut found = ShardBest::default();
             let threshold = |i_a| shared.threshold(i_a);
-            let stats = prepared.shard(method, grid, corr, i_s, threshold, |flat, i_a, e| {
+            let stats = prepared.shard(grid, corr, i_s, threshold, |flat, i_a, e| {
                 found.visit(&shared, flat, i_a, e)
             });
             found.stats = stats;
@@ -421,7 +442,7 @@ pub fn error_surface(
             .enumerate()
             .for_each(|(i_s, slice)| {
                 let never = |_| f64::INFINITY;
-                prepared.shard(method, grid, corr, i_s, never, |flat, _, e| {
+                prepared.shard(grid, corr, i_s, never, |flat, _, e| {
                     slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });

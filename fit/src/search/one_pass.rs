@@ -20,7 +20,7 @@
 //! within 1e-14 of `direct-f64` in Δ_RMS, README).
 
 use super::packed::{lane_max, lane_sum, Packed, WIDTH};
-use super::sums::{DeltaSums, SurfaceSums};
+use super::sums::{DataSums, DeltaSums, SurfaceSums};
 use laminar_core::{Lane, Real};
 
 /// Per-stream accumulators of one pass.
@@ -28,6 +28,17 @@ use laminar_core::{Lane, Real};
 struct Sums<L> {
     max: L,
     rr: L,
+}
+
+/// The widened side of one σ/T: the surface term's sums and the scene's
+/// data `d` with its sums against it.
+pub struct Widened<'a> {
+    /// The surface term widened.
+    pub surface: &'a SurfaceSums,
+    /// The data widened, in measurement order.
+    pub d: &'a [f64],
+    /// `Σ S D`, `Σ D²`.
+    pub data: DataSums,
 }
 
 /// Reusable per-shard buffers: `Δ` in lanes and widened.
@@ -46,12 +57,12 @@ impl<L> Default for Scratch<L> {
 }
 
 /// Calls `visit(i_b, Σ (D − P)²)` for every β of `betas`, in order, for one
-/// (σ/T, n, a) with normalised surface `surface` (and its sums `widened`)
-/// and subsurface `subsurface`.
+/// (σ/T, n, a) with normalised surface `surface` (widened in `wide`) and
+/// subsurface `subsurface`.
 pub fn sweep<L: Lane>(
     packed: &Packed<L>,
     surface: &[L],
-    widened: &SurfaceSums,
+    wide: &Widened<'_>,
     subsurface: &[L],
     betas: &[f64],
     scratch: &mut Scratch<L>,
@@ -64,7 +75,7 @@ pub fn sweep<L: Lane>(
     delta.extend(subsurface.iter().zip(surface).map(|(u, s)| *u - *s));
     delta_f64.resize(packed.k, 0.0);
     packed.widen(delta, delta_f64);
-    let hoisted = DeltaSums::new(widened, |k| delta_f64[k]);
+    let hoisted = DeltaSums::new(wide.surface, wide.d, delta_f64);
     let delta = &*delta;
     let mut c = one;
     for (i_b, &beta) in betas.iter().enumerate() {
@@ -98,7 +109,7 @@ pub fn sweep<L: Lane>(
             // δ = c − 1/M.
             let shift_error = c64 - 1.0 / m64;
             c = one / m;
-            let (xd, xx) = hoisted.mix(widened, beta_lane.to_f64());
+            let (xd, xx) = hoisted.mix(wide.surface, &wide.data, beta_lane.to_f64());
             let rx = xd - c64 * xx;
             rr + 2.0 * shift_error * rx + shift_error * shift_error * xx
         } else {

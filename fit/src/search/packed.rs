@@ -203,6 +203,22 @@ impl<L: Lane> Tables<L> {
         s
     }
 
+    /// Calls `visit(i_n, B)` with the subsurface base `B` (eqs. 3–5, the
+    /// subsurface term before absorption, 0 in padding lanes) of every n at
+    /// σ/T = `slope`, in loop order.
+    pub fn for_each_base(&self, corr: Correlation, slope: f64, mut visit: impl FnMut(usize, &[L])) {
+        let inv_s2 = inverse_slope_squared(L::c(slope));
+        let mut base = Vec::with_capacity(self.packed.geom.len());
+        for (i_n, ifaces) in self.interfaces.iter().enumerate() {
+            base.clear();
+            base.extend(
+                (ifaces.iter().zip(&self.packed.valid))
+                    .map(|(f, v)| subsurface_base(f, corr, inv_s2) * *v),
+            );
+            visit(i_n, &base);
+        }
+    }
+
     /// Calls `visit(i_n, i_a, U)` with the normalised subsurface term `U`
     /// (eqs. 3–5, 12–14) of every (n, a) at σ/T = `slope`, in loop order.
     pub fn for_each_subsurface(
@@ -211,19 +227,15 @@ impl<L: Lane> Tables<L> {
         slope: f64,
         mut visit: impl FnMut(usize, usize, &[L]),
     ) {
-        let inv_s2 = inverse_slope_squared(L::c(slope));
         let mut u = vec![L::c(0.0); self.packed.geom.len()];
-        for (i_n, ifaces) in self.interfaces.iter().enumerate() {
-            let base: Vec<L> = (ifaces.iter().zip(&self.packed.valid))
-                .map(|(f, v)| subsurface_base(f, corr, inv_s2) * *v)
-                .collect();
+        self.for_each_base(corr, slope, |i_n, base| {
             for (i_a, att) in self.absorption.iter().enumerate() {
-                for ((u, b), f) in u.iter_mut().zip(&base).zip(att) {
+                for ((u, b), f) in u.iter_mut().zip(base).zip(att) {
                     *u = *b * *f;
                 }
                 normalise(&mut u);
                 visit(i_n, i_a, &u);
             }
-        }
+        });
     }
 }

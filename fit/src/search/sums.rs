@@ -1,7 +1,7 @@
 //! Sums over the measurements in `f64`, shared by the one-pass and envelope
-//! methods: with `X = S + β Δ` (`Δ = U − S`, docs/conventions.md §4),
-//! `Σ X D = Σ S D + β Σ Δ D` and `Σ X² = Σ S² + β (2 Σ S Δ + β Σ Δ²)`,
-//! so three sums per σ/T and three per (σ/T, n, a) give both for every β.
+//! methods (docs/conventions.md §4). The model side ([`SurfaceSums`], per
+//! σ/T) is kept apart from the data side ([`DataSums`], per scene and σ/T),
+//! so that scenes on one geometry share the first.
 //!
 //! The lane values are widened exactly and summed in measurement order, so
 //! an `f32x8` path and its scalar twin get the same bits.
@@ -9,67 +9,54 @@
 use super::packed::Packed;
 use laminar_core::Lane;
 
-/// Per-σ/T quantities: the widened surface term and data, their sums, and
-/// the order of `S` (used by the envelope's Pareto front).
+/// Per-σ/T model quantities: the widened normalised surface term `S`, the
+/// order of `S` (used by the envelope's Pareto front) and `Σ S²`.
 pub struct SurfaceSums {
     /// `S` widened, in measurement order.
     pub s: Vec<f64>,
-    /// `D` widened, in measurement order.
-    pub d: Vec<f64>,
     /// Measurements by decreasing `S` (ties: increasing index).
     pub order: Vec<usize>,
     /// `Σ S²`.
     pub ss: f64,
+}
+
+impl SurfaceSums {
+    /// Widens `surface` and computes its sum of squares and order.
+    pub fn new<L: Lane>(packed: &Packed<L>, surface: &[L]) -> Self {
+        let mut s = vec![0.0; packed.k];
+        packed.widen(surface, &mut s);
+        let mut order: Vec<usize> = (0..packed.k).collect();
+        order.sort_by(|&a, &b| s[b].total_cmp(&s[a]).then(a.cmp(&b)));
+        let ss = s.iter().map(|v| v * v).sum();
+        Self { s, order, ss }
+    }
+}
+
+/// The data side of one scene at one σ/T: `Σ S D` and `Σ D²`.
+#[derive(Clone, Copy)]
+pub struct DataSums {
     /// `Σ S D`.
     pub sd: f64,
     /// `Σ D²`.
     pub dd: f64,
 }
 
-impl SurfaceSums {
-    /// Widens `surface` and the data and computes their sums.
-    pub fn new<L: Lane>(packed: &Packed<L>, surface: &[L]) -> Self {
-        let mut s = vec![0.0; packed.k];
-        let mut d = vec![0.0; packed.k];
-        packed.widen(surface, &mut s);
-        packed.widen(&packed.data, &mut d);
-        let mut order: Vec<usize> = (0..packed.k).collect();
-        order.sort_by(|&a, &b| s[b].total_cmp(&s[a]).then(a.cmp(&b)));
-        let ss = s.iter().map(|v| v * v).sum();
-        let sd = s.iter().zip(&d).map(|(a, b)| a * b).sum();
-        let dd = d.iter().map(|v| v * v).sum();
+impl DataSums {
+    /// The sums of the widened data `d` (measurement order) against `surface`.
+    pub fn new(surface: &SurfaceSums, d: &[f64]) -> Self {
         Self {
-            s,
-            d,
-            order,
-            ss,
-            sd,
-            dd,
+            sd: dot(&surface.s, d),
+            dd: dot(d, d),
         }
     }
 }
 
-impl SurfaceSums {
-    /// The same surface term with the data of `packed` (a scene on the same
-    /// geometry): `S`, its order and `Σ S²` are shared, `D`, `Σ S D` and
-    /// `Σ D²` computed as [`SurfaceSums::new`] does, so the bits are equal.
-    pub fn with_data<L: Lane>(&self, packed: &Packed<L>) -> Self {
-        let mut d = vec![0.0; packed.k];
-        packed.widen(&packed.data, &mut d);
-        let sd = self.s.iter().zip(&d).map(|(a, b)| a * b).sum();
-        let dd = d.iter().map(|v| v * v).sum();
-        Self {
-            s: self.s.clone(),
-            d,
-            order: self.order.clone(),
-            ss: self.ss,
-            sd,
-            dd,
-        }
-    }
+/// `Σ x_k y_k` in measurement order.
+pub fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
-/// The per-(σ/T, n, a) sums over `Δ`.
+/// The per-(σ/T, n, a) sums over `Δ = U − S` of the one-pass method.
 #[derive(Clone, Copy)]
 pub struct DeltaSums {
     /// `Σ Δ²`.
@@ -81,38 +68,20 @@ pub struct DeltaSums {
 }
 
 impl DeltaSums {
-    /// The sums for `Δ_k = delta(k)`, in measurement order.
-    pub fn new(surface: &SurfaceSums, delta: impl Fn(usize) -> f64) -> Self {
-        let (mut del_del, mut s_del, mut d_del) = (0.0, 0.0, 0.0);
-        for (k, (s, d)) in surface.s.iter().zip(&surface.d).enumerate() {
-            let del = delta(k);
-            del_del += del * del;
-            s_del += s * del;
-            d_del += d * del;
-        }
+    /// The sums for the widened `Δ` and data `d`, in measurement order.
+    pub fn new(surface: &SurfaceSums, d: &[f64], delta: &[f64]) -> Self {
         Self {
-            del_del,
-            s_del,
-            d_del,
+            del_del: dot(delta, delta),
+            s_del: dot(&surface.s, delta),
+            d_del: dot(d, delta),
         }
-    }
-
-    /// The sums for the data of `surface` (a scene on the same geometry) when
-    /// `Σ Δ²` and `Σ S Δ` are this one's: `Σ D Δ` in measurement order, as
-    /// [`DeltaSums::new`] sums it, so the bits are equal.
-    pub fn with_data(&self, surface: &SurfaceSums, delta: &[f64]) -> Self {
-        let mut d_del = 0.0;
-        for (d, del) in surface.d.iter().zip(delta) {
-            d_del += d * del;
-        }
-        Self { d_del, ..*self }
     }
 
     /// `(Σ X D, Σ X²)` of the mix `X = S + β Δ`.
     #[inline]
-    pub fn mix(&self, surface: &SurfaceSums, beta: f64) -> (f64, f64) {
+    pub fn mix(&self, surface: &SurfaceSums, data: &DataSums, beta: f64) -> (f64, f64) {
         (
-            surface.sd + beta * self.d_del,
+            data.sd + beta * self.d_del,
             surface.ss + beta * (2.0 * self.s_del + beta * self.del_del),
         )
     }
