@@ -8,7 +8,7 @@
 //! that scene alone, whatever the thread count (each scene keeps its own
 //! shared best for the skipping).
 
-use super::envelope::{self, SceneData};
+use super::envelope::{self, Promising, SceneData, Seeker, TripleMinimum};
 use super::packed::Tables;
 use super::{combine, Arith, SearchResult, ShardBest, SharedBest, SweepStats};
 use crate::error::GridError;
@@ -77,24 +77,23 @@ fn run<L: Lane + Send + Sync>(
         .collect();
     let zero_a = grid.a.values.iter().position(|&a| a == 0.0);
     let shared: Vec<SharedBest> = scenes.iter().map(|_| SharedBest::new(zero_a)).collect();
+    seed(&model, &data, &shared, zero_a);
     let shards: Vec<Vec<ShardBest>> = (0..grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
-            let mut found: Vec<ShardBest> = scenes.iter().map(|_| ShardBest::default()).collect();
-            let mut stats = vec![SweepStats::default(); scenes.len()];
-            envelope::shard(
-                &model,
+            let mut searcher = Searcher {
+                grid,
                 i_s,
-                &data,
-                |j, i_a| shared[j].threshold(i_a),
-                |j, flat, i_a, e| found[j].visit(&shared[j], flat, i_a, e),
-                &mut stats,
-            );
-            for (f, s) in found.iter_mut().zip(stats) {
+                shared: &shared,
+                found: scenes.iter().map(|_| ShardBest::default()).collect(),
+            };
+            let mut stats = vec![SweepStats::default(); scenes.len()];
+            envelope::shard(&model, i_s, &data, &mut searcher, &mut stats);
+            for (f, s) in searcher.found.iter_mut().zip(stats) {
                 f.stats = s;
             }
             progress();
-            found
+            searcher.found
         })
         .collect();
     // Regroup by scene, in σ/T order.
@@ -106,4 +105,90 @@ fn run<L: Lane + Send + Sync>(
     }
     let k = tables.packed.k;
     per_scene.into_iter().map(|s| combine(s, k)).collect()
+}
+
+/// Gives every scene a threshold close to its minimum before the search
+/// proper: finds each scene's [`Promising`] triples (smallest bound, overall
+/// and at a = 0) and seeds its shared best with their swept minima. Any
+/// visited value is a valid threshold, so the result does not change; only
+/// fewer triples are swept.
+fn seed<L: Lane + Send + Sync>(
+    model: &envelope::Model<'_, L>,
+    data: &[SceneData],
+    shared: &[SharedBest],
+    zero_a: Option<usize>,
+) {
+    let none = || vec![Promising::default(); data.len()];
+    let promising = (0..model.grid.slope.len())
+        .into_par_iter()
+        .map(|i_s| {
+            let mut seeker = Seeker {
+                i_s,
+                zero_a,
+                found: none(),
+            };
+            envelope::shard(
+                model,
+                i_s,
+                data,
+                &mut seeker,
+                &mut vec![SweepStats::default(); data.len()],
+            );
+            seeker.found
+        })
+        .reduce(none, |a, b| {
+            a.into_iter().zip(b).map(|(a, b)| a.merge(b)).collect()
+        });
+    promising
+        .par_iter()
+        .zip(shared)
+        .enumerate()
+        .for_each(|(j, (promising, shared))| {
+            for [i_s, i_n, i_a] in promising.triples() {
+                let mut triple = TripleMinimum {
+                    i_n,
+                    i_a,
+                    min: f64::INFINITY,
+                };
+                envelope::shard(
+                    model,
+                    i_s,
+                    &data[j..=j],
+                    &mut triple,
+                    &mut [SweepStats::default()],
+                );
+                shared.seed(i_a, triple.min);
+            }
+        });
+}
+
+/// The search's [`envelope::Visitor`]: sweeps a triple for a scene unless
+/// its bound exceeds that scene's threshold, and records what it visits.
+struct Searcher<'a> {
+    grid: &'a Grid,
+    i_s: usize,
+    shared: &'a [SharedBest],
+    found: Vec<ShardBest>,
+}
+
+impl envelope::Visitor for Searcher<'_> {
+    fn wants_n(&mut self, j: usize, _: usize, bound: f64) -> bool {
+        bound <= self.shared[j].loosest() || bound.is_nan()
+    }
+
+    fn wants(&mut self, j: usize, _: usize, i_a: usize, bound: f64) -> bool {
+        // A NaN bound bounds nothing.
+        bound <= self.shared[j].threshold(i_a) || bound.is_nan()
+    }
+
+    fn sweep(&mut self, j: usize, i_n: usize, i_a: usize, values: &[f64]) {
+        // Only the first smallest value can be recorded (visits keep the
+        // first of equal values), so it is the only one visited.
+        let e = values
+            .iter()
+            .fold(f64::INFINITY, |m, &e| if e < m { e } else { m });
+        let i_b = values.iter().position(|&v| v == e).unwrap_or(0);
+        let flat = self.grid.flat(self.i_s, i_n, i_a, i_b);
+        self.found[j].visit(&self.shared[j], flat, i_a, e);
+    }
 }

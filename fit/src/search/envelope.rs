@@ -87,12 +87,14 @@ pub fn sines<L: Lane>(packed: &Packed<L>) -> Vec<[f64; 2]> {
 }
 
 /// The unnormalised subsurface term of one (σ/T, n) as a quadratic in `a`
-/// (module docs): per measurement `(w0, w1, w2)`, and the coefficients of
-/// `Σ S U` and `Σ U²` in the basis `(1 − a)^(m−j) a^j`.
+/// (module docs): per measurement `(w0, w1, w2)`, the coefficients of
+/// `Σ S U` and `Σ U²` in the basis `(1 − a)^(m−j) a^j`, and the bound of
+/// every `a` at once ([`Span`]).
 pub struct Basis {
     w: Vec<[f64; 3]>,
     su: [f64; 3],
     uu: [f64; 5],
+    span: Option<Span>,
 }
 
 impl Basis {
@@ -104,20 +106,35 @@ impl Basis {
             .zip(sines)
             .map(|(&b, &[si, ss])| [b, b * (si + ss), b * (si * ss)])
             .collect();
-        let (mut su, mut uu) = ([0.0; 3], [0.0; 5]);
+        let (mut su, mut ww) = ([0.0; 3], [[0.0; 3]; 3]);
         for (w, s) in w.iter().zip(&surface.s) {
-            let [w0, w1, w2] = *w;
-            su[0] += s * w0;
-            su[1] += s * w1;
-            su[2] += s * w2;
-            // (t² w0 + t a w1 + a² w2)², by powers of a.
-            uu[0] += w0 * w0;
-            uu[1] += 2.0 * (w0 * w1);
-            uu[2] += w1 * w1 + 2.0 * (w0 * w2);
-            uu[3] += 2.0 * (w1 * w2);
-            uu[4] += w2 * w2;
+            for i in 0..3 {
+                su[i] += s * w[i];
+                for j in i..3 {
+                    ww[i][j] += w[i] * w[j];
+                }
+            }
         }
-        Self { w, su, uu }
+        // (t² w0 + t a w1 + a² w2)², by powers of a.
+        let uu = [
+            ww[0][0],
+            2.0 * ww[0][1],
+            ww[1][1] + 2.0 * ww[0][2],
+            2.0 * ww[1][2],
+            ww[2][2],
+        ];
+        let gram = [
+            [surface.ss, su[0], su[1], su[2]],
+            [su[0], ww[0][0], ww[0][1], ww[0][2]],
+            [su[1], ww[0][1], ww[1][1], ww[1][2]],
+            [su[2], ww[0][2], ww[1][2], ww[2][2]],
+        ];
+        Self {
+            w,
+            su,
+            uu,
+            span: Span::new(&gram),
+        }
     }
 
     /// `Σ D w_j` of the widened data `d`, for [`At::ud`].
@@ -168,24 +185,34 @@ impl At {
     }
 }
 
+/// Relative margin of every lower bound: a bound is the exact residual it
+/// stands for minus `MARGIN · Σ D²`, which covers the rounding of the bound
+/// and of the errors the sweep computes (see [`Projection`] and [`Span`]).
+const MARGIN: f64 = 1e-8;
+
 /// The lower bound on a triple's error over every β, from the sums alone.
 ///
-/// For every β the prediction `X/M = ((1 − β)/M) S + (β/M) U` is one point
-/// of the plane spanned by `S` and `U`, so its error is at least the
-/// least-squares residual of `D` on that plane (which does not depend on the
-/// scale of `U`, so the unnormalised sums serve),
-/// `R = Σ D² − (Σ S D)² / Σ S² − t² / q` with `q = Σ U² − (Σ S U)² / Σ S²`
-/// (the part of `U` orthogonal to `S`) and `t = Σ D U − Σ S U Σ S D / Σ S²`.
-/// The model side (`q`, `Σ S U / Σ S²`) is per triple, the rest per scene.
+/// For every β the prediction `X/M = ((1 − β)/M) S + (β/M) U` is a point
+/// of the cone of non-negative combinations of `S` and `U`, so its error is
+/// at least the least-squares residual of `D` on that cone (which does not
+/// depend on the scale of `U`, so the unnormalised sums serve). On the plane
+/// it is `R = Σ D² − (Σ S D)² / Σ S² − t² / q` with
+/// `q = Σ U² − (Σ S U)² / Σ S²` (the part of `U` orthogonal to `S`) and
+/// `t = Σ D U − Σ S U Σ S D / Σ S²`, attained at `c_U = t / q`,
+/// `c_S = (Σ S D − c_U Σ S U) / Σ S²`; when either is negative the cone's
+/// minimum is on one of its edges, `S` or `U` alone. The model side (`q`,
+/// `Σ S U / Σ S²`) is per triple, the rest per scene.
 ///
 /// Rounding: with `q ≥ 10⁻⁶ Σ U²` (otherwise there is no bound) the
 /// computed `R` is within about `10⁻⁹ Σ D²` of the exact one, and the error
 /// the sweep computes is within about `10⁻¹³ Σ D²` of the exact error. The
-/// bound is `R − 10⁻⁸ Σ D²`, so every computed error of the triple is at
+/// bound is `R − MARGIN Σ D²`, so every computed error of the triple is at
 /// least the bound: a triple is skipped only if none of its values could
 /// reach the threshold.
 #[derive(Clone, Copy)]
 pub struct Projection {
+    su: f64,
+    uu: f64,
     su_over_ss: f64,
     inv_q: f64,
 }
@@ -200,6 +227,8 @@ impl Projection {
         let su_over_ss = at.su / ss;
         let q = at.uu - at.su * su_over_ss;
         (q >= 1e-6 * at.uu).then(|| Self {
+            su: at.su,
+            uu: at.uu,
             su_over_ss,
             inv_q: 1.0 / q,
         })
@@ -209,13 +238,78 @@ impl Projection {
     /// `Σ D U = ud`.
     #[inline]
     pub fn bound(&self, fit: &SurfaceFit, ud: f64) -> f64 {
-        let t = ud - self.su_over_ss * fit.sums.sd;
-        fit.residual - t * t * self.inv_q
+        let sd = fit.sums.sd;
+        let t = ud - self.su_over_ss * sd;
+        let c_u = t * self.inv_q;
+        if c_u >= 0.0 && sd >= c_u * self.su {
+            return fit.residual - t * t * self.inv_q;
+        }
+        // On an edge: S alone (fit.residual when its coefficient Σ S D / Σ S²
+        // is positive) or U alone.
+        let floor = fit.sums.dd - MARGIN * fit.sums.dd;
+        let on_s = if sd > 0.0 { fit.residual } else { floor };
+        let on_u = if ud > 0.0 {
+            floor - ud * ud / self.uu
+        } else {
+            floor
+        };
+        on_s.min(on_u)
+    }
+}
+
+/// The lower bound on the error of every (a, β) of one (σ/T, n) at once:
+/// `U(a)` lies in the span of `w0, w1, w2` for every `a`, so every
+/// prediction lies in the span of `S, w0, w1, w2`, and its error is at
+/// least the least-squares residual of `D` on that span, `Σ D² − |L⁻¹ b|²`
+/// with `L Lᵀ` the Cholesky factorisation of the vectors' Gram matrix and
+/// `b = (Σ S D, Σ w0 D, Σ w1 D, Σ w2 D)`. The model side (`L`) is per
+/// (σ/T, n), the rest per scene.
+///
+/// Rounding: each vector must keep at least 10⁻⁴ of its squared norm
+/// outside the span of the ones before it (else there is no bound), which
+/// keeps the computed residual within about `10⁻¹⁰ Σ D²` of the exact one
+/// for K up to thousands; the bound is the residual minus `MARGIN Σ D²`.
+#[derive(Clone, Copy)]
+pub struct Span {
+    l: [[f64; 4]; 4],
+}
+
+impl Span {
+    fn new(gram: &[[f64; 4]; 4]) -> Option<Self> {
+        let mut l = [[0.0; 4]; 4];
+        for i in 0..4 {
+            for j in 0..=i {
+                let sum = gram[i][j] - dot(&l[i][..j], &l[j][..j]);
+                if i == j {
+                    // Also refuses NaN.
+                    if !(sum >= 1e-4 * gram[i][i] && gram[i][i] > 0.0) {
+                        return None;
+                    }
+                    l[i][i] = sum.sqrt();
+                } else {
+                    l[i][j] = sum / l[j][j];
+                }
+            }
+        }
+        Some(Self { l })
+    }
+
+    /// The bound for a scene with sums `fit` and [`Basis::data`] `data`.
+    #[inline]
+    pub fn bound(&self, fit: &SurfaceFit, data: &[f64; 3]) -> f64 {
+        let b = [fit.sums.sd, data[0], data[1], data[2]];
+        let mut y = [0.0; 4];
+        let mut projected = 0.0;
+        for i in 0..4 {
+            y[i] = (b[i] - dot(&self.l[i][..i], &y[..i])) / self.l[i][i];
+            projected += y[i] * y[i];
+        }
+        fit.sums.dd - MARGIN * fit.sums.dd - projected
     }
 }
 
 /// A scene's data against the surface term of one σ/T: its sums and the part
-/// of the bound that does not depend on `U`, `Σ D² − (Σ S D)² / Σ S² − 10⁻⁸ Σ D²`.
+/// of the bound that does not depend on `U`, `Σ D² − (Σ S D)² / Σ S² − MARGIN Σ D²`.
 #[derive(Clone, Copy)]
 pub struct SurfaceFit {
     sums: DataSums,
@@ -236,7 +330,7 @@ impl SurfaceFit {
         };
         Self {
             sums,
-            residual: sums.dd - projected - 1e-8 * sums.dd,
+            residual: sums.dd - projected - MARGIN * sums.dd,
         }
     }
 }
@@ -249,6 +343,7 @@ pub struct Scratch {
     front: Vec<(f64, f64)>,
     /// The upper hull of the front's lines, as `(S_k, U_k)`.
     hull: Vec<(f64, f64)>,
+    sweep: Sweep,
 }
 
 /// The normalising max of `at`'s subsurface term, the Pareto front of
@@ -317,26 +412,36 @@ impl Mix {
     }
 }
 
-/// Calls `visit(i_b, Σ (D − P)²)` for every β, walking `M(β)` along `hull`.
-fn sweep_hull(hull: &[(f64, f64)], sums: &Mix, betas: &[f64], mut visit: impl FnMut(usize, f64)) {
-    let mut p = 0;
-    for (i_b, &beta) in betas.iter().enumerate() {
-        let value = |i: usize| mix(beta, hull[i].1, hull[i].0);
-        while p + 1 < hull.len() && value(p + 1) >= value(p) {
-            p += 1;
+/// Buffers of a β sweep.
+#[derive(Default)]
+struct Sweep {
+    /// `M(β)` per β.
+    max: Vec<f64>,
+    /// `Σ (D − P)²` per β.
+    values: Vec<f64>,
+}
+
+impl Sweep {
+    /// Fills `values` with `Σ (D − P)²` for every β: `M(β)` as the max of
+    /// the hull's lines, then the closed form, each a branch-free loop over
+    /// β (which the compiler vectorises).
+    fn run(&mut self, hull: &[(f64, f64)], sums: &Mix, betas: &[f64]) {
+        self.max.clear();
+        self.max.resize(betas.len(), 0.0);
+        for &(s, u) in hull {
+            for (m, &beta) in self.max.iter_mut().zip(betas) {
+                let v = mix(beta, u, s);
+                *m = if v > *m { v } else { *m };
+            }
         }
-        while p > 0 && value(p - 1) > value(p) {
-            p -= 1;
-        }
-        let m = value(p);
-        let e = if m > 0.0 {
-            let inv = 1.0 / m;
-            let (xd, xx) = sums.at(beta);
-            sums.dd + inv * (inv * xx - 2.0 * xd)
-        } else {
-            sums.dd
-        };
-        visit(i_b, e.max(0.0));
+        self.values.clear();
+        self.values
+            .extend(betas.iter().zip(&self.max).map(|(&beta, &m)| {
+                // M = 0 makes every prediction 0, and the error Σ D².
+                let inv = if m > 0.0 { 1.0 / m } else { 0.0 };
+                let (xd, xx) = sums.at(beta);
+                (sums.dd + inv * (inv * xx - 2.0 * xd)).max(0.0)
+            }));
     }
 }
 
@@ -371,17 +476,29 @@ pub struct Model<'a, L> {
     pub corr: Correlation,
 }
 
+/// What a walk over the triples of a σ/T shard does with each (scene,
+/// triple): whether to sweep it, and what to do with the swept values.
+pub trait Visitor {
+    /// Whether to look at the triples `(i_n, ·)` for scene `j`, whose errors
+    /// are all at least `bound` ([`Span`]; `−∞` when there is no bound).
+    fn wants_n(&mut self, j: usize, i_n: usize, bound: f64) -> bool;
+    /// Whether to sweep triple `(i_n, i_a)` for scene `j`, whose error is at
+    /// least `bound` at every β (`−∞` when there is no bound).
+    fn wants(&mut self, j: usize, i_n: usize, i_a: usize, bound: f64) -> bool;
+    /// The objectives (sums of squared residuals) of scene `j` at the grid
+    /// points `(i_n, i_a, i_b)` of the shard, by β index `i_b`.
+    fn sweep(&mut self, j: usize, i_n: usize, i_a: usize, values: &[f64]);
+}
+
 /// One σ/T shard (index `i_s`) of the envelope search for every scene of
-/// `scenes` (on the geometry of `model`): calls `visit(scene, flat index,
-/// a index, objective)` for every grid point not skipped, where a triple is
-/// skipped for a scene when its bound exceeds `threshold(scene, a index)`
-/// (`∞` visits all). Counts what it did into `stats[scene]`.
+/// `scenes` (on the geometry of `model`), in loop order: each (n, a) triple's
+/// bound goes to [`Visitor::wants`] and, when wanted, its β sweep to
+/// [`Visitor::visit`]. Counts the sweeps and skips into `stats[scene]`.
 pub fn shard<L: Lane>(
     model: &Model<'_, L>,
     i_s: usize,
     scenes: &[SceneData],
-    threshold: impl Fn(usize, usize) -> f64,
-    mut visit: impl FnMut(usize, usize, usize, f64),
+    visitor: &mut impl Visitor,
     stats: &mut [SweepStats],
 ) {
     let Model {
@@ -398,21 +515,37 @@ pub fn shard<L: Lane>(
         .collect();
     let mut scratch = Scratch::default();
     let mut data = vec![[0.0; 3]; scenes.len()];
+    let mut wanted = vec![false; scenes.len()];
     tables.for_each_base(corr, slope, |i_n, base| {
         scratch.base.resize(tables.packed.k, 0.0);
         tables.packed.widen(base, &mut scratch.base);
         let basis = Basis::new(&surface, &scratch.base, sines);
-        for (out, scene) in data.iter_mut().zip(scenes) {
-            *out = basis.data(&scene.d);
+        let mut any = false;
+        for (j, (fit, scene)) in fits.iter().zip(scenes).enumerate() {
+            data[j] = basis.data(&scene.d);
+            let bound = basis
+                .span
+                .map_or(f64::NEG_INFINITY, |span| span.bound(fit, &data[j]));
+            wanted[j] = visitor.wants_n(j, i_n, bound);
+            if !wanted[j] {
+                stats[j].pruned += grid.a.len();
+            }
+            any |= wanted[j];
+        }
+        if !any {
+            return;
         }
         for (i_a, &a) in grid.a.values.iter().enumerate() {
             let at = basis.at(a);
             let projection = Projection::new(surface.ss, &at);
             let mut max = None;
             for (j, (fit, data)) in fits.iter().zip(&data).enumerate() {
+                if !wanted[j] {
+                    continue;
+                }
                 let ud = at.ud(data);
                 let bound = projection.map_or(f64::NEG_INFINITY, |p| p.bound(fit, ud));
-                if bound > threshold(j, i_a) {
+                if !visitor.wants(j, i_n, i_a, bound) {
                     stats[j].pruned += 1;
                     continue;
                 }
@@ -421,12 +554,100 @@ pub fn shard<L: Lane>(
                 stats[j].sweeps += 1;
                 stats[j].front_total += scratch.front.len();
                 let sums = Mix::new(&surface, &at, fit, ud, max);
-                sweep_hull(&scratch.hull, &sums, &grid.beta.values, |i_b, e| {
-                    visit(j, grid.flat(i_s, i_n, i_a, i_b), i_a, e)
-                });
+                scratch.sweep.run(&scratch.hull, &sums, &grid.beta.values);
+                visitor.sweep(j, i_n, i_a, &scratch.sweep.values);
             }
         }
     });
+}
+
+/// A scene's most promising triples: the smallest bound overall, and on
+/// the a = 0 slice, as `(bound, [i_s, i_n, i_a])` (ties: first in loop order).
+#[derive(Clone, Copy, Default)]
+pub struct Promising {
+    /// Over the whole grid.
+    pub best: Option<(f64, [usize; 3])>,
+    /// On the a = 0 slice.
+    pub zero_a: Option<(f64, [usize; 3])>,
+}
+
+impl Promising {
+    /// The better of each of two (`self` first in loop order).
+    pub fn merge(self, later: Self) -> Self {
+        let pick = |a: Option<(f64, [usize; 3])>, b: Option<(f64, [usize; 3])>| match (a, b) {
+            (Some(x), Some(y)) if y.0 < x.0 => Some(y),
+            (None, y) => y,
+            (x, _) => x,
+        };
+        Self {
+            best: pick(self.best, later.best),
+            zero_a: pick(self.zero_a, later.zero_a),
+        }
+    }
+
+    /// The triples, overall first (duplicates removed).
+    pub fn triples(&self) -> Vec<[usize; 3]> {
+        let mut out: Vec<[usize; 3]> = self.best.iter().map(|b| b.1).collect();
+        if let Some((_, t)) = self.zero_a {
+            if !out.contains(&t) {
+                out.push(t);
+            }
+        }
+        out
+    }
+}
+
+/// Collects each scene's [`Promising`] triples of a shard without sweeping.
+pub struct Seeker {
+    /// The σ/T index of the shard.
+    pub i_s: usize,
+    /// The a index of a = 0, if any.
+    pub zero_a: Option<usize>,
+    /// Per scene.
+    pub found: Vec<Promising>,
+}
+
+impl Visitor for Seeker {
+    fn wants_n(&mut self, j: usize, _: usize, bound: f64) -> bool {
+        let found = &self.found[j];
+        let beats = |b: Option<(f64, [usize; 3])>| b.is_none_or(|(b, _)| bound < b);
+        beats(found.best) || (self.zero_a.is_some() && beats(found.zero_a))
+    }
+
+    fn wants(&mut self, j: usize, i_n: usize, i_a: usize, bound: f64) -> bool {
+        let candidate = Promising {
+            best: Some((bound, [self.i_s, i_n, i_a])),
+            zero_a: (self.zero_a == Some(i_a)).then_some((bound, [self.i_s, i_n, i_a])),
+        };
+        self.found[j] = self.found[j].merge(candidate);
+        false
+    }
+
+    fn sweep(&mut self, _: usize, _: usize, _: usize, _: &[f64]) {}
+}
+
+/// The smallest objective over the β sweep of one triple `(i_n, i_a)`.
+pub struct TripleMinimum {
+    /// The triple's n index.
+    pub i_n: usize,
+    /// The triple's a index.
+    pub i_a: usize,
+    /// The minimum so far.
+    pub min: f64,
+}
+
+impl Visitor for TripleMinimum {
+    fn wants_n(&mut self, _: usize, i_n: usize, _: f64) -> bool {
+        i_n == self.i_n
+    }
+
+    fn wants(&mut self, _: usize, i_n: usize, i_a: usize, _: f64) -> bool {
+        (i_n, i_a) == (self.i_n, self.i_a)
+    }
+
+    fn sweep(&mut self, _: usize, _: usize, _: usize, values: &[f64]) {
+        self.min = values.iter().fold(self.min, |m, &e| m.min(e));
+    }
 }
 
 #[cfg(test)]
@@ -447,15 +668,64 @@ mod tests {
         }
     }
 
-    /// Every (σ/T, n, a) triple of `grid` on a noisy synthetic scene made by
-    /// `corr` at `truth`: its β values with nothing skipped, and its bound.
-    fn triples<L: Lane>(
+    /// A visitor that sweeps the triples whose bound is at most
+    /// `threshold[i_a]` (and the (σ/T, n) whose bound is at most the largest
+    /// of them), recording every value swept and every bound seen.
+    struct Record<'g> {
+        grid: &'g Grid,
+        i_s: usize,
+        threshold: Vec<f64>,
+        values: Vec<Option<f64>>,
+        triple_bounds: Vec<f64>,
+        n_bounds: Vec<f64>,
+    }
+
+    impl<'g> Record<'g> {
+        fn new(grid: &'g Grid, threshold: Vec<f64>) -> Self {
+            Self {
+                grid,
+                i_s: 0,
+                threshold,
+                values: vec![None; grid.size()],
+                triple_bounds: vec![f64::NAN; grid.size() / grid.beta.len()],
+                n_bounds: vec![f64::NAN; grid.slope.len() * grid.n.len()],
+            }
+        }
+    }
+
+    impl Visitor for Record<'_> {
+        fn wants_n(&mut self, _: usize, i_n: usize, bound: f64) -> bool {
+            self.n_bounds[self.i_s * self.grid.n.len() + i_n] = bound;
+            bound
+                <= self
+                    .threshold
+                    .iter()
+                    .copied()
+                    .fold(f64::NEG_INFINITY, f64::max)
+        }
+
+        fn wants(&mut self, _: usize, i_n: usize, i_a: usize, bound: f64) -> bool {
+            let triple = self.grid.flat(self.i_s, i_n, i_a, 0) / self.grid.beta.len();
+            self.triple_bounds[triple] = bound;
+            bound <= self.threshold[i_a]
+        }
+
+        fn sweep(&mut self, _: usize, i_n: usize, i_a: usize, values: &[f64]) {
+            for (i_b, &e) in values.iter().enumerate() {
+                self.values[self.grid.flat(self.i_s, i_n, i_a, i_b)] = Some(e);
+            }
+        }
+    }
+
+    /// Runs every shard of `grid` on a noisy synthetic scene made by `corr`
+    /// at `truth`, with `threshold` per a index.
+    fn record<'g, L: Lane>(
         corr: Correlation,
         truth: &Params,
-        seed: u64,
-        grid: &Grid,
-    ) -> Vec<(Vec<f64>, f64)> {
-        let scene = synthetic::scene(corr, truth, 0.01, seed);
+        grid: &'g Grid,
+        threshold: Vec<f64>,
+    ) -> Record<'g> {
+        let scene = synthetic::scene(corr, truth, 0.01, 3);
         let tables = Tables::<L>::new(&scene, grid);
         let sines = sines(&tables.packed);
         let model = Model {
@@ -465,126 +735,98 @@ mod tests {
             corr,
         };
         let data = [SceneData::new(&tables.packed)];
-        let per_triple = grid.beta.len();
-        let mut values = vec![0.0; grid.size()];
-        let mut stats = [SweepStats::default()];
+        let mut record = Record::new(grid, threshold);
         for i_s in 0..grid.slope.len() {
+            record.i_s = i_s;
             shard(
                 &model,
                 i_s,
                 &data,
-                |_, _| f64::INFINITY,
-                |_, flat, _, e| values[flat] = e,
-                &mut stats,
+                &mut record,
+                &mut [SweepStats::default()],
             );
         }
-        assert_eq!(stats[0].pruned, 0, "an infinite threshold skipped a sweep");
-        // The bounds, recomputed as the shard does.
-        let mut bounds = Vec::new();
-        for &slope in &grid.slope.values {
-            let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
-            let fit = SurfaceFit::new(&surface, &data[0]);
-            tables.for_each_base(corr, slope, |_, base| {
-                let mut wide = vec![0.0; tables.packed.k];
-                tables.packed.widen(base, &mut wide);
-                let basis = Basis::new(&surface, &wide, &sines);
-                let d = basis.data(&data[0].d);
-                for &a in &grid.a.values {
-                    let at = basis.at(a);
-                    let bound = Projection::new(surface.ss, &at)
-                        .map_or(f64::NEG_INFINITY, |p| p.bound(&fit, at.ud(&d)));
-                    bounds.push(bound);
-                }
-            });
-        }
+        record
+    }
+
+    /// The smallest value of each triple, in loop order.
+    fn minima(values: &[Option<f64>], per_triple: usize) -> Vec<f64> {
         values
             .chunks(per_triple)
-            .map(<[f64]>::to_vec)
-            .zip(bounds)
+            .map(|t| {
+                t.iter()
+                    .map(|v| v.expect("swept"))
+                    .fold(f64::INFINITY, f64::min)
+            })
             .collect()
     }
 
-    /// Every (σ/T, n, a) of a grid that includes n = 1, a = 0 (where U = S
-    /// up to refraction and the bound must fall back) and poor fits far from
-    /// the truth: the bound never exceeds any value the sweep computes, and
-    /// it is not vacuous.
+    /// Every (σ/T, n, a) of a grid that includes n = 1, a = 0 and poor fits
+    /// far from the truth: with nothing skipped, no triple's bound exceeds
+    /// any value its sweep computes, no (σ/T, n) bound exceeds any value of
+    /// its triples, and neither bound is vacuous.
     #[test]
-    fn lower_bound_is_below_every_computed_error() {
-        let corr = Correlation::Exponential;
-        let truth = Params::new(1.48, 0.39, 1.44, 0.2).unwrap();
-        let grid = grid((0.12, 4.04, 9), 6, 6);
-        let all = triples::<f32x8>(corr, &truth, 3, &grid);
-        assert_eq!(all.len(), 9 * 6 * 6);
-        let mut useful = 0;
-        for (values, bound) in &all {
-            let min = values.iter().copied().fold(f64::INFINITY, f64::min);
-            assert!(*bound <= min, "bound {bound} > min {min}");
-            useful += usize::from(*bound > 0.5 * min);
+    fn lower_bounds_are_below_every_computed_error() {
+        for corr in [Correlation::Exponential, Correlation::Gaussian] {
+            let truth = Params::new(1.48, 0.39, 1.44, 0.2).unwrap();
+            let grid = grid((0.12, 4.04, 9), 6, 6);
+            let all = record::<f32x8>(corr, &truth, &grid, vec![f64::INFINITY; 6]);
+            let min = minima(&all.values, grid.beta.len());
+            let (mut useful, mut useful_n) = (0, 0);
+            for (bound, min) in all.triple_bounds.iter().zip(&min) {
+                assert!(bound <= min, "{corr:?}: triple bound {bound} > min {min}");
+                useful += usize::from(*bound > 0.5 * min);
+            }
+            for (bound, triples) in all.n_bounds.iter().zip(min.chunks(grid.a.len())) {
+                let min = triples.iter().copied().fold(f64::INFINITY, f64::min);
+                assert!(
+                    *bound <= min,
+                    "{corr:?}: (σ/T, n) bound {bound} > min {min}"
+                );
+                useful_n += usize::from(*bound > 0.5 * min);
+            }
+            assert!(
+                useful > min.len() / 2,
+                "triple bound useful on {useful} of {}",
+                min.len()
+            );
+            assert!(useful_n > 0, "(σ/T, n) bound never useful");
         }
-        assert!(
-            useful > all.len() / 2,
-            "bound useful on only {useful} of {}",
-            all.len()
-        );
     }
 
     /// A threshold at or above a triple's minimum never skips it; one below
-    /// its bound does. (One n value, so within a shard the a index names the
-    /// triple the threshold applies to.)
+    /// its bound does.
     #[test]
-    fn threshold_skips_only_triples_that_cannot_reach_it() {
+    fn thresholds_skip_only_triples_that_cannot_reach_them() {
         let corr = Correlation::Gaussian;
         let truth = Params::new(0.68, 0.5, 1.3, 0.4).unwrap();
+        // One n and one σ/T, so the a index names the triple.
         let grid = Grid {
+            slope: Axis::linspace(0.68, 0.68, 1),
             n: Axis::linspace(1.3, 1.3, 1),
-            ..grid((0.2, 3.0, 5), 1, 6)
+            ..grid((0.2, 3.0, 1), 1, 8)
         };
-        let all = triples::<f32>(corr, &truth, 5, &grid);
-        let scene = synthetic::scene(corr, &truth, 0.01, 5);
-        let tables = Tables::<f32>::new(&scene, &grid);
-        let sines = sines(&tables.packed);
-        let model = Model {
-            tables: &tables,
-            sines: &sines,
-            grid: &grid,
-            corr,
-        };
-        let data = [SceneData::new(&tables.packed)];
-        let a_len = grid.a.len();
-        let (mut skipped, mut finite) = (0, 0);
-        for i_s in 0..grid.slope.len() {
-            let triple = |i_a: usize| &all[i_s * a_len + i_a];
-            let min = |i_a: usize| triple(i_a).0.iter().copied().fold(f64::INFINITY, f64::min);
-            for below_bound in [false, true] {
-                let mut stats = [SweepStats::default()];
-                let mut seen = vec![false; a_len];
-                let threshold = |_, i_a: usize| {
-                    if below_bound {
-                        triple(i_a).1 - 1e-3 * triple(i_a).1.abs()
-                    } else {
-                        min(i_a)
-                    }
-                };
-                shard(
-                    &model,
-                    i_s,
-                    &data,
-                    threshold,
-                    |_, flat, _, _| seen[(flat / grid.beta.len()) % a_len] = true,
-                    &mut stats,
-                );
-                for (i_a, &seen) in seen.iter().enumerate() {
-                    if !below_bound {
-                        assert!(seen, "skipped a triple that reaches the threshold");
-                    } else if triple(i_a).1.is_finite() {
-                        finite += 1;
-                        assert!(!seen, "visited a triple whose bound exceeds the threshold");
-                        skipped += 1;
-                    }
-                }
+        let all = record::<f32>(corr, &truth, &grid, vec![f64::INFINITY; 8]);
+        let min = minima(&all.values, grid.beta.len());
+        let at_min = record::<f32>(corr, &truth, &grid, min.clone());
+        assert!(
+            at_min.values.iter().all(Option::is_some),
+            "skipped a triple reaching its threshold"
+        );
+        let below: Vec<f64> = all
+            .triple_bounds
+            .iter()
+            .map(|b| b - 1e-3 * b.abs())
+            .collect();
+        let skipped = record::<f32>(corr, &truth, &grid, below.clone());
+        let mut checked = 0;
+        for (i_a, bound) in all.triple_bounds.iter().enumerate() {
+            if bound.is_finite() {
+                checked += 1;
+                let swept = skipped.values[i_a * grid.beta.len()].is_some();
+                assert!(!swept, "swept a triple whose bound exceeds its threshold");
             }
         }
-        assert!(finite > 0, "no triple had a bound");
-        assert_eq!(skipped, finite);
+        assert!(checked > 0, "no triple had a bound");
     }
 }

@@ -156,22 +156,17 @@ impl<L: Lane> Prepared<L> {
     /// Visits every (n, a, β) of slope index `i_s` in loop order as
     /// `visit(flat index, a index, objective)`, the objective being the sum
     /// of squared residuals `Σ (D − P)²` (eq. 15 before the root, widened to
-    /// `f64`). The envelope method may skip an (n, a) whose every value is
-    /// certainly above `threshold(a index)`; the other methods visit all.
+    /// `f64`).
     fn shard(
         &self,
         grid: &Grid,
         corr: Correlation,
         i_s: usize,
-        threshold: impl Fn(usize) -> f64,
         mut visit: impl FnMut(usize, usize, f64),
-    ) -> SweepStats {
+    ) {
         let slope = grid.slope.values[i_s];
         match self {
-            Self::Direct(packed) => {
-                direct::shard(packed, grid, corr, i_s, &mut visit);
-                SweepStats::default()
-            }
+            Self::Direct(packed) => direct::shard(packed, grid, corr, i_s, &mut visit),
             Self::Envelope {
                 tables,
                 sines,
@@ -183,16 +178,8 @@ impl<L: Lane> Prepared<L> {
                     grid,
                     corr,
                 };
-                let mut stats = [SweepStats::default()];
-                envelope::shard(
-                    &model,
-                    i_s,
-                    data,
-                    |_, i_a| threshold(i_a),
-                    |_, flat, i_a, e| visit(flat, i_a, e),
-                    &mut stats,
-                );
-                stats[0]
+                let mut every = Every { grid, i_s, visit };
+                envelope::shard(&model, i_s, data, &mut every, &mut [SweepStats::default()]);
             }
             Self::OnePass(tables) => {
                 let packed = &tables.packed;
@@ -217,8 +204,31 @@ impl<L: Lane> Prepared<L> {
                         |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),
                     );
                 });
-                SweepStats::default()
             }
+        }
+    }
+}
+
+/// An envelope [`envelope::Visitor`] that sweeps every triple of one scene
+/// and hands each value to `visit(flat index, a index, objective)`.
+struct Every<'g, V> {
+    grid: &'g Grid,
+    i_s: usize,
+    visit: V,
+}
+
+impl<V: FnMut(usize, usize, f64)> envelope::Visitor for Every<'_, V> {
+    fn wants_n(&mut self, _: usize, _: usize, _: f64) -> bool {
+        true
+    }
+
+    fn wants(&mut self, _: usize, _: usize, _: usize, _: f64) -> bool {
+        true
+    }
+
+    fn sweep(&mut self, _: usize, i_n: usize, i_a: usize, values: &[f64]) {
+        for (i_b, &e) in values.iter().enumerate() {
+            (self.visit)(self.grid.flat(self.i_s, i_n, i_a, i_b), i_a, e)
         }
     }
 }
@@ -277,8 +287,28 @@ impl SharedBest {
         f64::from_bits(slot.load(Ordering::Relaxed))
     }
 
+    /// The largest threshold of any a index: every triple of an (σ/T, n)
+    /// may be skipped when all its values exceed this.
+    fn loosest(&self) -> f64 {
+        let best = f64::from_bits(self.best.load(Ordering::Relaxed));
+        match self.zero_a {
+            Some(_) => best.max(f64::from_bits(self.rh.load(Ordering::Relaxed))),
+            None => best,
+        }
+    }
+
     fn offer(slot: &AtomicU64, e: f64) {
         slot.fetch_min(e.to_bits(), Ordering::Relaxed);
+    }
+
+    /// Offers `e`, the value of a grid point at a index `i_a`, before the
+    /// search proper: it lowers the thresholds as a visit would, without
+    /// becoming a candidate (the search visits that point again).
+    fn seed(&self, i_a: usize, e: f64) {
+        Self::offer(&self.best, e);
+        if self.zero_a == Some(i_a) {
+            Self::offer(&self.rh, e);
+        }
     }
 }
 
@@ -378,11 +408,9 @@ fn search_with<L: Lane + Send + Sync>(
         .into_par_iter()
         .map(|i_s| {
             let mut found = ShardBest::default();
-            let threshold = |i_a| shared.threshold(i_a);
-            let stats = prepared.shard(grid, corr, i_s, threshold, |flat, i_a, e| {
+            prepared.shard(grid, corr, i_s, |flat, i_a, e| {
                 found.visit(&shared, flat, i_a, e)
             });
-            found.stats = stats;
             progress();
             found
         })
@@ -404,6 +432,16 @@ pub fn search(
     progress: &(dyn Fn() + Sync),
 ) -> Result<SearchResult, GridError> {
     grid.validate()?;
+    if path.method == Method::Envelope {
+        let mut results = batch::search_batch(
+            std::slice::from_ref(scene),
+            grid,
+            corr,
+            path.arith,
+            progress,
+        )?;
+        return Ok(results.remove(0));
+    }
     Ok(match path.arith {
         Arith::F32x8 => search_with::<f32x8>(scene, grid, corr, path.method, progress),
         Arith::F32 => search_with::<f32>(scene, grid, corr, path.method, progress),
@@ -441,8 +479,7 @@ pub fn error_surface(
         out.par_chunks_mut(per_slope)
             .enumerate()
             .for_each(|(i_s, slice)| {
-                let never = |_| f64::INFINITY;
-                prepared.shard(grid, corr, i_s, never, |flat, _, e| {
+                prepared.shard(grid, corr, i_s, |flat, _, e| {
                     slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });
