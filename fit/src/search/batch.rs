@@ -8,7 +8,7 @@
 //! that scene alone, whatever the thread count (each scene keeps its own
 //! shared best for the skipping).
 
-use super::envelope::{self, Promising, SceneData, Seeker, TripleMinimum};
+use super::envelope::{self, Column, SceneData};
 use super::packed::Tables;
 use super::{combine, Arith, SearchResult, ShardBest, SharedBest, SweepStats};
 use crate::error::GridError;
@@ -108,56 +108,58 @@ fn run<L: Lane + Send + Sync>(
 }
 
 /// Gives every scene a threshold close to its minimum before the search
-/// proper: finds each scene's [`Promising`] triples (smallest bound, overall
-/// and at a = 0) and seeds its shared best with their swept minima. Any
-/// visited value is a valid threshold, so the result does not change; only
-/// fewer triples are swept.
+/// proper: per scene, the (σ/T, n) with the smallest [`envelope::Span`]
+/// bound and, within it, the triple with the smallest bound; and the a = 0
+/// triple with the smallest bound. Their swept minima seed the scene's
+/// shared best. Any computed value of a grid point is a valid threshold, so
+/// the result does not change; only fewer triples are swept.
 fn seed<L: Lane + Send + Sync>(
     model: &envelope::Model<'_, L>,
     data: &[SceneData],
     shared: &[SharedBest],
     zero_a: Option<usize>,
 ) {
-    let none = || vec![Promising::default(); data.len()];
-    let promising = (0..model.grid.slope.len())
+    type Slot = Option<(f64, [usize; 2])>;
+    let pick = |a: Slot, b: Slot| match (a, b) {
+        (Some(x), Some(y)) if y.0 < x.0 => Some(y),
+        (None, y) => y,
+        (x, _) => x,
+    };
+    let none = || vec![[None; 2]; data.len()];
+    let promising: Vec<[Slot; 2]> = (0..model.grid.slope.len())
         .into_par_iter()
         .map(|i_s| {
-            let mut seeker = Seeker {
-                i_s,
-                zero_a,
-                found: none(),
-            };
-            envelope::shard(
-                model,
-                i_s,
-                data,
-                &mut seeker,
-                &mut vec![SweepStats::default(); data.len()],
-            );
-            seeker.found
+            let found = envelope::promising(model, i_s, data, zero_a);
+            found
+                .into_iter()
+                .map(|slots| slots.map(|s| s.map(|(b, i_n)| (b, [i_s, i_n]))))
+                .collect::<Vec<_>>()
         })
         .reduce(none, |a, b| {
-            a.into_iter().zip(b).map(|(a, b)| a.merge(b)).collect()
+            a.into_iter()
+                .zip(b)
+                .map(|(a, b)| [pick(a[0], b[0]), pick(a[1], b[1])])
+                .collect()
         });
+    let a_values = &model.grid.a.values;
     promising
         .par_iter()
+        .zip(data)
         .zip(shared)
-        .enumerate()
-        .for_each(|(j, (promising, shared))| {
-            for [i_s, i_n, i_a] in promising.triples() {
-                let mut triple = TripleMinimum {
-                    i_n,
-                    i_a,
-                    min: f64::INFINITY,
-                };
-                envelope::shard(
-                    model,
-                    i_s,
-                    &data[j..=j],
-                    &mut triple,
-                    &mut [SweepStats::default()],
-                );
-                shared.seed(i_a, triple.min);
+        .for_each(|((slots, scene), shared)| {
+            if let Some((_, [i_s, i_n])) = slots[0] {
+                let column = Column::new(model, i_s, i_n);
+                let bounds = a_values.iter().map(|&a| column.bound(a, scene));
+                let (i_a, _) =
+                    bounds.enumerate().fold(
+                        (0, f64::INFINITY),
+                        |b, (i, v)| if v < b.1 { (i, v) } else { b },
+                    );
+                shared.seed(i_a, column.minimum(a_values[i_a], scene));
+            }
+            if let (Some((_, [i_s, i_n])), Some(i_a)) = (slots[1], zero_a) {
+                let column = Column::new(model, i_s, i_n);
+                shared.seed(i_a, column.minimum(a_values[i_a], scene));
             }
         });
 }

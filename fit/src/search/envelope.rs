@@ -561,93 +561,111 @@ pub fn shard<L: Lane>(
     });
 }
 
-/// A scene's most promising triples: the smallest bound overall, and on
-/// the a = 0 slice, as `(bound, [i_s, i_n, i_a])` (ties: first in loop order).
-#[derive(Clone, Copy, Default)]
-pub struct Promising {
-    /// Over the whole grid.
-    pub best: Option<(f64, [usize; 3])>,
-    /// On the a = 0 slice.
-    pub zero_a: Option<(f64, [usize; 3])>,
+/// One (σ/T, n) of the model on its own: what seeding a search needs
+/// (`super::batch`), computed exactly as [`shard`] computes it.
+pub struct Column {
+    surface: SurfaceSums,
+    basis: Basis,
+    betas: Vec<f64>,
 }
 
-impl Promising {
-    /// The better of each of two (`self` first in loop order).
-    pub fn merge(self, later: Self) -> Self {
-        let pick = |a: Option<(f64, [usize; 3])>, b: Option<(f64, [usize; 3])>| match (a, b) {
-            (Some(x), Some(y)) if y.0 < x.0 => Some(y),
-            (None, y) => y,
-            (x, _) => x,
-        };
+impl Column {
+    /// The surface term of σ/T index `i_s` and the subsurface basis of n
+    /// index `i_n`.
+    pub fn new<L: Lane>(model: &Model<'_, L>, i_s: usize, i_n: usize) -> Self {
+        let Model {
+            tables,
+            sines,
+            grid,
+            corr,
+        } = *model;
+        let slope = grid.slope.values[i_s];
+        let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
+        let mut base = Vec::new();
+        tables.base(corr, slope, i_n, &mut base);
+        let mut wide = vec![0.0; tables.packed.k];
+        tables.packed.widen(&base, &mut wide);
+        let basis = Basis::new(&surface, &wide, sines);
         Self {
-            best: pick(self.best, later.best),
-            zero_a: pick(self.zero_a, later.zero_a),
+            surface,
+            basis,
+            betas: grid.beta.values.clone(),
         }
     }
 
-    /// The triples, overall first (duplicates removed).
-    pub fn triples(&self) -> Vec<[usize; 3]> {
-        let mut out: Vec<[usize; 3]> = self.best.iter().map(|b| b.1).collect();
-        if let Some((_, t)) = self.zero_a {
-            if !out.contains(&t) {
-                out.push(t);
+    /// The bound of the triple at absorption `a` for `scene`.
+    pub fn bound(&self, a: f64, scene: &SceneData) -> f64 {
+        let at = self.basis.at(a);
+        let fit = SurfaceFit::new(&self.surface, scene);
+        let ud = at.ud(&self.basis.data(&scene.d));
+        Projection::new(self.surface.ss, &at).map_or(f64::NEG_INFINITY, |p| p.bound(&fit, ud))
+    }
+
+    /// The smallest error over β of the triple at absorption `a` for `scene`.
+    pub fn minimum(&self, a: f64, scene: &SceneData) -> f64 {
+        let at = self.basis.at(a);
+        let fit = SurfaceFit::new(&self.surface, scene);
+        let ud = at.ud(&self.basis.data(&scene.d));
+        let mut scratch = Scratch::default();
+        let max = build_hull(&self.surface, &self.basis, &at, &mut scratch);
+        let sums = Mix::new(&self.surface, &at, &fit, ud, max);
+        scratch.sweep.run(&scratch.hull, &sums, &self.betas);
+        scratch
+            .sweep
+            .values
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// Each scene's most promising (σ/T, n) pairs of one σ/T shard, by bound:
+/// `(bound, i_n)` of the smallest [`Span`] bound, and of the smallest bound
+/// of the triple at a index `zero_a`.
+pub fn promising<L: Lane>(
+    model: &Model<'_, L>,
+    i_s: usize,
+    scenes: &[SceneData],
+    zero_a: Option<usize>,
+) -> Vec<[Option<(f64, usize)>; 2]> {
+    let Model {
+        tables,
+        sines,
+        grid,
+        corr,
+    } = *model;
+    let slope = grid.slope.values[i_s];
+    let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
+    let fits: Vec<SurfaceFit> = scenes
+        .iter()
+        .map(|s| SurfaceFit::new(&surface, s))
+        .collect();
+    let mut out = vec![[None; 2]; scenes.len()];
+    let mut wide = vec![0.0; tables.packed.k];
+    let better = |slot: &mut Option<(f64, usize)>, bound: f64, i_n: usize| {
+        if slot.is_none_or(|(b, _)| bound < b) {
+            *slot = Some((bound, i_n));
+        }
+    };
+    tables.for_each_base(corr, slope, |i_n, base| {
+        tables.packed.widen(base, &mut wide);
+        let basis = Basis::new(&surface, &wide, sines);
+        let at_zero = zero_a.map(|i_a| basis.at(grid.a.values[i_a]));
+        let projection = at_zero.and_then(|at| Projection::new(surface.ss, &at).map(|p| (at, p)));
+        for ((slots, fit), scene) in out.iter_mut().zip(&fits).zip(scenes) {
+            let data = basis.data(&scene.d);
+            let span = basis
+                .span
+                .map_or(f64::NEG_INFINITY, |span| span.bound(fit, &data));
+            better(&mut slots[0], span, i_n);
+            if zero_a.is_some() {
+                let bound =
+                    projection.map_or(f64::NEG_INFINITY, |(at, p)| p.bound(fit, at.ud(&data)));
+                better(&mut slots[1], bound, i_n);
             }
         }
-        out
-    }
-}
-
-/// Collects each scene's [`Promising`] triples of a shard without sweeping.
-pub struct Seeker {
-    /// The σ/T index of the shard.
-    pub i_s: usize,
-    /// The a index of a = 0, if any.
-    pub zero_a: Option<usize>,
-    /// Per scene.
-    pub found: Vec<Promising>,
-}
-
-impl Visitor for Seeker {
-    fn wants_n(&mut self, j: usize, _: usize, bound: f64) -> bool {
-        let found = &self.found[j];
-        let beats = |b: Option<(f64, [usize; 3])>| b.is_none_or(|(b, _)| bound < b);
-        beats(found.best) || (self.zero_a.is_some() && beats(found.zero_a))
-    }
-
-    fn wants(&mut self, j: usize, i_n: usize, i_a: usize, bound: f64) -> bool {
-        let candidate = Promising {
-            best: Some((bound, [self.i_s, i_n, i_a])),
-            zero_a: (self.zero_a == Some(i_a)).then_some((bound, [self.i_s, i_n, i_a])),
-        };
-        self.found[j] = self.found[j].merge(candidate);
-        false
-    }
-
-    fn sweep(&mut self, _: usize, _: usize, _: usize, _: &[f64]) {}
-}
-
-/// The smallest objective over the β sweep of one triple `(i_n, i_a)`.
-pub struct TripleMinimum {
-    /// The triple's n index.
-    pub i_n: usize,
-    /// The triple's a index.
-    pub i_a: usize,
-    /// The minimum so far.
-    pub min: f64,
-}
-
-impl Visitor for TripleMinimum {
-    fn wants_n(&mut self, _: usize, i_n: usize, _: f64) -> bool {
-        i_n == self.i_n
-    }
-
-    fn wants(&mut self, _: usize, i_n: usize, i_a: usize, _: f64) -> bool {
-        (i_n, i_a) == (self.i_n, self.i_a)
-    }
-
-    fn sweep(&mut self, _: usize, _: usize, _: usize, values: &[f64]) {
-        self.min = values.iter().fold(self.min, |m, &e| m.min(e));
-    }
+    });
+    out
 }
 
 #[cfg(test)]

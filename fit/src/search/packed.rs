@@ -207,16 +207,21 @@ impl<L: Lane> Tables<L> {
     /// subsurface term before absorption, 0 in padding lanes) of every n at
     /// σ/T = `slope`, in loop order.
     pub fn for_each_base(&self, corr: Correlation, slope: f64, mut visit: impl FnMut(usize, &[L])) {
-        let inv_s2 = inverse_slope_squared(L::c(slope));
         let mut base = Vec::with_capacity(self.packed.geom.len());
-        for (i_n, ifaces) in self.interfaces.iter().enumerate() {
-            base.clear();
-            base.extend(
-                (ifaces.iter().zip(&self.packed.valid))
-                    .map(|(f, v)| subsurface_base(f, corr, inv_s2) * *v),
-            );
+        for i_n in 0..self.interfaces.len() {
+            self.base(corr, slope, i_n, &mut base);
             visit(i_n, &base);
         }
+    }
+
+    /// The subsurface base of n index `i_n` at σ/T = `slope`, into `out`.
+    pub fn base(&self, corr: Correlation, slope: f64, i_n: usize, out: &mut Vec<L>) {
+        let inv_s2 = inverse_slope_squared(L::c(slope));
+        out.clear();
+        out.extend(
+            (self.interfaces[i_n].iter().zip(&self.packed.valid))
+                .map(|(f, v)| subsurface_base(f, corr, inv_s2) * *v),
+        );
     }
 
     /// Calls `visit(i_n, i_a, U)` with the normalised subsurface term `U`
