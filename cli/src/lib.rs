@@ -7,6 +7,7 @@
 
 pub mod figures;
 pub mod reproduce;
+pub mod scaling;
 pub mod selection;
 pub mod speed;
 pub mod tables;

@@ -179,6 +179,7 @@ fn parity_without_a_layered_model_is_an_error() {
         out.contains("parity: 9900 of 9900 grid values identical"),
         "{out}"
     );
+    assert!(out.contains("batch: 1 of 1 searches identical"), "{out}");
 }
 
 #[test]

@@ -5,12 +5,12 @@
 //! geometry is CUReT sample 21's kept geometry (K = 198) when `CURET_DIR` is
 //! set, else the built-in synthetic one (K = 200). Each set is the model at
 //! parameters drawn inside the paper grid's range, plus seeded Gaussian
-//! noise of 1% of the max. Run: `cargo bench --bench batch`.
+//! noise of 1% of the max ([`synthetic::sets`]). Run: `cargo bench --bench batch`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use laminar_core::{Angles, Correlation, Params};
-use laminar_fit::synthetic::{self, Noise};
-use laminar_fit::{Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Quantity, Scene};
+use laminar_core::{Angles, Correlation};
+use laminar_fit::synthetic;
+use laminar_fit::{Fitter, Grid, Model};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -39,44 +39,11 @@ fn geometry() -> (String, Vec<Angles>) {
     }
 }
 
-/// `count` noisy sets made by the exp model on `angles`.
-fn sets(angles: &[Angles], count: usize) -> Vec<Scene> {
-    let mut rng = Noise::new(11);
-    let mut uniform = |lo: f64, hi: f64| lo + (hi - lo) * (0.5 + 0.5 * (rng.normal() / 3.0).tanh());
-    let paper: Vec<MeasurementAngles> = angles
-        .iter()
-        .map(|a| MeasurementAngles::Paper {
-            theta_i: a.theta_i(),
-            theta_s: a.theta_s(),
-            phi_s: a.phi_s(),
-        })
-        .collect();
-    (0..count)
-        .map(|i| {
-            let truth = Params::new(
-                uniform(0.3, 3.8),
-                uniform(0.05, 0.95),
-                uniform(1.32, 1.48),
-                uniform(0.02, 0.98),
-            )
-            .expect("inside the domain");
-            let mut values = synthetic::normalised(Correlation::Exponential, &truth, angles);
-            for v in &mut values {
-                *v += 0.01 * uniform(-1.732, 1.732);
-            }
-            MeasurementSet::new(i.to_string(), paper.clone(), Quantity::Radiance)
-                .and_then(|s| s.with_channel("v", values, None))
-                .and_then(|s| s.scene("v"))
-                .expect("a valid set")
-        })
-        .collect()
-}
-
 fn batch(c: &mut Criterion) {
     let (label, angles) = geometry();
     let count = env_usize("LAMINAR_BATCH_SETS", 10_000);
     let block = env_usize("LAMINAR_BATCH_BLOCK", 256).max(1);
-    let scenes = sets(&angles, count);
+    let scenes = synthetic::sets(Correlation::Exponential, &angles, count, 0.01, 11);
     let fitter = Fitter::new(Grid::paper()).expect("the paper grid is valid");
     let mut group = c.benchmark_group(format!("batch_{label}_k{}", angles.len()));
     group.sample_size(10);

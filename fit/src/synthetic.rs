@@ -87,6 +87,64 @@ pub fn scene(corr: Correlation, params: &Params, noise: f64, seed: u64) -> Scene
     Scene::from_radiance(angles, radiance, rows, nonpositive, None)
 }
 
+/// `k` geometries spread evenly (a golden-ratio sequence) over
+/// θi, θs ∈ [2°, 80°] and φs ∈ (−π, π]: a geometry of any size, for
+/// measuring how the cost grows with the number of measurements.
+pub fn spread(k: usize) -> Vec<Angles> {
+    let (g1, g2, g3) = (
+        0.819_172_513_396_164_4,
+        0.671_043_606_703_789_2,
+        0.549_700_477_901_970_4,
+    );
+    let deg = PI / 180.0;
+    (0..k)
+        .map(|i| {
+            let i = i as f64 + 0.5;
+            let (u, v, w) = ((i * g1).fract(), (i * g2).fract(), (i * g3).fract());
+            Angles::new(
+                (2.0 + 78.0 * u) * deg,
+                (2.0 + 78.0 * v) * deg,
+                PI * (2.0 * w - 1.0) + 1e-9,
+            )
+            .expect("in range")
+        })
+        .collect()
+}
+
+/// `count` scenes on `angles`, each the model `corr` at parameters drawn
+/// (seeded) from inside the paper grid's range (σ/T ∈ [0.3, 3.8],
+/// β ∈ [0.05, 0.95], n ∈ [1.32, 1.48], a ∈ [0.02, 0.98]) plus seeded
+/// Gaussian noise of standard deviation `noise` (the max is 1): what a batch
+/// of pixels or samples on one geometry looks like.
+pub fn sets(
+    corr: Correlation,
+    angles: &[Angles],
+    count: usize,
+    noise: f64,
+    seed: u64,
+) -> Vec<Scene> {
+    let mut rng = Noise::new(seed);
+    (0..count)
+        .map(|_| {
+            let mut draw = |lo: f64, hi: f64| lo + (hi - lo) * rng.uniform();
+            let truth = Params::new(
+                draw(0.3, 3.8),
+                draw(0.05, 0.95),
+                draw(1.32, 1.48),
+                draw(0.02, 0.98),
+            )
+            .expect("inside the domain");
+            let radiance: Vec<f64> = normalised(corr, &truth, angles)
+                .into_iter()
+                .map(|v| v + noise * rng.normal())
+                .collect();
+            let nonpositive = radiance.iter().filter(|&&v| v <= 0.0).count();
+            let rows = (1..=angles.len()).collect();
+            Scene::from_radiance(angles.to_vec(), radiance, rows, nonpositive, None)
+        })
+        .collect()
+}
+
 /// The built-in default scene, labelled sample `synthetic`, channel `avg`.
 pub fn default_scene() -> Scene {
     let (s, b, n, a) = TRUE_PARAMS;

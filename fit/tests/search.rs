@@ -352,6 +352,12 @@ fn batch_fits_equal_single_fits_bit_for_bit() {
                     for (scene, fit) in scenes.iter().zip(&batch) {
                         assert_eq!(fit, &fitter.fit(scene, model), "{path} {model} {threads}");
                     }
+                    // Any split into blocks gives the same fits.
+                    let split: Vec<_> = scenes
+                        .chunks(2)
+                        .flat_map(|block| fitter.fit_batch(block, model))
+                        .collect();
+                    assert_eq!(split, batch, "{path} {model} {threads}: blocks of 2");
                 }
             }
         }

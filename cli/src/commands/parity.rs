@@ -6,8 +6,9 @@ use super::options::{
 };
 use clap::Args;
 use laminar_cli::CliError;
-use laminar_fit::search::Twins;
-use laminar_fit::Model;
+use laminar_fit::search::batch::search_batch;
+use laminar_fit::search::{search, Arith, Method, Path, SearchResult, Twins};
+use laminar_fit::{Grid, Model, Scene};
 use std::time::Instant;
 
 /// Compare every grid value of the SIMD path with its scalar twin, bit for bit.
@@ -77,6 +78,58 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
         }
     }
     println!("parity: {same} of {all} grid values identical");
+    let batch_same = if args.path.path.method == Method::Envelope {
+        let scenes: Vec<Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
+        batch_parity(&scenes, &models, &grid)?
+    } else {
+        true
+    };
     report_time("parity", start, pairs, PAIRS);
+    Ok(same == all && batch_same)
+}
+
+/// The batch search (envelope method) of the scenes that share the first
+/// scene's geometry, on `f32x8` and on its scalar twin `f32`, against each
+/// other and against searching each scene alone: every result (chosen grid
+/// point, Δ_RMS bits, Ragheb–Hancock best) must be identical.
+fn batch_parity(scenes: &[Scene], models: &[Model], grid: &Grid) -> Result<bool, CliError> {
+    let shared: Vec<Scene> = scenes
+        .iter()
+        .filter(|s| s.angles() == scenes[0].angles())
+        .cloned()
+        .collect();
+    let (mut same, mut all) = (0usize, 0usize);
+    for &model in models {
+        let corr = model.correlation().expect("layered models only");
+        let g = if model.is_ragheb_hancock() {
+            grid.ragheb_hancock()
+        } else {
+            grid.clone()
+        };
+        let simd = search_batch(&shared, &g, corr, Arith::F32x8, &|| {})?;
+        let scalar = search_batch(&shared, &g, corr, Arith::F32, &|| {})?;
+        for ((scene, v), s) in shared.iter().zip(&simd).zip(&scalar) {
+            let alone = search(
+                scene,
+                &g,
+                corr,
+                Path::new(Method::Envelope, Arith::F32x8),
+                &|| {},
+            )?;
+            let key = |r: &SearchResult| {
+                (
+                    r.best,
+                    r.best_rms.to_bits(),
+                    r.rh_best.map(|(f, e)| (f, e.to_bits())),
+                )
+            };
+            all += 1;
+            same += usize::from(key(v) == key(s) && key(v) == key(&alone));
+        }
+    }
+    println!(
+        "batch: {same} of {all} searches identical (envelope-f32x8 batch of {} sets on one geometry vs its f32 twin vs each set alone)",
+        shared.len()
+    );
     Ok(same == all)
 }

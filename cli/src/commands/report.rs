@@ -1,10 +1,12 @@
 //! `laminar report speed-vs-error`: every search path, timed and compared
-//! with the f64 reference.
+//! with the f64 reference; `laminar report scaling`: time per fit against
+//! K and the grid size, one set at a time and in a batch.
 
 use super::options::{
     check_out, emit, global_threads, progress, report_time, CuretArgs, GridArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, Subcommand};
+use laminar_cli::scaling::scaling;
 use laminar_cli::selection::synthetic_jobs;
 use laminar_cli::speed::speed_vs_error;
 use laminar_cli::CliError;
@@ -22,6 +24,38 @@ pub enum ReportKind {
     /// synthetic scene) on every path: pairs/s, speed-up and error against
     /// the f64 reference.
     SpeedVsError(SpeedArgs),
+    /// Time per fit against K and grid size, one-set and batch (Markdown).
+    ///
+    /// Fits the exp model to synthetic sets on spread geometries of each K
+    /// of --ks (on the grid of the grid options), and on the first K with
+    /// the grid's points per axis multiplied by each of --scales; prints
+    /// the time per fit of `fit` (one set at a time) and of `fit_batch`
+    /// (sets sharing the geometry), and the fitted power-law exponents.
+    Scaling(ScalingArgs),
+}
+
+/// Options of `report scaling`.
+#[derive(Args, Debug)]
+pub struct ScalingArgs {
+    #[command(flatten)]
+    threads: ThreadArgs,
+    #[command(flatten)]
+    grid: GridArgs,
+    /// Numbers of measurements per set, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "198,2000,20000")]
+    ks: Vec<usize>,
+    /// Multipliers of the points per axis, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4")]
+    scales: Vec<usize>,
+    /// Sets fitted one at a time per configuration.
+    #[arg(long, default_value_t = 4)]
+    sets: usize,
+    /// Sets per batch.
+    #[arg(long, default_value_t = 64)]
+    batch_sets: usize,
+    /// Also write the report to FILE.
+    #[arg(long)]
+    out: Option<PathBuf>,
 }
 
 /// Options of `report speed-vs-error`.
@@ -43,7 +77,51 @@ pub struct SpeedArgs {
 
 /// Runs a report.
 pub fn run(kind: &ReportKind) -> Result<(), CliError> {
-    let ReportKind::SpeedVsError(args) = kind;
+    match kind {
+        ReportKind::SpeedVsError(args) => speed(args),
+        ReportKind::Scaling(args) => scaling_report(args),
+    }
+}
+
+fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
+    let start = Instant::now();
+    check_out(args.out.as_ref())?;
+    global_threads(&args.threads)?;
+    if args.ks.is_empty()
+        || args.ks.contains(&0)
+        || args.scales.is_empty()
+        || args.scales.contains(&0)
+        || args.sets == 0
+        || args.batch_sets == 0
+    {
+        return Err(CliError::Usage(
+            "--ks, --scales, --sets and --batch-sets must be positive".into(),
+        ));
+    }
+    let grid = args.grid.grid()?;
+    let bar = progress((args.ks.len() + args.scales.len()) as u64, "scaling");
+    let report = scaling(
+        &grid,
+        &args.ks,
+        &args.scales,
+        args.sets,
+        args.batch_sets,
+        &|what| {
+            bar.set_message(what.to_string());
+            bar.inc(1);
+        },
+    )?;
+    bar.finish_and_clear();
+    let text = report.markdown();
+    print!("{text}");
+    if args.out.is_some() {
+        emit(args.out.as_ref(), &text)?;
+    }
+    eprintln!("report scaling: {:.1} s", start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn speed(args: &SpeedArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref())?;
     global_threads(&args.threads)?;

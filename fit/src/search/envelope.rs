@@ -54,7 +54,7 @@
 //! path and its scalar twin agree bit for bit.
 
 use super::packed::{Packed, Tables};
-use super::sums::{dot, DataSums, SurfaceSums};
+use super::sums::{dot, dot4, DataSums, SurfaceSums};
 use super::SweepStats;
 use crate::grid::Grid;
 use laminar_core::{mix, Correlation, Lane};
@@ -87,11 +87,11 @@ pub fn sines<L: Lane>(packed: &Packed<L>) -> Vec<[f64; 2]> {
 }
 
 /// The unnormalised subsurface term of one (σ/T, n) as a quadratic in `a`
-/// (module docs): per measurement `(w0, w1, w2)`, the coefficients of
+/// (module docs): `w0, w1, w2` over the measurements, the coefficients of
 /// `Σ S U` and `Σ U²` in the basis `(1 − a)^(m−j) a^j`, and the bound of
 /// every `a` at once ([`Span`]).
 pub struct Basis {
-    w: Vec<[f64; 3]>,
+    w: [Vec<f64>; 3],
     su: [f64; 3],
     uu: [f64; 5],
     span: Option<Span>,
@@ -101,18 +101,22 @@ impl Basis {
     /// The basis of the widened subsurface base `base` with the widened
     /// sines `sines`, and its sums against the surface term.
     pub fn new(surface: &SurfaceSums, base: &[f64], sines: &[[f64; 2]]) -> Self {
-        let w: Vec<[f64; 3]> = base
-            .iter()
-            .zip(sines)
-            .map(|(&b, &[si, ss])| [b, b * (si + ss), b * (si * ss)])
-            .collect();
-        let (mut su, mut ww) = ([0.0; 3], [[0.0; 3]; 3]);
-        for (w, s) in w.iter().zip(&surface.s) {
-            for i in 0..3 {
-                su[i] += s * w[i];
-                for j in i..3 {
-                    ww[i][j] += w[i] * w[j];
-                }
+        let w = [
+            base.to_vec(),
+            base.iter()
+                .zip(sines)
+                .map(|(&b, &[si, ss])| b * (si + ss))
+                .collect(),
+            base.iter()
+                .zip(sines)
+                .map(|(&b, &[si, ss])| b * (si * ss))
+                .collect(),
+        ];
+        let su = [0, 1, 2].map(|i| dot4(&surface.s, &w[i]));
+        let mut ww = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                ww[i][j] = dot4(&w[i], &w[j]);
             }
         }
         // (t² w0 + t a w1 + a² w2)², by powers of a.
@@ -139,13 +143,7 @@ impl Basis {
 
     /// `Σ D w_j` of the widened data `d`, for [`At::ud`].
     pub fn data(&self, d: &[f64]) -> [f64; 3] {
-        let mut out = [0.0; 3];
-        for (w, d) in self.w.iter().zip(d) {
-            out[0] += w[0] * d;
-            out[1] += w[1] * d;
-            out[2] += w[2] * d;
-        }
-        out
+        [0, 1, 2].map(|i| dot4(&self.w[i], d))
     }
 
     /// The term at absorption `a`.
@@ -172,10 +170,10 @@ pub struct At {
 }
 
 impl At {
-    /// `U_k` (unnormalised) of the measurement with basis values `w`.
+    /// `U_k` (unnormalised) of measurement `k` of `basis`.
     #[inline]
-    fn value(&self, w: &[f64; 3]) -> f64 {
-        self.b[0] * w[0] + self.b[1] * w[1] + self.b[2] * w[2]
+    fn value(&self, basis: &Basis, k: usize) -> f64 {
+        self.b[0] * basis.w[0][k] + self.b[1] * basis.w[1][k] + self.b[2] * basis.w[2][k]
     }
 
     /// `Σ D U` (unnormalised) from a scene's [`Basis::data`].
@@ -350,10 +348,14 @@ pub struct Scratch {
 /// `(S_k, U_k)` with `U` normalised by it, and the upper hull of the front's
 /// lines (into `scratch`). Returns the max.
 fn build_hull(surface: &SurfaceSums, basis: &Basis, at: &At, scratch: &mut Scratch) -> f64 {
-    let max = basis.w.iter().fold(0.0, |m: f64, w| m.max(at.value(w)));
+    let [w0, w1, w2] = &basis.w;
+    let [b0, b1, b2] = at.b;
+    let max = (w0.iter().zip(w1).zip(w2))
+        .map(|((w0, w1), w2)| b0 * w0 + b1 * w1 + b2 * w2)
+        .fold(0.0, |m: f64, v| if v > m { v } else { m });
     let normalised = |k: usize| {
         if max > 0.0 {
-            at.value(&basis.w[k]) / max
+            at.value(basis, k) / max
         } else {
             0.0
         }

@@ -56,6 +56,27 @@ pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
+/// `Σ x_k y_k` as four partial sums over `k mod 4`, added as
+/// `(p0 + p1) + (p2 + p3)` and then the remainder in order: independent
+/// chains the compiler vectorises, in a fixed order (the same bits on
+/// every path that uses it).
+pub fn dot4(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len().min(y.len());
+    let (xc, xr) = x[..n].split_at(n - n % 4);
+    let (yc, yr) = y[..n].split_at(n - n % 4);
+    let mut p = [0.0; 4];
+    for (x, y) in xc.chunks_exact(4).zip(yc.chunks_exact(4)) {
+        for l in 0..4 {
+            p[l] += x[l] * y[l];
+        }
+    }
+    let mut sum = (p[0] + p[1]) + (p[2] + p[3]);
+    for (x, y) in xr.iter().zip(yr) {
+        sum += x * y;
+    }
+    sum
+}
+
 /// The per-(σ/T, n, a) sums over `Δ = U − S` of the one-pass method.
 #[derive(Clone, Copy)]
 pub struct DeltaSums {
