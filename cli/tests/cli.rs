@@ -980,4 +980,38 @@ fn fit_batch_equals_fit_per_row() {
         ],
         &["short.csv has 2 values per set", "200 geometries"],
     );
+    // Sets are read a block (256) at a time: a bad value in the second block
+    // is named by line and column, and nothing is written.
+    let first = csv_values.lines().next().unwrap();
+    let mut many: Vec<String> = (0..300).map(|_| first.to_string()).collect();
+    many[289] = {
+        let mut fields: Vec<&str> = first.split(',').collect();
+        fields[1] = "x";
+        fields.join(",")
+    };
+    let bad = write(d.path(), "bad.csv", &(many.join("\n") + "\n"));
+    let never = d.path().join("never.csv");
+    fails(
+        &[
+            &[
+                "fit-batch",
+                "--geometry",
+                s(&geometry),
+                "--values",
+                s(&bad),
+                "--out",
+                s(&never),
+            ][..],
+            &grid,
+        ]
+        .concat(),
+        &["bad.csv:290: column 2: `x` is not a finite number"],
+    );
+    assert!(!never.exists());
+    let left: Vec<_> = std::fs::read_dir(d.path())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains("never"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }

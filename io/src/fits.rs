@@ -13,7 +13,7 @@ use laminar_fit::fitted::format_value;
 use laminar_fit::{Estimate, Fit, FittedModel, Model};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// CSV header (a contract: scripts read these columns).
 pub const CSV_HEADER: [&str; 14] = [
@@ -60,12 +60,47 @@ fn row(r: &Fit) -> Vec<String> {
 
 /// Records as CSV with [`CSV_HEADER`].
 pub fn csv(records: &[Fit]) -> String {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record(CSV_HEADER).expect("in-memory write");
+    let mut rows = CsvRows::new(Vec::new()).expect("in-memory write");
     for r in records {
-        w.write_record(row(r)).expect("in-memory write");
+        rows.write(r).expect("in-memory write");
     }
-    String::from_utf8(w.into_inner().expect("in-memory flush")).expect("utf-8")
+    String::from_utf8(rows.into_inner().expect("in-memory flush")).expect("utf-8")
+}
+
+/// Records written as CSV rows one at a time (what [`csv`] gives, without
+/// holding every record): the header first, then [`CsvRows::write`] per fit.
+pub struct CsvRows<W: Write> {
+    writer: csv::Writer<W>,
+}
+
+impl<W: Write> CsvRows<W> {
+    /// Writes [`CSV_HEADER`] to `out`.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn new(out: W) -> std::io::Result<Self> {
+        let mut writer = csv::Writer::from_writer(out);
+        writer.write_record(CSV_HEADER)?;
+        Ok(Self { writer })
+    }
+
+    /// Writes one record.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write(&mut self, record: &Fit) -> std::io::Result<()> {
+        self.writer
+            .write_record(row(record))
+            .map_err(std::io::Error::other)
+    }
+
+    /// Flushes and returns the writer.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn into_inner(self) -> std::io::Result<W> {
+        self.writer.into_inner().map_err(|e| e.into_error())
+    }
 }
 
 /// The format name in every fitted-model file.
@@ -260,22 +295,74 @@ pub fn write_atomic(path: &Path, contents: &str) -> Result<(), ReadError> {
 /// # Errors
 /// [`ReadError::Io`] when the file cannot be written.
 pub fn write_atomic_bytes(path: &Path, contents: &[u8]) -> Result<(), ReadError> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(contents)
+        .map_err(|e| ReadError::io(path, "write", e))?;
+    file.commit()
+}
+
+/// A file written whole or not at all, streamed: a temporary file beside
+/// `path` that [`AtomicFile::commit`] renames over it. Dropped without a
+/// commit (an error on the way), it removes the temporary file and leaves
+/// `path` as it was.
+pub struct AtomicFile {
+    path: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl AtomicFile {
+    /// Creates the temporary file for `path`.
+    ///
+    /// # Errors
+    /// [`ReadError::Io`] when it cannot be created.
+    pub fn create(path: &Path) -> Result<Self, ReadError> {
+        let dir = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+        let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+        let file = std::fs::File::create(&tmp).map_err(|e| ReadError::io(path, "write", e))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            tmp,
+            file: Some(std::io::BufWriter::new(file)),
+        })
     }
-    result.map_err(|e| ReadError::io(path, "write", e))
+
+    /// Flushes, syncs and renames the file into place.
+    ///
+    /// # Errors
+    /// [`ReadError::Io`] when any of those fails (the temporary file is removed).
+    pub fn commit(mut self) -> Result<(), ReadError> {
+        let file = self.file.take().expect("committed once");
+        let result = file
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .and_then(|()| std::fs::rename(&self.tmp, &self.path));
+        result.map_err(|e| ReadError::io(&self.path, "write", e))
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.as_mut().expect("not committed").write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.as_mut().expect("not committed").flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        // Not committed, or the rename failed: nothing of it stays.
+        if self.file.is_some() || self.tmp.exists() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
 }
 
 /// Checks before any work that `path` can be written: its directory exists

@@ -3,7 +3,9 @@
 //! dimensions; read with `npyz`) or CSV (N lines of K numbers, `#` comments).
 
 use crate::error::ReadError;
-use std::path::Path;
+use std::fs::File;
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
 
 /// An N × K array of values, row-major.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,23 +25,14 @@ impl Values {
     }
 }
 
-/// Reads `.npy` or `.csv` values by the file's extension.
+/// Reads `.npy` or `.csv` values by the file's extension, whole.
 ///
 /// # Errors
 /// [`ReadError`] naming the file (and for CSV the line, column and value):
 /// another extension, dtype, byte order, memory order or dimension count, or
 /// rows of unequal length.
 pub fn read_values(file: &Path) -> Result<Values, ReadError> {
-    let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
-    match file.extension().and_then(|e| e.to_str()) {
-        Some("npy") => parse_npy(file, &bytes),
-        Some("csv") => parse_csv_values(file, &bytes),
-        _ => Err(ReadError::format(
-            file,
-            0,
-            "values must be a .npy or .csv file".to_string(),
-        )),
-    }
+    ValueRows::open(file)?.collect_all()
 }
 
 /// An `.npy` array in memory (`file` names it in errors).
@@ -47,40 +40,7 @@ pub fn read_values(file: &Path) -> Result<Values, ReadError> {
 /// # Errors
 /// As [`read_values`].
 pub fn parse_npy(file: &Path, bytes: &[u8]) -> Result<Values, ReadError> {
-    let bad = |m: String| ReadError::format(file, 0, m);
-    let npy = npyz::NpyFile::new(bytes).map_err(|e| bad(format!("not an .npy file: {e}")))?;
-    let shape = npy.shape().to_vec();
-    if shape.len() != 2 {
-        return Err(bad(format!(
-            "the array has shape {shape:?}; an N × K array (sets × measurements) is needed"
-        )));
-    }
-    if npy.order() != npyz::Order::C {
-        return Err(bad(
-            "the array is in Fortran order; C order is needed".into()
-        ));
-    }
-    let descr = npy.dtype().descr();
-    let (rows, cols) = (shape[0] as usize, shape[1] as usize);
-    let data: Vec<f64> = match descr.as_str() {
-        "'<f8'" => npy.into_vec::<f64>(),
-        "'<f4'" => npy
-            .into_vec::<f32>()
-            .map(|v| v.into_iter().map(f64::from).collect()),
-        other => {
-            return Err(bad(format!(
-                "dtype {other}; little-endian float32 (<f4) or float64 (<f8) is needed"
-            )))
-        }
-    }
-    .map_err(|e| bad(format!("cannot read the data: {e}")))?;
-    if data.len() != rows * cols {
-        return Err(bad(format!(
-            "{} values for a {rows} × {cols} array",
-            data.len()
-        )));
-    }
-    Ok(Values { rows, cols, data })
+    ValueRows::npy(file, bytes)?.collect_all()
 }
 
 /// CSV values in memory: one set per line, K comma-separated numbers.
@@ -88,43 +48,252 @@ pub fn parse_npy(file: &Path, bytes: &[u8]) -> Result<Values, ReadError> {
 /// # Errors
 /// As [`read_values`].
 pub fn parse_csv_values(file: &Path, bytes: &[u8]) -> Result<Values, ReadError> {
-    let text = crate::curet::utf8(file, bytes)?;
-    let text = text.trim_start_matches('\u{feff}');
-    let (mut data, mut cols, mut rows) = (Vec::new(), 0, 0);
-    for (i, line) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
-        if rows == 0 {
-            cols = fields.len();
-        } else if fields.len() != cols {
-            return Err(ReadError::format(
+    ValueRows::csv(file, bytes)?.collect_all()
+}
+
+/// The rows of a values file read a block at a time, so that memory stays
+/// bounded by the block whatever N is: [`ValueRows::open`], then
+/// [`ValueRows::next_rows`] until it gives an empty block.
+pub struct ValueRows<R: BufRead> {
+    file: PathBuf,
+    cols: usize,
+    rows: Option<usize>,
+    source: Source<R>,
+}
+
+enum Source<R: BufRead> {
+    F64(npyz::NpyReader<f64, R>),
+    F32(npyz::NpyReader<f32, R>),
+    Csv {
+        lines: std::io::Lines<R>,
+        line_no: usize,
+        /// The first row, read by [`ValueRows::csv`] to learn K.
+        first: Option<Vec<f64>>,
+    },
+}
+
+impl ValueRows<BufReader<File>> {
+    /// Opens `.npy` or `.csv` values by the file's extension and reads
+    /// their header (`.npy`) or first row (CSV).
+    ///
+    /// # Errors
+    /// As [`read_values`] (for the header or first row).
+    pub fn open(file: &Path) -> Result<Self, ReadError> {
+        let reader = || {
+            File::open(file)
+                .map(BufReader::new)
+                .map_err(|e| ReadError::io(file, "read", e))
+        };
+        match file.extension().and_then(|e| e.to_str()) {
+            Some("npy") => Self::npy(file, reader()?),
+            Some("csv") => Self::csv(file, reader()?),
+            _ => Err(ReadError::format(
                 file,
-                line_no,
-                format!("{} values, but the first row has {cols}", fields.len()),
+                0,
+                "values must be a .npy or .csv file".to_string(),
+            )),
+        }
+    }
+}
+
+impl<R: BufRead> ValueRows<R> {
+    /// `.npy` values from `reader` (`file` names it in errors).
+    ///
+    /// # Errors
+    /// As [`read_values`], for the header.
+    pub fn npy(file: &Path, reader: R) -> Result<Self, ReadError> {
+        let bad = |m: String| ReadError::format(file, 0, m);
+        let npy = npyz::NpyFile::new(reader).map_err(|e| bad(format!("not an .npy file: {e}")))?;
+        let shape = npy.shape().to_vec();
+        if shape.len() != 2 {
+            return Err(bad(format!(
+                "the array has shape {shape:?}; an N × K array (sets × measurements) is needed"
+            )));
+        }
+        if npy.order() != npyz::Order::C {
+            return Err(bad(
+                "the array is in Fortran order; C order is needed".into()
             ));
         }
-        for (c, f) in fields.iter().enumerate() {
-            match f.parse::<f64>() {
-                Ok(v) if v.is_finite() => data.push(v),
-                _ => {
-                    return Err(ReadError::format(
-                        file,
-                        line_no,
-                        format!("column {}: `{f}` is not a finite number", c + 1),
-                    ))
-                }
+        let cols = usize::try_from(shape[1])
+            .ok()
+            .filter(|&c| c > 0 || shape[0] == 0)
+            .ok_or_else(|| bad(format!("the array has shape {shape:?}: no values per set")))?;
+        let source = match npy.dtype().descr().as_str() {
+            "'<f8'" => npy.data::<f64>().map(Source::F64),
+            "'<f4'" => npy.data::<f32>().map(Source::F32),
+            other => {
+                return Err(bad(format!(
+                    "dtype {other}; little-endian float32 (<f4) or float64 (<f8) is needed"
+                )))
             }
         }
-        rows += 1;
+        .map_err(|e| bad(format!("cannot read the data: {e}")))?;
+        Ok(Self {
+            file: file.to_path_buf(),
+            cols,
+            rows: usize::try_from(shape[0]).ok(),
+            source,
+        })
     }
-    if rows == 0 {
-        return Err(ReadError::format(file, 0, "no rows of values"));
+
+    /// CSV values from `reader`: one set per line, K comma-separated
+    /// numbers, `#` comments; reads up to the first row.
+    ///
+    /// # Errors
+    /// As [`read_values`], for the first row; also when there is none.
+    pub fn csv(file: &Path, reader: R) -> Result<Self, ReadError> {
+        let mut rows = Self {
+            file: file.to_path_buf(),
+            cols: 0,
+            rows: None,
+            source: Source::Csv {
+                lines: reader.lines(),
+                line_no: 0,
+                first: None,
+            },
+        };
+        let first = rows
+            .csv_row()?
+            .ok_or_else(|| ReadError::format(file, 0, "no rows of values"))?;
+        rows.cols = first.len();
+        if let Source::Csv { first: slot, .. } = &mut rows.source {
+            *slot = Some(first);
+        }
+        Ok(rows)
     }
-    Ok(Values { rows, cols, data })
+
+    /// K, the values per set.
+    pub fn cols(&self) -> usize {
+        self.cols
+    }
+
+    /// N, the number of sets, when the header states it (`.npy`).
+    pub fn rows(&self) -> Option<usize> {
+        self.rows
+    }
+
+    /// Up to `n` more rows; empty at the end.
+    ///
+    /// # Errors
+    /// As [`read_values`]: a row of another length, a value that is not a
+    /// finite number, or a truncated `.npy` file.
+    pub fn next_rows(&mut self, n: usize) -> Result<Vec<Vec<f64>>, ReadError> {
+        let mut out = Vec::with_capacity(n.min(1 << 16));
+        while out.len() < n {
+            let row = match &mut self.source {
+                Source::Csv { .. } => self.csv_row()?,
+                Source::F64(data) => npy_row(&self.file, data, self.cols, |v| v)?,
+                Source::F32(data) => npy_row(&self.file, data, self.cols, f64::from)?,
+            };
+            match row {
+                Some(row) => out.push(row),
+                None => break,
+            }
+        }
+        Ok(out)
+    }
+
+    /// Every remaining row.
+    fn collect_all(mut self) -> Result<Values, ReadError> {
+        let mut data = Vec::new();
+        let mut rows = 0;
+        loop {
+            let block = self.next_rows(1 << 12)?;
+            if block.is_empty() {
+                break;
+            }
+            rows += block.len();
+            data.extend(block.into_iter().flatten());
+        }
+        Ok(Values {
+            rows,
+            cols: self.cols,
+            data,
+        })
+    }
+
+    /// The next CSV row (the one read by [`ValueRows::csv`] first).
+    fn csv_row(&mut self) -> Result<Option<Vec<f64>>, ReadError> {
+        let Source::Csv {
+            lines,
+            line_no,
+            first,
+        } = &mut self.source
+        else {
+            return Ok(None);
+        };
+        if let Some(row) = first.take() {
+            return Ok(Some(row));
+        }
+        let file = &self.file;
+        for line in lines.by_ref() {
+            *line_no += 1;
+            let line = line.map_err(|e| ReadError::io(file, "read", e))?;
+            let line = line.trim().trim_start_matches('\u{feff}');
+            if line.is_empty() || line.starts_with('#') {
+                continue;
+            }
+            let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+            if self.cols != 0 && fields.len() != self.cols {
+                return Err(ReadError::format(
+                    file,
+                    *line_no,
+                    format!(
+                        "{} values, but the first row has {}",
+                        fields.len(),
+                        self.cols
+                    ),
+                ));
+            }
+            let row = fields
+                .iter()
+                .enumerate()
+                .map(|(c, f)| match f.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Ok(v),
+                    _ => Err(ReadError::format(
+                        file,
+                        *line_no,
+                        format!("column {}: `{f}` is not a finite number", c + 1),
+                    )),
+                })
+                .collect::<Result<Vec<f64>, _>>()?;
+            return Ok(Some(row));
+        }
+        Ok(None)
+    }
+}
+
+/// The next row of `cols` values of an `.npy` data stream.
+fn npy_row<T: npyz::Deserialize, R: BufRead>(
+    file: &Path,
+    data: &mut npyz::NpyReader<T, R>,
+    cols: usize,
+    widen: impl Fn(T) -> f64,
+) -> Result<Option<Vec<f64>>, ReadError> {
+    let mut row = Vec::with_capacity(cols);
+    for value in data.by_ref().take(cols) {
+        let v = widen(
+            value.map_err(|e| ReadError::format(file, 0, format!("cannot read the data: {e}")))?,
+        );
+        if !v.is_finite() {
+            return Err(ReadError::format(
+                file,
+                0,
+                format!("value {v} is not a finite number"),
+            ));
+        }
+        row.push(v);
+    }
+    match row.len() {
+        0 => Ok(None),
+        n if n == cols => Ok(Some(row)),
+        n => Err(ReadError::format(
+            file,
+            0,
+            format!("the data end inside a row ({n} of {cols} values)"),
+        )),
+    }
 }
 
 #[cfg(test)]
@@ -170,6 +339,41 @@ mod tests {
         assert!(e.contains("v.npy") && e.contains("<f4"), "{e}");
         let e = parse_npy(f, b"not numpy").unwrap_err().to_string();
         assert!(e.contains("not an .npy file"), "{e}");
+    }
+
+    #[test]
+    fn rows_stream_in_blocks_from_npy_and_csv() {
+        let values: Vec<f64> = (0..10).map(f64::from).collect();
+        let bytes: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let f = Path::new("v.npy");
+        let npy_bytes = npy("<f8", (5, 2), &bytes);
+        let mut rows = ValueRows::npy(f, &npy_bytes[..]).unwrap();
+        assert_eq!(rows.cols(), 2);
+        let blocks: Vec<usize> = std::iter::from_fn(|| {
+            let b = rows.next_rows(2).unwrap();
+            (!b.is_empty()).then_some(b.len())
+        })
+        .collect();
+        assert_eq!(blocks, [2, 2, 1]);
+        // A file cut inside its last row is an error, not a short row.
+        let cut = &npy_bytes[..npy_bytes.len() - 8];
+        let e = ValueRows::npy(f, cut)
+            .unwrap()
+            .next_rows(9)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("v.npy") && e.contains("cannot read the data"),
+            "{e}"
+        );
+        let text = b"0,1\n# c\n2,3\n4,5\n";
+        let mut rows = ValueRows::csv(Path::new("v.csv"), &text[..]).unwrap();
+        assert_eq!(
+            rows.next_rows(2).unwrap(),
+            vec![vec![0.0, 1.0], vec![2.0, 3.0]]
+        );
+        assert_eq!(rows.next_rows(2).unwrap(), vec![vec![4.0, 5.0]]);
+        assert!(rows.next_rows(2).unwrap().is_empty());
     }
 
     #[test]

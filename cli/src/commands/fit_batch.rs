@@ -1,18 +1,23 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
 use super::options::{
-    check_out, emit, fitter, progress, report_time, GridArgs, PathArgs, ThreadArgs, PAIRS,
+    check_out, counter, emit, fitter, progress, report_time, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::CliError;
 use laminar_fit::{MeasurementSet, Model, Quantity, Scene};
-use laminar_io::values::read_values;
-use laminar_io::{fits, read_geometry, AngleUnit, ReadError};
+use laminar_io::values::ValueRows;
+use laminar_io::{fits, read_geometry, AngleUnit, AtomicFile, ReadError};
 use std::path::PathBuf;
 use std::time::Instant;
 
-/// Sets fitted per batch search (bounds memory; the progress bar counts sets).
-const BLOCK: usize = 64;
+/// Sets read and fitted per batch search: memory holds one block of sets
+/// (and, for JSON output, every record), whatever N is.
+const BLOCK: usize = 256;
+
+fn io_error(file: &std::path::Path, e: std::io::Error) -> CliError {
+    CliError::Read(ReadError::io(file, "write", e))
+}
 
 /// Fit many measurement sets that share one geometry (every sample of a
 /// database, every pixel of a texture) with one batch search per block.
@@ -69,17 +74,17 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     check_out(Some(&args.out))?;
     let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
     let geometry = read_geometry(&args.geometry, args.angles)?;
-    let values = read_values(&args.values)?;
-    if values.cols != geometry.len() {
+    let mut values = ValueRows::open(&args.values)?;
+    if values.cols() != geometry.len() {
         return Err(CliError::Usage(format!(
             "{} has {} values per set but {} has {} geometries",
             args.values.display(),
-            values.cols,
+            values.cols(),
             args.geometry.display(),
             geometry.len()
         )));
     }
-    let scene = |row: usize| -> Result<Scene, CliError> {
+    let scene = |row: usize, set: Vec<f64>| -> Result<Scene, CliError> {
         let wrap = |source| {
             CliError::Read(ReadError::Measurements {
                 file: args.values.clone(),
@@ -87,44 +92,67 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
             })
         };
         MeasurementSet::new(row.to_string(), geometry.clone(), args.quantity)
-            .and_then(|s| s.with_channel("value", values.row(row).to_vec(), None))
+            .and_then(|s| s.with_channel("value", set, None))
             .and_then(|s| s.scene("value"))
             .map_err(wrap)
     };
-    let bar = progress(values.rows as u64, "fit-batch (sets)");
-    let mut by_model: Vec<Vec<laminar_fit::Fit>> = args.models.iter().map(|_| Vec::new()).collect();
-    let mut pairs = 0.0;
-    for block in (0..values.rows).collect::<Vec<_>>().chunks(BLOCK) {
-        let scenes = block
-            .iter()
-            .map(|&r| scene(r))
-            .collect::<Result<Vec<_>, _>>()?;
-        for (m, &model) in args.models.iter().enumerate() {
-            let fits = fitter.fit_batch(&scenes, model);
-            pairs += fits
-                .iter()
-                .map(|f| f.evaluated as f64 * f.measurements as f64)
-                .sum::<f64>();
-            by_model[m].extend(fits);
+    let bar = match values.rows() {
+        Some(n) => progress(n as u64, "fit-batch (sets)"),
+        None => counter("fit-batch (sets)"),
+    };
+    // CSV rows are written as each block is fitted; the JSON file is one
+    // document, so its records are kept until the end.
+    let mut csv_out = if json {
+        None
+    } else {
+        Some(
+            fits::CsvRows::new(AtomicFile::create(&args.out)?)
+                .map_err(|e| io_error(&args.out, e))?,
+        )
+    };
+    let mut records = Vec::new();
+    let (mut pairs, mut done) = (0.0, 0);
+    loop {
+        let block = values.next_rows(BLOCK)?;
+        if block.is_empty() {
+            break;
         }
-        bar.inc(block.len() as u64);
+        let scenes = block
+            .into_iter()
+            .enumerate()
+            .map(|(i, set)| scene(done + i, set))
+            .collect::<Result<Vec<_>, _>>()?;
+        let by_model: Vec<Vec<laminar_fit::Fit>> = args
+            .models
+            .iter()
+            .map(|&model| fitter.fit_batch(&scenes, model))
+            .collect();
+        for row in 0..scenes.len() {
+            for fits in &by_model {
+                let fit = &fits[row];
+                pairs += fit.evaluated as f64 * fit.measurements as f64;
+                match &mut csv_out {
+                    Some(out) => out.write(fit).map_err(|e| io_error(&args.out, e))?,
+                    None => records.push(fit.clone()),
+                }
+            }
+        }
+        done += scenes.len();
+        bar.inc(scenes.len() as u64);
     }
     bar.finish_and_clear();
-    let records: Vec<laminar_fit::Fit> = (0..values.rows)
-        .flat_map(|row| by_model.iter().map(move |fits| fits[row].clone()))
-        .collect();
-    let text = if json {
-        fits::json(&records)
-    } else {
-        fits::csv(&records)
-    };
-    emit(Some(&args.out), &text)?;
+    match csv_out {
+        Some(out) => out
+            .into_inner()
+            .map_err(|e| io_error(&args.out, e))?
+            .commit()?,
+        None => emit(Some(&args.out), &fits::json(&records))?,
+    }
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
-        "fit-batch: {} sets × {} models, {:.1} sets/s",
-        values.rows,
+        "fit-batch: {done} sets × {} models, {:.1} sets/s",
         args.models.len(),
-        values.rows as f64 / secs.max(1e-9)
+        done as f64 / secs.max(1e-9)
     );
     report_time("fit-batch", start, pairs, PAIRS);
     Ok(())
