@@ -493,9 +493,10 @@ pub trait Visitor {
 }
 
 /// One σ/T shard (index `i_s`) of the envelope search for every scene of
-/// `scenes` (on the geometry of `model`), in loop order: each (n, a) triple's
-/// bound goes to [`Visitor::wants`] and, when wanted, its β sweep to
-/// [`Visitor::visit`]. Counts the sweeps and skips into `stats[scene]`.
+/// `scenes` (on the geometry of `model`), in loop order: each (σ/T, n)'s
+/// bound goes to [`Visitor::wants_n`], and when wanted each of its (n, a)
+/// triples' bounds to [`Visitor::wants`] and, when wanted, its β sweep to
+/// [`Visitor::sweep`]. Counts the sweeps and skips into `stats[scene]`.
 pub fn shard<L: Lane>(
     model: &Model<'_, L>,
     i_s: usize,
