@@ -67,7 +67,7 @@ pub fn csv(records: &[Fit]) -> String {
     String::from_utf8(rows.into_inner().expect("in-memory flush")).expect("utf-8")
 }
 
-/// Records written as CSV rows one at a time (what [`csv`] gives, without
+/// Records written as CSV rows one at a time (what [`csv()`] gives, without
 /// holding every record): the header first, then [`CsvRows::write`] per fit.
 pub struct CsvRows<W: Write> {
     writer: csv::Writer<W>,
