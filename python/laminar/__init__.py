@@ -1,0 +1,82 @@
+"""laminar: the absorptive scattering model for rough laminar surfaces
+(Dahlan & Hancock, ICPR 2016), numpy in and out.
+
+- :func:`evaluate` — every component of the model at arrays of geometries
+  and parameters (numpy broadcasting).
+- :class:`Measurements` — a measurement set: from arrays, a long-format CSV
+  file, a CUReT directory or a MERL file.
+- :func:`fit` — the exhaustive grid search of one set; a :class:`FitResult`
+  with the parameters, Δ_RMS, χ²/ν, ``predict`` and ``to_json`` (the same
+  fitted-model file as ``laminar fit --format json``).
+- :func:`fit_batch` — N sets on one geometry (an N × K array) by the
+  shared-geometry batch search; a numpy structured array, one row per set.
+
+Every call releases the GIL while Rust works; bad input raises
+``ValueError`` naming the parameter, file, line or row.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._laminar import BATCH_COLUMNS, FitResult, Measurements, paper_angles
+from ._laminar import evaluate as _evaluate
+from ._laminar import fit as _fit
+from ._laminar import fit_batch as _fit_batch
+
+__all__ = [
+    "evaluate",
+    "fit",
+    "fit_batch",
+    "Measurements",
+    "FitResult",
+    "paper_angles",
+    "BATCH_DTYPE",
+]
+
+#: The fields of :func:`fit_batch`'s result, in order.
+BATCH_DTYPE = np.dtype([(name, np.float64) for name in BATCH_COLUMNS])
+
+
+def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64"):
+    """Every component of a layered model (``exp``, ``gauss``, ``rh-exp``,
+    ``rh-gauss``) at paper-frame angles (radians) and parameters, broadcast
+    together like numpy operands. Returns a dict of arrays of the broadcast
+    shape: ``fresnel_in, fresnel_out, absorb_in, absorb_out, surface,
+    subsurface, total`` (the raw terms of eqs. 1–14 and the eq. 8 total, as
+    ``laminar eval``). ``precision`` is ``"f64"`` or ``"f32"``."""
+    arrays = np.broadcast_arrays(
+        *(np.asarray(x, dtype=np.float64) for x in (theta_i, theta_s, phi_s, slope, beta, n, a))
+    )
+    shape = arrays[0].shape
+    flat = [np.ascontiguousarray(x.ravel()) for x in arrays]
+    out = _evaluate(model, *flat, precision=precision)
+    return {name: values.reshape(shape) for name, values in out.items()}
+
+
+def fit(measurements, model="exp", grid=None, refine=False, threads=None):
+    """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
+    ``jensen``, ``oren-nayar``) to a :class:`Measurements` by the exhaustive
+    grid search. ``grid`` maps axis names (``slope``, ``beta``, ``n``,
+    ``a``) to ``"start:stop:count"`` or a sequence of values; the paper grid
+    otherwise. ``threads``: worker threads (default: all cores). Local
+    refinement (``refine=True``) is not implemented yet."""
+    return _fit(measurements, model, grid, refine, threads)
+
+
+def fit_batch(geometry, values, model="exp", grid=None, threads=None, quantity="brdf"):
+    """Fits a layered ``model`` to every row of ``values`` (N × K) on one
+    geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
+    phi_i, theta_v, phi_v``. Each row's result equals :func:`fit` on that row
+    alone. Returns a structured array of N rows with the fields of
+    :data:`BATCH_DTYPE` (``rms, chi2_dof, slope, beta, n, a, rh_rms, rh_slope,
+    rh_beta, rh_n, search_rms, measurements``)."""
+    geometry = np.ascontiguousarray(geometry, dtype=np.float64)
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    if values.ndim != 2:
+        raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
+    columns = _fit_batch(geometry, values, model, grid, threads, quantity)
+    out = np.empty(values.shape[0], dtype=BATCH_DTYPE)
+    for name in BATCH_COLUMNS:
+        out[name] = columns[name]
+    return out

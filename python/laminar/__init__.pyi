@@ -1,0 +1,40 @@
+"""Type stubs of the laminar package."""
+
+from typing import Optional
+
+import numpy as np
+import numpy.typing as npt
+
+from ._laminar import BATCH_COLUMNS as BATCH_COLUMNS
+from ._laminar import FitResult as FitResult
+from ._laminar import Grid, Measurements as Measurements
+from ._laminar import paper_angles as paper_angles
+
+BATCH_DTYPE: np.dtype[np.void]
+
+def evaluate(
+    model: str,
+    theta_i: npt.ArrayLike,
+    theta_s: npt.ArrayLike,
+    phi_s: npt.ArrayLike,
+    slope: npt.ArrayLike,
+    beta: npt.ArrayLike,
+    n: npt.ArrayLike,
+    a: npt.ArrayLike,
+    precision: str = "f64",
+) -> dict[str, npt.NDArray[np.float64]]: ...
+def fit(
+    measurements: Measurements,
+    model: str = "exp",
+    grid: Grid = None,
+    refine: bool = False,
+    threads: Optional[int] = None,
+) -> FitResult: ...
+def fit_batch(
+    geometry: npt.ArrayLike,
+    values: npt.ArrayLike,
+    model: str = "exp",
+    grid: Grid = None,
+    threads: Optional[int] = None,
+    quantity: str = "brdf",
+) -> npt.NDArray[np.void]: ...

@@ -1,0 +1,98 @@
+"""Type stubs of the native module."""
+
+from os import PathLike
+from typing import Mapping, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+Array = npt.NDArray[np.float64]
+AxisSpec = Union[str, Sequence[float]]
+Grid = Optional[Mapping[str, AxisSpec]]
+
+BATCH_COLUMNS: list[str]
+
+def evaluate(
+    model: str,
+    theta_i: Array,
+    theta_s: Array,
+    phi_s: Array,
+    slope: Array,
+    beta: Array,
+    n: Array,
+    a: Array,
+    precision: str = "f64",
+) -> dict[str, Array]: ...
+def paper_angles(theta_i: float, phi_i: float, theta_v: float, phi_v: float) -> tuple[float, float, float]: ...
+
+class Measurements:
+    @staticmethod
+    def from_arrays(
+        theta_i: Array,
+        phi_i: Array,
+        theta_v: Array,
+        phi_v: Array,
+        values: Array,
+        sigma: Optional[Array] = None,
+        quantity: str = "brdf",
+        name: str = "arrays",
+    ) -> Measurements: ...
+    @staticmethod
+    def from_csv(
+        path: Union[str, PathLike[str]],
+        channel: Optional[str] = None,
+        angles: str = "rad",
+        quantity: str = "brdf",
+    ) -> Measurements: ...
+    @staticmethod
+    def from_curet(dir: Union[str, PathLike[str]], sample: int, channel: str = "avg") -> Measurements: ...
+    @staticmethod
+    def from_merl(
+        path: Union[str, PathLike[str]],
+        sample_at: Union[str, PathLike[str]],
+        channel: Optional[str] = None,
+        angles: str = "rad",
+    ) -> Measurements: ...
+    @property
+    def channels(self) -> list[str]: ...
+    @property
+    def channel(self) -> str: ...
+    def __len__(self) -> int: ...
+
+class FitResult:
+    @property
+    def model(self) -> str: ...
+    @property
+    def params(self) -> dict[str, float]: ...
+    @property
+    def rms(self) -> float: ...
+    @property
+    def chi2_dof(self) -> Optional[float]: ...
+    @property
+    def rh(self) -> Optional[dict[str, object]]: ...
+    @property
+    def search_rms(self) -> float: ...
+    @property
+    def measurements(self) -> int: ...
+    @property
+    def beta_eq8(self) -> Optional[float]: ...
+    def predict(
+        self, theta_i: Array, phi_i: Array, theta_v: Array, phi_v: Array, radiance: bool = False
+    ) -> Array: ...
+    def to_json(self) -> str: ...
+
+def fit(
+    measurements: Measurements,
+    model: str = "exp",
+    grid: Grid = None,
+    refine: bool = False,
+    threads: Optional[int] = None,
+) -> FitResult: ...
+def fit_batch(
+    geometry: npt.NDArray[np.float64],
+    values: npt.NDArray[np.float64],
+    model: str = "exp",
+    grid: Grid = None,
+    threads: Optional[int] = None,
+    quantity: str = "brdf",
+) -> dict[str, Array]: ...

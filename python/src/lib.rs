@@ -1,0 +1,633 @@
+//! The native part of the `laminar` Python package (`laminar._laminar`):
+//! thin PyO3 bindings over `laminar-core` (evaluate), `laminar-fit` (fit,
+//! batch fit, fitted models) and `laminar-io` (readers, the fitted-model
+//! file). numpy arrays in and out; the GIL is released around every piece
+//! of Rust work; errors become `ValueError` (bad input, naming the
+//! parameter, file, line or row) or `OSError` (a file that cannot be read).
+//! The Python-facing API (broadcasting, structured arrays, docs) is in
+//! `laminar/__init__.py`.
+
+use laminar_core::{components, Angles, Geometry, Params};
+use laminar_fit::{
+    Axis, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams, Quantity, Scene,
+};
+use laminar_io::curet::{Channel, CuretDir};
+use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use pyo3::exceptions::{PyNotImplementedError, PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// Sets per batch search in [`fit_batch`] (as `laminar fit-batch`).
+const BLOCK: usize = 256;
+
+/// The values of a 1-D array, whatever its strides.
+fn vec1(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
+    a.as_array().iter().copied().collect()
+}
+
+fn value_error(e: impl std::fmt::Display) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+fn read_error(e: ReadError) -> PyErr {
+    match e {
+        ReadError::Io { .. } => PyOSError::new_err(e.to_string()),
+        other => value_error(other),
+    }
+}
+
+fn parse<T: std::str::FromStr>(what: &str, text: &str) -> PyResult<T>
+where
+    T::Err: std::fmt::Display,
+{
+    text.parse()
+        .map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+}
+
+/// Evaluates every component of a layered model (eqs. 1–14, eq. 8 total) at
+/// equal-length arrays of paper-frame angles and parameters.
+#[pyfunction]
+#[pyo3(signature = (model, theta_i, theta_s, phi_s, slope, beta, n, a, precision = "f64"))]
+#[allow(clippy::too_many_arguments)]
+fn evaluate<'py>(
+    py: Python<'py>,
+    model: &str,
+    theta_i: PyReadonlyArray1<'py, f64>,
+    theta_s: PyReadonlyArray1<'py, f64>,
+    phi_s: PyReadonlyArray1<'py, f64>,
+    slope: PyReadonlyArray1<'py, f64>,
+    beta: PyReadonlyArray1<'py, f64>,
+    n: PyReadonlyArray1<'py, f64>,
+    a: PyReadonlyArray1<'py, f64>,
+    precision: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model: Model = parse("model", model)?;
+    let corr = model.correlation().ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "model: {model} is not a layered model (exp, gauss, rh-exp, rh-gauss)"
+        ))
+    })?;
+    let single = match precision {
+        "f64" => false,
+        "f32" => true,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "precision: `{other}` is not f32 or f64"
+            )))
+        }
+    };
+    let columns = [
+        vec1(&theta_i),
+        vec1(&theta_s),
+        vec1(&phi_s),
+        vec1(&slope),
+        vec1(&beta),
+        vec1(&n),
+        vec1(&a),
+    ];
+    let len = columns[0].len();
+    if columns.iter().any(|c| c.len() != len) {
+        return Err(value_error("all arrays must have the same length"));
+    }
+    let rh = model.is_ragheb_hancock();
+    let out = py.detach(|| -> Result<Vec<[f64; 7]>, String> {
+        (0..len)
+            .map(|i| {
+                let [ti, ts, ps, s, b, n, a] = [0, 1, 2, 3, 4, 5, 6].map(|c| columns[c][i]);
+                if rh && a != 0.0 {
+                    return Err(format!("a: element {i} is {a}; {model} is the a = 0 model"));
+                }
+                let p = Params::new(s, b, n, a).map_err(|e| format!("element {i}: {e}"))?;
+                let g = Angles::new(ti, ts, ps).map_err(|e| format!("element {i}: {e}"))?;
+                Ok(if single {
+                    components(&Geometry::<f32>::splat(&g), corr, &p)
+                        .to_array()
+                        .map(f64::from)
+                } else {
+                    components(&Geometry::<f64>::splat(&g), corr, &p).to_array()
+                })
+            })
+            .collect()
+    });
+    let out = out.map_err(PyValueError::new_err)?;
+    let dict = PyDict::new(py);
+    for (c, name) in laminar_core::Components::<f64>::NAMES.iter().enumerate() {
+        let column: Vec<f64> = out.iter().map(|v| v[c]).collect();
+        dict.set_item(*name, column.into_pyarray(py))?;
+    }
+    Ok(dict)
+}
+
+/// A measurement set and the channel of it to fit.
+#[pyclass(module = "laminar", frozen)]
+struct Measurements {
+    set: MeasurementSet,
+    channel: String,
+}
+
+impl Measurements {
+    fn pick(set: MeasurementSet, channel: Option<&str>) -> PyResult<Self> {
+        let names: Vec<String> = set.channel_names().iter().map(|c| c.to_string()).collect();
+        let channel = match channel {
+            Some(c) if names.iter().any(|n| n == c) => c.to_string(),
+            Some(c) => {
+                return Err(PyValueError::new_err(format!(
+                    "channel: `{c}` is not one of {}",
+                    names.join(", ")
+                )))
+            }
+            None if names.len() == 1 => names[0].clone(),
+            None => {
+                return Err(PyValueError::new_err(format!(
+                    "channel: the set has channels {}; name one",
+                    names.join(", ")
+                )))
+            }
+        };
+        Ok(Self { set, channel })
+    }
+
+    fn scene(&self) -> PyResult<Scene> {
+        self.set.scene(&self.channel).map_err(value_error)
+    }
+}
+
+fn lab_angles(
+    theta_i: &[f64],
+    phi_i: &[f64],
+    theta_v: &[f64],
+    phi_v: &[f64],
+) -> PyResult<Vec<MeasurementAngles>> {
+    let k = theta_i.len();
+    if phi_i.len() != k || theta_v.len() != k || phi_v.len() != k {
+        return Err(value_error(
+            "theta_i, phi_i, theta_v, phi_v must have the same length",
+        ));
+    }
+    Ok((0..k)
+        .map(|i| MeasurementAngles::Lab {
+            theta_i: theta_i[i],
+            phi_i: phi_i[i],
+            theta_v: theta_v[i],
+            phi_v: phi_v[i],
+        })
+        .collect())
+}
+
+#[pymethods]
+impl Measurements {
+    /// From arrays of lab-frame angles (radians) and values.
+    #[staticmethod]
+    #[pyo3(signature = (theta_i, phi_i, theta_v, phi_v, values, sigma = None, quantity = "brdf", name = "arrays"))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_arrays(
+        theta_i: PyReadonlyArray1<'_, f64>,
+        phi_i: PyReadonlyArray1<'_, f64>,
+        theta_v: PyReadonlyArray1<'_, f64>,
+        phi_v: PyReadonlyArray1<'_, f64>,
+        values: PyReadonlyArray1<'_, f64>,
+        sigma: Option<PyReadonlyArray1<'_, f64>>,
+        quantity: &str,
+        name: &str,
+    ) -> PyResult<Self> {
+        let angles = lab_angles(
+            &vec1(&theta_i),
+            &vec1(&phi_i),
+            &vec1(&theta_v),
+            &vec1(&phi_v),
+        )?;
+        let quantity: Quantity = parse("quantity", quantity)?;
+        let sigma = sigma.map(|s| vec1(&s));
+        let values = vec1(&values);
+        let set = MeasurementSet::new(name, angles, quantity)
+            .and_then(|s| s.with_channel("value", values, sigma))
+            .map_err(value_error)?;
+        Self::pick(set, Some("value"))
+    }
+
+    /// From a long-format CSV file (`laminar fit --measurements`).
+    #[staticmethod]
+    #[pyo3(signature = (path, channel = None, angles = "rad", quantity = "brdf"))]
+    fn from_csv(
+        path: PathBuf,
+        channel: Option<&str>,
+        angles: &str,
+        quantity: &str,
+    ) -> PyResult<Self> {
+        let unit: AngleUnit = parse("angles", angles)?;
+        let quantity: Quantity = parse("quantity", quantity)?;
+        Self::pick(
+            read_csv(&path, unit, quantity).map_err(read_error)?,
+            channel,
+        )
+    }
+
+    /// From a CUReT directory: `sample`'s BRDF of `channel` (avg, r, g, b).
+    #[staticmethod]
+    #[pyo3(signature = (dir, sample, channel = "avg"))]
+    fn from_curet(dir: PathBuf, sample: u32, channel: &str) -> PyResult<Self> {
+        let channel = Channel::ALL
+            .into_iter()
+            .find(|c| c.name() == channel)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!("channel: `{channel}` is not avg, r, g or b"))
+            })?;
+        let samples = CuretDir::open(&dir)
+            .and_then(|d| d.samples(&[PathBuf::from(channel.file_name())], Some(&[sample])))
+            .map_err(read_error)?;
+        let found = samples.into_iter().next().ok_or_else(|| {
+            PyValueError::new_err(format!("sample: {} has no sample {sample}", dir.display()))
+        })?;
+        Self::pick(found.set, None)
+    }
+
+    /// From a MERL `.binary` file, sampled at the geometries of the CSV file
+    /// `sample_at` (columns theta_i,phi_i,theta_v,phi_v in `angles` units).
+    #[staticmethod]
+    #[pyo3(signature = (path, sample_at, channel = None, angles = "rad"))]
+    fn from_merl(
+        path: PathBuf,
+        sample_at: PathBuf,
+        channel: Option<&str>,
+        angles: &str,
+    ) -> PyResult<Self> {
+        let unit: AngleUnit = parse("angles", angles)?;
+        let geometry = read_geometry(&sample_at, unit).map_err(read_error)?;
+        let data = merl::read_merl(&path).map_err(read_error)?;
+        let (set, _) = merl::sample(&path, &data, &geometry).map_err(read_error)?;
+        Self::pick(set, channel)
+    }
+
+    /// The set's channels.
+    #[getter]
+    fn channels(&self) -> Vec<String> {
+        self.set
+            .channel_names()
+            .iter()
+            .map(|c| c.to_string())
+            .collect()
+    }
+
+    /// The channel fitted.
+    #[getter]
+    fn channel(&self) -> String {
+        self.channel.clone()
+    }
+
+    fn __len__(&self) -> usize {
+        self.set.len()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Measurements(name={:?}, measurements={}, channel={:?})",
+            self.set.name(),
+            self.set.len(),
+            self.channel
+        )
+    }
+}
+
+/// The grid of `fit`: the paper's, with the axes named in `grid` replaced.
+fn grid_from(grid: Option<HashMap<String, Bound<'_, PyAny>>>) -> PyResult<Grid> {
+    let mut out = Grid::paper();
+    for (name, spec) in grid.unwrap_or_default() {
+        let axis = match spec.extract::<String>() {
+            Ok(text) => Axis::parse(&text)
+                .map_err(|e| PyValueError::new_err(format!("grid[{name:?}]: {e}")))?,
+            Err(_) => Axis {
+                values: spec.extract::<Vec<f64>>().map_err(|_| {
+                    PyValueError::new_err(format!(
+                        "grid[{name:?}]: give \"start:stop:count\" or a sequence of numbers"
+                    ))
+                })?,
+            },
+        };
+        match name.as_str() {
+            "slope" => out.slope = axis,
+            "beta" => out.beta = axis,
+            "n" => out.n = axis,
+            "a" => out.a = axis,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "grid: unknown axis `{other}` (slope, beta, n, a)"
+                )))
+            }
+        }
+    }
+    out.validate().map_err(value_error)?;
+    Ok(out)
+}
+
+fn fitter(
+    grid: Option<HashMap<String, Bound<'_, PyAny>>>,
+    threads: Option<usize>,
+) -> PyResult<Fitter> {
+    let fitter = Fitter::new(grid_from(grid)?).map_err(value_error)?;
+    match threads {
+        Some(t) => fitter.threads(t).map_err(value_error),
+        None => Ok(fitter),
+    }
+}
+
+fn params_dict<'py>(py: Python<'py>, params: &ModelParams) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    match *params {
+        ModelParams::Layered { slope, beta, n, a } => {
+            d.set_item("slope", slope)?;
+            d.set_item("beta", beta)?;
+            d.set_item("n", n)?;
+            d.set_item("a", a)?;
+        }
+        ModelParams::Jensen { sigma_a, sigma_s } => {
+            d.set_item("sigma_a", sigma_a)?;
+            d.set_item("sigma_s", sigma_s)?;
+        }
+        ModelParams::OrenNayar { sigma, rho } => {
+            d.set_item("sigma", sigma)?;
+            d.set_item("rho", rho)?;
+        }
+    }
+    Ok(d)
+}
+
+/// One fit: the best grid point, its errors, the Ragheb–Hancock best of
+/// the same search (layered models), and the fitted model.
+#[pyclass(module = "laminar", frozen)]
+struct FitResult {
+    fit: Fit,
+}
+
+#[pymethods]
+impl FitResult {
+    /// The model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.fit.model.name()
+    }
+
+    /// The fitted parameters (full precision).
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        params_dict(py, &self.fit.best.fitted.params)
+    }
+
+    /// Δ_RMS (eq. 15) at the fitted parameters, in f64.
+    #[getter]
+    fn rms(&self) -> f64 {
+        self.fit.best.rms
+    }
+
+    /// χ²/ν (eq. 16), or None when no degree of freedom is left.
+    #[getter]
+    fn chi2_dof(&self) -> Option<f64> {
+        self.fit.best.chi2.map(|c| c.per_dof)
+    }
+
+    /// The Ragheb–Hancock best (a = 0) of the same search, as
+    /// `{"params": …, "rms": …}`, for exp and gauss.
+    #[getter]
+    fn rh<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.fit
+            .rh
+            .as_ref()
+            .map(|e| {
+                let d = PyDict::new(py);
+                d.set_item("params", params_dict(py, &e.fitted.params)?)?;
+                d.set_item("rms", e.rms)?;
+                Ok(d)
+            })
+            .transpose()
+    }
+
+    /// The search's own Δ_RMS at the best point (its precision).
+    #[getter]
+    fn search_rms(&self) -> f64 {
+        self.fit.search_rms
+    }
+
+    /// Measurements kept (specular ones left out).
+    #[getter]
+    fn measurements(&self) -> usize {
+        self.fit.measurements
+    }
+
+    /// The balance of eq. 8 giving the fitted lobe (layered models).
+    #[getter]
+    fn beta_eq8(&self) -> Option<f64> {
+        self.fit.best.fitted.beta_eq8
+    }
+
+    /// The normalised prediction P at lab-frame angles (radians), as the fit
+    /// predicted its own data; `radiance=True` multiplies by the data's
+    /// scale (radiance in the input's units).
+    #[pyo3(signature = (theta_i, phi_i, theta_v, phi_v, radiance = false))]
+    fn predict<'py>(
+        &self,
+        py: Python<'py>,
+        theta_i: PyReadonlyArray1<'py, f64>,
+        phi_i: PyReadonlyArray1<'py, f64>,
+        theta_v: PyReadonlyArray1<'py, f64>,
+        phi_v: PyReadonlyArray1<'py, f64>,
+        radiance: bool,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let angles = lab_angles(
+            &vec1(&theta_i),
+            &vec1(&phi_i),
+            &vec1(&theta_v),
+            &vec1(&phi_v),
+        )?
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            a.paper()
+                .map_err(|e| PyValueError::new_err(format!("element {k}: {e}")))
+        })
+        .collect::<PyResult<Vec<Angles>>>()?;
+        let fitted = &self.fit.best.fitted;
+        let out = py.detach(|| {
+            if radiance {
+                fitted.predict_radiance(&angles)
+            } else {
+                fitted.predict(&angles)
+            }
+        });
+        Ok(out.map_err(value_error)?.into_pyarray(py))
+    }
+
+    /// The fitted-model file of this fit (what `laminar fit --format json` writes).
+    fn to_json(&self) -> String {
+        fits::json(std::slice::from_ref(&self.fit))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "FitResult(model={:?}, params={}, rms={})",
+            self.fit.model.name(),
+            self.fit.best.params_text(),
+            self.fit.best.rms
+        )
+    }
+}
+
+/// Fits `model` to `measurements` by the exhaustive grid search.
+#[pyfunction]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = false, threads = None))]
+fn fit(
+    py: Python<'_>,
+    measurements: &Measurements,
+    model: &str,
+    grid: Option<HashMap<String, Bound<'_, PyAny>>>,
+    refine: bool,
+    threads: Option<usize>,
+) -> PyResult<FitResult> {
+    if refine {
+        return Err(PyNotImplementedError::new_err(
+            "refine: local refinement is not implemented yet; the grid optimum is returned with refine=False",
+        ));
+    }
+    let model: Model = parse("model", model)?;
+    let fitter = fitter(grid, threads)?;
+    let scene = measurements.scene()?;
+    let fit = py.detach(|| fitter.fit(&scene, model));
+    Ok(FitResult { fit })
+}
+
+/// One row per set of the batch fit's results, as columns.
+const BATCH_COLUMNS: [&str; 12] = [
+    "rms",
+    "chi2_dof",
+    "slope",
+    "beta",
+    "n",
+    "a",
+    "rh_rms",
+    "rh_slope",
+    "rh_beta",
+    "rh_n",
+    "search_rms",
+    "measurements",
+];
+
+fn batch_row(fit: &Fit) -> [f64; 12] {
+    let layered = |p: &ModelParams| match *p {
+        ModelParams::Layered { slope, beta, n, a } => [slope, beta, n, a],
+        _ => [f64::NAN; 4],
+    };
+    let [slope, beta, n, a] = layered(&fit.best.fitted.params);
+    let rh = fit.rh.as_ref();
+    let [rs, rb, rn, _] = rh.map_or([f64::NAN; 4], |e| layered(&e.fitted.params));
+    [
+        fit.best.rms,
+        fit.best.chi2.map_or(f64::NAN, |c| c.per_dof),
+        slope,
+        beta,
+        n,
+        a,
+        rh.map_or(f64::NAN, |e| e.rms),
+        rs,
+        rb,
+        rn,
+        fit.search_rms,
+        fit.measurements as f64,
+    ]
+}
+
+/// Fits `model` (a layered model) to every row of `values` (N × K) on one
+/// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
+/// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
+#[pyfunction]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf"))]
+fn fit_batch<'py>(
+    py: Python<'py>,
+    geometry: PyReadonlyArray2<'py, f64>,
+    values: PyReadonlyArray2<'py, f64>,
+    model: &str,
+    grid: Option<HashMap<String, Bound<'py, PyAny>>>,
+    threads: Option<usize>,
+    quantity: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model: Model = parse("model", model)?;
+    if model.correlation().is_none() {
+        return Err(PyValueError::new_err(format!(
+            "model: fit_batch fits the layered models (exp, gauss, rh-exp, rh-gauss), not {model}"
+        )));
+    }
+    let quantity: Quantity = parse("quantity", quantity)?;
+    let fitter = fitter(grid, threads)?;
+    let g = geometry.as_array();
+    if g.ncols() != 4 {
+        return Err(PyValueError::new_err(format!(
+            "geometry: shape ({}, {}); (K, 4) lab-frame angles theta_i, phi_i, theta_v, phi_v are needed",
+            g.nrows(),
+            g.ncols()
+        )));
+    }
+    let col = |c: usize| g.column(c).to_vec();
+    let angles = lab_angles(&col(0), &col(1), &col(2), &col(3))?;
+    let v = values.as_array();
+    if v.ncols() != angles.len() {
+        return Err(PyValueError::new_err(format!(
+            "values: {} values per set but the geometry has {} rows",
+            v.ncols(),
+            angles.len()
+        )));
+    }
+    let rows: Vec<Vec<f64>> = v.rows().into_iter().map(|r| r.to_vec()).collect();
+    let out = py.detach(|| -> Result<Vec<[f64; 12]>, String> {
+        let mut out = Vec::with_capacity(rows.len());
+        for (b, block) in rows.chunks(BLOCK).enumerate() {
+            let scenes = block
+                .iter()
+                .enumerate()
+                .map(|(i, row)| {
+                    let r = b * BLOCK + i;
+                    MeasurementSet::new(r.to_string(), angles.clone(), quantity)
+                        .and_then(|s| s.with_channel("value", row.clone(), None))
+                        .and_then(|s| s.scene("value"))
+                        .map_err(|e| format!("values row {r}: {e}"))
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            out.extend(fitter.fit_batch(&scenes, model).iter().map(batch_row));
+        }
+        Ok(out)
+    });
+    let out = out.map_err(PyValueError::new_err)?;
+    let dict = PyDict::new(py);
+    for (c, name) in BATCH_COLUMNS.iter().enumerate() {
+        let column: Vec<f64> = out.iter().map(|r| r[c]).collect();
+        dict.set_item(*name, column.into_pyarray(py))?;
+    }
+    Ok(dict)
+}
+
+/// The paper-frame angles `(theta_i, theta_s, phi_s)` of lab-frame ones
+/// (docs/conventions.md §1).
+#[pyfunction]
+fn paper_angles(theta_i: f64, phi_i: f64, theta_v: f64, phi_v: f64) -> PyResult<(f64, f64, f64)> {
+    let a = MeasurementAngles::Lab {
+        theta_i,
+        phi_i,
+        theta_v,
+        phi_v,
+    }
+    .paper()
+    .map_err(value_error)?;
+    Ok((a.theta_i(), a.theta_s(), a.phi_s()))
+}
+
+/// The native module.
+#[pymodule]
+fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(evaluate, m)?)?;
+    m.add_function(wrap_pyfunction!(fit, m)?)?;
+    m.add_function(wrap_pyfunction!(fit_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(paper_angles, m)?)?;
+    m.add_class::<Measurements>()?;
+    m.add_class::<FitResult>()?;
+    m.add("BATCH_COLUMNS", BATCH_COLUMNS.to_vec())?;
+    Ok(())
+}

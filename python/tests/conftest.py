@@ -1,0 +1,74 @@
+"""Shared helpers: the `laminar` CLI the results are compared with, and
+small measurement files written by the tests."""
+
+import json
+import math
+import os
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+
+def laminar_bin():
+    """The CLI binary: $LAMINAR_BIN (set by cli/tests/python.rs and .ci/run)
+    or `laminar` on PATH."""
+    path = os.environ.get("LAMINAR_BIN") or shutil.which("laminar")
+    if not path:
+        if os.environ.get("LAMINAR_REQUIRE_PYTHON") == "1":
+            pytest.fail("LAMINAR_BIN is not set and `laminar` is not on PATH")
+        pytest.skip("the laminar CLI is not available (set LAMINAR_BIN)")
+    return path
+
+
+def cli(*args):
+    """Runs the CLI; returns stdout (fails the test on a non-zero exit)."""
+    done = subprocess.run([laminar_bin(), *map(str, args)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def cli_fits(*args):
+    """The `fits` of `laminar fit … --format json`."""
+    return json.loads(cli("fit", "--format", "json", *args))["fits"]
+
+
+#: A small grid that keeps the tests fast (the paper's steps, fewer values).
+GRID = {"slope": "0.12:1.72:21", "n": "1.3:1.5:11", "a": "0:1:11", "beta": "0.01:1:100"}
+GRID_ARGS = ["--slope", GRID["slope"], "--n", GRID["n"], "--a", GRID["a"], "--beta", GRID["beta"]]
+
+
+def geometry(k=120):
+    """k lab-frame geometries (radians) spread over the hemisphere, away
+    from the specular direction."""
+    i = np.arange(k) + 0.5
+    theta_i = np.radians(5 + 70 * ((i * 0.6180339887) % 1))
+    theta_v = np.radians(5 + 70 * ((i * 0.7548776662) % 1))
+    phi_v = math.pi * (2 * ((i * 0.5698402910) % 1) - 1) * 0.9
+    return np.column_stack([theta_i, np.zeros(k), theta_v, phi_v])
+
+
+def radiance(g, slope=0.92, beta=0.4, n=1.42, a=0.3, noise=0.01, seed=1):
+    """The exp model's normalised radiance at lab geometries `g`, plus seeded noise."""
+    paper = np.array([laminar_paper(*row) for row in g])
+    import laminar
+
+    total = laminar.evaluate("exp", paper[:, 0], paper[:, 1], paper[:, 2], slope, beta, n, a)["total"]
+    rng = np.random.default_rng(seed)
+    return total / total.max() + noise * rng.standard_normal(len(total))
+
+
+def laminar_paper(theta_i, phi_i, theta_v, phi_v):
+    import laminar
+
+    return laminar.paper_angles(theta_i, phi_i, theta_v, phi_v)
+
+
+def write_csv(path, g, values, channel="value"):
+    """A long-format CSV measurement file (lab frame, radians)."""
+    with open(path, "w") as f:
+        f.write(f"theta_i,phi_i,theta_v,phi_v,{channel}\n")
+        for row, v in zip(g, values):
+            f.write(",".join(repr(float(x)) for x in (*row, v)) + "\n")
+    return path
