@@ -677,7 +677,11 @@ fn curet_dir() -> Option<String> {
             panic!("LAMINAR_REQUIRE_CURET is set but CURET_DIR is not")
         }
         Err(_) => {
-            eprintln!("SKIPPED CUReT test: CURET_DIR is not set");
+            // Past the test harness's capture, so that the user sees it.
+            let _ = std::io::Write::write_all(
+                &mut std::io::stderr(),
+                concat!("SKIPPED CUReT test: CURET_DIR is not set", "\n").as_bytes(),
+            );
             None
         }
     }

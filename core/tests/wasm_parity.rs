@@ -9,6 +9,7 @@
 #[path = "../wasm-probe/src/cases.rs"]
 mod cases;
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -16,7 +17,12 @@ fn skip_or_fail(why: &str) {
     if std::env::var_os("LAMINAR_REQUIRE_WASM").is_some() {
         panic!("wasm parity test cannot run: {why}");
     }
-    eprintln!("SKIPPED wasm parity test: {why} (set LAMINAR_REQUIRE_WASM=1 to make this an error)");
+    // Written to stderr directly, past the test harness's capture, so that
+    // the user sees it.
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED wasm parity test: {why} (set LAMINAR_REQUIRE_WASM=1 to make this an error)"
+    );
 }
 
 /// Builds the probe into its own target directory with `rustflags`.

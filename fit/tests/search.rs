@@ -220,7 +220,11 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
         if std::env::var_os("LAMINAR_REQUIRE_CURET").is_some() {
             panic!("LAMINAR_REQUIRE_CURET is set but CURET_DIR is not");
         }
-        eprintln!("SKIPPED CUReT end-to-end test: CURET_DIR is not set");
+        // Past the test harness's capture, so that the user sees it.
+        let _ = std::io::Write::write_all(
+            &mut std::io::stderr(),
+            concat!("SKIPPED CUReT end-to-end test: CURET_DIR is not set", "\n").as_bytes(),
+        );
         return;
     };
     const PAPER_SAMPLES: [u32; 13] = [1, 3, 7, 18, 19, 21, 25, 48, 51, 52, 53, 55, 61];
