@@ -59,8 +59,8 @@ pub fn search_batch(
 
 /// Batches of at least this many scenes are seeded ([`seed`]): seeding
 /// repeats the model side of the search once, which one scene does not win
-/// back (measured: a paper-grid fit of CUReT sample 21 takes 1.5 ms seeded,
-/// 1.1 ms not), while a batch shares it.
+/// back (measured, criterion: a paper-grid fit of CUReT sample 21 took
+/// 1.55 ms seeded, 1.33 ms not), while a batch shares it.
 const SEED_FROM: usize = 2;
 
 fn run<L: Lane + Send + Sync>(
