@@ -3,7 +3,7 @@
 
 use crate::selection::material;
 use laminar_fit::fitted::format_value;
-use laminar_fit::{Estimate, Fit, Model};
+use laminar_fit::{Edge, Estimate, Fit, Model};
 
 /// A titled table of text cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -136,12 +136,30 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
         .iter()
         .filter_map(|g| {
             let e = estimate(g, model)?;
-            let mut row = key(g);
-            row.extend(
-                names
+            let edges = g
+                .iter()
+                .find(|r| r.model == model)
+                .map_or(&[][..], |r| &r.edges[..]);
+            let mark = |name: &str| {
+                let flags = edges
                     .iter()
-                    .map(|n| e.get(n).map(format_value).unwrap_or_default()),
-            );
+                    .find(|p| p.name == name)
+                    .map_or(&[][..], |p| &p.flags[..]);
+                let mut m = String::new();
+                if flags.contains(&Edge::RangeEdge) {
+                    m.push('‡');
+                }
+                if flags.contains(&Edge::DomainBound) {
+                    m.push('†');
+                }
+                m
+            };
+            let mut row = key(g);
+            row.extend(names.iter().map(|n| {
+                e.get(n)
+                    .map(|v| format!("{}{}", format_value(v), mark(n)))
+                    .unwrap_or_default()
+            }));
             row.push(beta_eq8(e));
             row.push(cell(Some(e.rms)));
             Some(row)
@@ -156,7 +174,7 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
         name,
         title: format!("Table {number}: estimated parameters of the absorptive {label} model"),
         note: format!(
-            "slope = σ/T, n, a as fitted; beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). {RMS_NOTE}"
+            "slope = σ/T, n, a as fitted; ‡ marks a value at the first or last value of its grid axis (the optimum may lie outside the range searched, so it is not a measurement of that parameter), † a value at a bound of the model's domain (a = 0 or 1, β = 0 or 1, n = 1); beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). {RMS_NOTE}"
         ),
         header: header(&["slope", "beta", "n", "a", "beta_eq8", "rms"]),
         rows,

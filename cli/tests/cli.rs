@@ -692,6 +692,7 @@ fn curet_dir() -> Option<String> {
 /// the library split; the core's accuracy fixes (transmittance, attenuation,
 /// Fresnel near n = 1) then moved three f32 `search_rms` values (53/exp,
 /// 53/rh-exp, 61/rh-exp) by 1e-6 in their last printed digit, and no parameter.
+/// The `edges` column was appended later (the columns before it unchanged).
 #[test]
 fn curet_paper_fits_are_unchanged() {
     let Some(dir) = curet_dir() else { return };

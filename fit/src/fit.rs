@@ -1,6 +1,7 @@
 //! Fitting a scene with a model: the layered models by the grid search of
 //! [`crate::search`], the baselines by their own grids (docs/conventions.md §7).
 
+use crate::edges::{edges, ParameterEdges};
 use crate::error::{FitError, ModelError};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::{Axis, Grid};
@@ -80,6 +81,9 @@ pub struct Fit {
     pub nonpositive: usize,
     /// Parameter sets evaluated.
     pub evaluated: usize,
+    /// Each searched parameter of the best estimate with its edge flags
+    /// ([`crate::edges`]); empty when nothing was searched ([`Fitter::assess`]).
+    pub edges: Vec<ParameterEdges>,
 }
 
 /// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
@@ -297,6 +301,7 @@ impl Fitter {
             measurements: scene.len(),
             nonpositive: scene.nonpositive,
             evaluated,
+            edges: Vec::new(),
         }
     }
 
@@ -322,8 +327,19 @@ impl Fitter {
             .ragheb_hancock()
             .zip(r.rh_best)
             .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
+        let (slope, n, a, beta) = point(grid, r.best);
+        let edges = edges(
+            model,
+            &[
+                ("slope", slope, &grid.slope),
+                ("beta", beta, &grid.beta),
+                ("n", n, &grid.n),
+                ("a", a, &grid.a),
+            ],
+        );
         Fit {
             search_rms: r.best_rms,
+            edges,
             ..self.record(scene, model, best, rh, grid.size())
         }
     }
@@ -433,9 +449,12 @@ impl Fitter {
         let (rms, x, y) = grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
         let best =
             Estimate::new(scene, model, params(x, y)).expect("grid values are in the domain");
+        let names: Vec<&str> = best.fitted.params.pairs().iter().map(|p| p.0).collect();
+        let edges = edges(model, &[(names[0], x, &outer), (names[1], y, &inner)]);
         self.tick();
         Fit {
             search_rms: rms,
+            edges,
             ..self.record(scene, model, best, None, outer.len() * inner.len())
         }
     }

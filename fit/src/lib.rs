@@ -51,6 +51,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod edges;
 pub mod error;
 pub mod fit;
 pub mod fitted;
@@ -61,6 +62,7 @@ pub mod scene;
 pub mod search;
 pub mod synthetic;
 
+pub use edges::{Edge, ParameterEdges};
 pub use error::{FitError, GridError, MeasurementError, ModelError};
 pub use fit::{Estimate, Fit, Fitter};
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};

@@ -9,6 +9,7 @@
 //! [`laminar_fit::FittedModel`]).
 
 use crate::error::ReadError;
+use laminar_fit::edges::edges_text;
 use laminar_fit::fitted::format_value;
 use laminar_fit::{Estimate, Fit, FittedModel, Model};
 use serde::{Deserialize, Serialize};
@@ -16,7 +17,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// CSV header (a contract: scripts read these columns).
-pub const CSV_HEADER: [&str; 14] = [
+pub const CSV_HEADER: [&str; 15] = [
     "sample",
     "channel",
     "model",
@@ -31,6 +32,7 @@ pub const CSV_HEADER: [&str; 14] = [
     "measurements",
     "nonpositive",
     "search_rms",
+    "edges",
 ];
 
 fn opt(v: Option<f64>) -> String {
@@ -55,6 +57,7 @@ fn row(r: &Fit) -> Vec<String> {
         r.measurements.to_string(),
         r.nonpositive.to_string(),
         format!("{:.6}", r.search_rms),
+        edges_text(&r.edges),
     ]
 }
 
@@ -144,6 +147,11 @@ pub struct FitEntry {
     pub fitted: FittedModel,
     /// The Ragheb–Hancock best as a fitted model.
     pub rh_fitted: Option<FittedModel>,
+    /// Each searched parameter under its name: its grid value and edge
+    /// flags (`range_edge`, `domain_bound`). Absent in files written before
+    /// it existed.
+    #[serde(default)]
+    pub parameters: serde_json::Map<String, serde_json::Value>,
 }
 
 /// The fitted-model file: `laminar fit --format json`.
@@ -193,6 +201,14 @@ impl FitEntry {
             search_rms: r.search_rms,
             fitted: r.best.fitted,
             rh_fitted: r.rh.as_ref().map(|e| e.fitted),
+            parameters: r
+                .edges
+                .iter()
+                .map(|e| {
+                    let entry = serde_json::json!({ "grid": e.grid, "flags": e.flags });
+                    (e.name.clone(), entry)
+                })
+                .collect(),
         }
     }
 
@@ -214,6 +230,7 @@ pub fn json(records: &[Fit]) -> String {
             "fitted": "the model to predict with: full-precision params; normalisation = maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (baselines: of the raw radiance); P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max",
             "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
             "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",
+            "parameters": "each searched parameter: its grid value and flags, range_edge (first or last value of its grid axis: the optimum may lie outside the range searched) and domain_bound (a bound of the model's domain, e.g. a = 0 or 1, n = 1)",
         }),
         fits: records.iter().map(FitEntry::new).collect(),
     };

@@ -403,6 +403,21 @@ impl FitResult {
             .transpose()
     }
 
+    /// Each searched parameter's grid value and edge flags (`range_edge`,
+    /// `domain_bound`), as `{name: {"grid": …, "flags": […]}}`.
+    #[getter]
+    fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        for e in &self.fit.edges {
+            let entry = PyDict::new(py);
+            entry.set_item("grid", e.grid)?;
+            let flags: Vec<String> = e.flags.iter().map(ToString::to_string).collect();
+            entry.set_item("flags", flags)?;
+            d.set_item(&e.name, entry)?;
+        }
+        Ok(d)
+    }
+
     /// The search's own Δ_RMS at the best point (its precision).
     #[getter]
     fn search_rms(&self) -> f64 {

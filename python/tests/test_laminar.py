@@ -39,6 +39,7 @@ def test_fit_of_a_csv_equals_the_cli(tmp_path):
     fits = cli_fits("--measurements", path, "--quantity", "radiance", "--models", "exp", *GRID_ARGS)
     assert json.loads(result.to_json())["fits"] == fits
     assert result.params == fits[0]["fitted"]["params"]
+    assert result.edges == fits[0]["parameters"] and set(result.edges) == {"slope", "beta", "n", "a"}
     # The data were made at a grid point with 1% noise: σ/T comes back
     # exactly, and Δ_RMS is at the noise level, 100 · 0.01 · sqrt(K) / K.
     # (n trades off against β and a; issue 10 reports that.)

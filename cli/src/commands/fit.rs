@@ -39,7 +39,10 @@ pub enum Format {
 /// paper normalisation's balance; the JSON gives eq. 8's beta_eq8), rh_rms,
 /// rh_chi2_dof, rh_params (the Ragheb–Hancock best, a = 0, of the same
 /// search), measurements (K), nonpositive, search_rms (the search's own
-/// Δ_RMS in its precision). rms and chi2_dof are recomputed in f64.
+/// Δ_RMS in its precision), edges (searched parameters at an end of their
+/// grid axis, range_edge, or of the model's domain, domain_bound, e.g.
+/// `n:range_edge;a:range_edge+domain_bound`). rms and chi2_dof are
+/// recomputed in f64.
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitArgs {
