@@ -16,10 +16,10 @@
 //! of `S`, sorted once per σ/T; the walk stops at the first `U_k = 1` (U is
 //! normalised, so no later point can join). Along the front the slopes
 //! `U_k − S_k` increase, so the upper hull of its lines is one monotone-stack
-//! pass, and a pointer walked along the hull gives `M(β)` in amortised O(1)
-//! per β. The hull drops lines that are never the maximum in exact
-//! arithmetic; after rounding `M` is the full max to within an ulp or two,
-//! which the tests against the direct path bound.
+//! pass, and `M(β)` is the max over the hull's few lines, computed for
+//! every β in a branch-free loop (module `sweep`). The hull drops lines that are
+//! never the maximum in exact arithmetic; after rounding `M` is the full max
+//! to within an ulp or two, which the tests against the direct path bound.
 //!
 //! **a as a quadratic.** `a` enters the unnormalised subsurface term only
 //! through the absorption factor (eqs. 12–14)
@@ -33,12 +33,15 @@
 //! max `max_k U_k(a)` and the hull need a pass over the measurements for
 //! each triple, and only for triples the lower bound below does not skip.
 //!
-//! **Skipping.** A search needs only the minimum, so before its β loop each
-//! (σ/T, n, a) is checked against a lower bound on its error over every β
-//! ([`Projection`]); when the bound exceeds the best error found so far, no
-//! β of the triple can win and the sweep is skipped. The bound is exact up
-//! to a stated margin, so skipping never changes the result; error surfaces
-//! (parity, the speed report) never skip.
+//! **Skipping.** A search needs only the minimum, so each (σ/T, n) is first
+//! checked against a lower bound on the error of all its (a, β) ([`Span`]),
+//! and each (σ/T, n, a) against a lower bound over its β ([`Projection`]);
+//! when a bound exceeds the best error found so far, none of its grid
+//! points can win and they are skipped. The bounds are exact up to a stated
+//! margin, so skipping never changes the result; error surfaces (parity,
+//! the speed report) never skip. A batch seeds each scene's best error
+//! before the search with the swept minimum of its most promising triple
+//! ([`Column`], [`promising`]).
 //!
 //! **Many scenes.** The model side — `S`, `B`, the basis and its sums, the
 //! max, the front and the hull — depends on the geometry only; per scene
