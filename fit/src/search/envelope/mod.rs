@@ -112,6 +112,30 @@ pub struct Model<'a, L> {
     pub corr: Correlation,
 }
 
+impl<L: Lane> Model<'_, L> {
+    /// The surface term's sums at σ/T index `i_s`.
+    fn surface(&self, i_s: usize) -> SurfaceSums {
+        let slope = self.grid.slope.values[i_s];
+        SurfaceSums::new(&self.tables.packed, &self.tables.surface(self.corr, slope))
+    }
+
+    /// The subsurface basis of (σ/T index `i_s`, n index `i_n`) against
+    /// `surface` (the sums of the same σ/T).
+    fn basis(&self, surface: &SurfaceSums, i_s: usize, i_n: usize) -> Basis {
+        let mut base = Vec::with_capacity(self.tables.packed.geom.len());
+        self.tables
+            .base(self.corr, self.grid.slope.values[i_s], i_n, &mut base);
+        let mut wide = vec![0.0; self.tables.packed.k];
+        self.tables.packed.widen(&base, &mut wide);
+        Basis::new(surface, &wide, self.sines)
+    }
+}
+
+/// Each scene's data against the surface term `surface`.
+fn surface_fits(surface: &SurfaceSums, scenes: &[SceneData]) -> Vec<SurfaceFit> {
+    scenes.iter().map(|s| SurfaceFit::new(surface, s)).collect()
+}
+
 /// What a walk over the triples of a σ/T shard does with each (scene,
 /// triple): whether to sweep it, and what to do with the swept values.
 pub trait Visitor {
@@ -138,25 +162,14 @@ pub fn shard<L: Lane>(
     visitor: &mut impl Visitor,
     stats: &mut [SweepStats],
 ) {
-    let Model {
-        tables,
-        sines,
-        grid,
-        corr,
-    } = *model;
-    let slope = grid.slope.values[i_s];
-    let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
-    let fits: Vec<SurfaceFit> = scenes
-        .iter()
-        .map(|s| SurfaceFit::new(&surface, s))
-        .collect();
+    let grid = model.grid;
+    let surface = model.surface(i_s);
+    let fits = surface_fits(&surface, scenes);
     let mut scratch = Scratch::default();
     let mut data = vec![[0.0; 3]; scenes.len()];
     let mut wanted = vec![false; scenes.len()];
-    tables.for_each_base(corr, slope, |i_n, base| {
-        scratch.base.resize(tables.packed.k, 0.0);
-        tables.packed.widen(base, &mut scratch.base);
-        let basis = Basis::new(&surface, &scratch.base, sines);
+    for i_n in 0..grid.n.len() {
+        let basis = model.basis(&surface, i_s, i_n);
         let mut any = false;
         for (j, (fit, scene)) in fits.iter().zip(scenes).enumerate() {
             data[j] = basis.data(&scene.d);
@@ -170,7 +183,7 @@ pub fn shard<L: Lane>(
             any |= wanted[j];
         }
         if !any {
-            return;
+            continue;
         }
         for (i_a, &a) in grid.a.values.iter().enumerate() {
             let at = basis.at(a);
@@ -195,7 +208,7 @@ pub fn shard<L: Lane>(
                 visitor.sweep(j, i_n, i_a, &scratch.sweep.values);
             }
         }
-    });
+    }
 }
 
 /// One (σ/T, n) of the model on its own: what seeding a search needs
@@ -210,23 +223,12 @@ impl Column {
     /// The surface term of σ/T index `i_s` and the subsurface basis of n
     /// index `i_n`.
     pub fn new<L: Lane>(model: &Model<'_, L>, i_s: usize, i_n: usize) -> Self {
-        let Model {
-            tables,
-            sines,
-            grid,
-            corr,
-        } = *model;
-        let slope = grid.slope.values[i_s];
-        let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
-        let mut base = Vec::new();
-        tables.base(corr, slope, i_n, &mut base);
-        let mut wide = vec![0.0; tables.packed.k];
-        tables.packed.widen(&base, &mut wide);
-        let basis = Basis::new(&surface, &wide, sines);
+        let surface = model.surface(i_s);
+        let basis = model.basis(&surface, i_s, i_n);
         Self {
             surface,
             basis,
-            betas: grid.beta.values.clone(),
+            betas: model.grid.beta.values.clone(),
         }
     }
 
@@ -265,28 +267,17 @@ pub fn promising<L: Lane>(
     scenes: &[SceneData],
     zero_a: Option<usize>,
 ) -> Vec<[Option<(f64, usize)>; 2]> {
-    let Model {
-        tables,
-        sines,
-        grid,
-        corr,
-    } = *model;
-    let slope = grid.slope.values[i_s];
-    let surface = SurfaceSums::new(&tables.packed, &tables.surface(corr, slope));
-    let fits: Vec<SurfaceFit> = scenes
-        .iter()
-        .map(|s| SurfaceFit::new(&surface, s))
-        .collect();
+    let grid = model.grid;
+    let surface = model.surface(i_s);
+    let fits = surface_fits(&surface, scenes);
     let mut out = vec![[None; 2]; scenes.len()];
-    let mut wide = vec![0.0; tables.packed.k];
     let better = |slot: &mut Option<(f64, usize)>, bound: f64, i_n: usize| {
         if slot.is_none_or(|(b, _)| bound < b) {
             *slot = Some((bound, i_n));
         }
     };
-    tables.for_each_base(corr, slope, |i_n, base| {
-        tables.packed.widen(base, &mut wide);
-        let basis = Basis::new(&surface, &wide, sines);
+    for i_n in 0..grid.n.len() {
+        let basis = model.basis(&surface, i_s, i_n);
         let at_zero = zero_a.map(|i_a| basis.at(grid.a.values[i_a]));
         let projection = at_zero.and_then(|at| Projection::new(surface.ss, &at).map(|p| (at, p)));
         for ((slots, fit), scene) in out.iter_mut().zip(&fits).zip(scenes) {
@@ -301,6 +292,6 @@ pub fn promising<L: Lane>(
                 better(&mut slots[1], bound, i_n);
             }
         }
-    });
+    }
     out
 }

@@ -10,7 +10,6 @@ use laminar_core::mix;
 /// Reusable per-shard buffers.
 #[derive(Default)]
 pub struct Scratch {
-    pub(super) base: Vec<f64>,
     /// The Pareto front as `(S_k, U_k)`, by decreasing `S` and increasing `U`.
     pub(super) front: Vec<(f64, f64)>,
     /// The upper hull of the front's lines, as `(S_k, U_k)`.
