@@ -3,7 +3,7 @@
 
 use crate::selection::material;
 use laminar_fit::fitted::format_value;
-use laminar_fit::{Edge, Estimate, Fit, Model};
+use laminar_fit::{Edge, Estimate, Fit, Model, Parameter};
 
 /// A titled table of text cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -123,48 +123,54 @@ pub fn rms_table(records: &[Fit]) -> Table {
     }
 }
 
+/// A parameter as a table cell: the refined value (the grid value when not
+/// refined) with its 68% interval in brackets (`<` or `>` before an end
+/// where the interval stays open within the range searched) and the marks
+/// ‡ (grid value at the end of its axis) and † (at a bound of the domain).
+fn parameter_cell(p: &Parameter) -> String {
+    let v = |x: f64| format!("{x:.3}");
+    let interval = p.interval68.map_or(String::new(), |i| {
+        let lo = if i.open_below { "<" } else { "" };
+        let hi = if i.open_above { ">" } else { "" };
+        format!(" [{lo}{}, {hi}{}]", v(i.lo), v(i.hi))
+    });
+    let mut marks = String::new();
+    if p.flags.contains(&Edge::RangeEdge) {
+        marks.push('‡');
+    }
+    if p.flags.contains(&Edge::DomainBound) {
+        marks.push('†');
+    }
+    format!("{}{marks}{interval}", v(p.value()))
+}
+
 /// Tables III and IV: the estimated parameters of an absorptive model.
 pub fn parameter_table(records: &[Fit], model: Model) -> Table {
     let names = ["slope", "beta", "n", "a"];
-    let beta_eq8 = |e: &Estimate| {
-        e.fitted
-            .beta_eq8
-            .map(|b| format!("{b:.4}"))
-            .unwrap_or_default()
-    };
-    let rows = groups(records)
-        .iter()
-        .filter_map(|g| {
-            let e = estimate(g, model)?;
-            let edges = g
-                .iter()
-                .find(|r| r.model == model)
-                .map_or(&[][..], |r| &r.edges[..]);
-            let mark = |name: &str| {
-                let flags = edges
-                    .iter()
-                    .find(|p| p.name == name)
-                    .map_or(&[][..], |p| &p.flags[..]);
-                let mut m = String::new();
-                if flags.contains(&Edge::RangeEdge) {
-                    m.push('‡');
-                }
-                if flags.contains(&Edge::DomainBound) {
-                    m.push('†');
-                }
-                m
-            };
-            let mut row = key(g);
-            row.extend(names.iter().map(|n| {
-                e.get(n)
-                    .map(|v| format!("{}{}", format_value(v), mark(n)))
-                    .unwrap_or_default()
-            }));
-            row.push(beta_eq8(e));
-            row.push(cell(Some(e.rms)));
-            Some(row)
-        })
-        .collect();
+    let rows =
+        groups(records)
+            .iter()
+            .filter_map(|g| {
+                let fit = g.iter().find(|r| r.model == model)?;
+                let e = fit.estimate();
+                let mut row = key(g);
+                row.extend(names.iter().map(
+                    |n| match fit.parameters.iter().find(|p| p.name == *n) {
+                        Some(p) => parameter_cell(p),
+                        None => e.get(n).map(format_value).unwrap_or_default(),
+                    },
+                ));
+                row.push(
+                    e.fitted
+                        .beta_eq8
+                        .map(|b| format!("{b:.4}"))
+                        .unwrap_or_default(),
+                );
+                row.push(cell(Some(fit.best.rms)));
+                row.push(cell(fit.refined.as_ref().map(|r| r.rms)));
+                Some(row)
+            })
+            .collect();
     let (name, number, label) = if model == Model::Gauss {
         ("table4_gauss_params", "IV", "Gaussian")
     } else {
@@ -174,9 +180,9 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
         name,
         title: format!("Table {number}: estimated parameters of the absorptive {label} model"),
         note: format!(
-            "slope = σ/T, n, a as fitted; ‡ marks a value at the first or last value of its grid axis (the optimum may lie outside the range searched, so it is not a measurement of that parameter), † a value at a bound of the model's domain (a = 0 or 1, β = 0 or 1, n = 1); beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). {RMS_NOTE}"
+            "Each parameter: the refined value (local refinement from the best grid point, docs/conventions.md §11) and in brackets its 68% interval from the profile of the error surface (noise variance from the residuals); `<` or `>` before an end: the interval does not close within the range searched on that side, so the data do not bound the parameter there. ‡ marks a grid value at the first or last value of its axis (the optimum may lie outside the range searched: not a measurement of that parameter), † a value at a bound of the model's domain (a = 0 or 1, β = 0 or 1, n = 1). slope = σ/T; beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). rms is the grid's Δ_RMS, rms_refined the refined one. {RMS_NOTE}"
         ),
-        header: header(&["slope", "beta", "n", "a", "beta_eq8", "rms"]),
+        header: header(&["slope", "beta", "n", "a", "beta_eq8", "rms", "rms_refined"]),
         rows,
     }
 }

@@ -1,14 +1,15 @@
 //! Fitting a scene with a model: the layered models by the grid search of
 //! [`crate::search`], the baselines by their own grids (docs/conventions.md §7).
 
-use crate::edges::{edges, ParameterEdges};
+use crate::covariance::Covariance;
 use crate::error::{FitError, ModelError};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::{Axis, Grid};
 use crate::model::Model;
 use crate::scene::Scene;
 use crate::search::batch::{search_batch, share_geometry};
-use crate::search::{point, search, Method, Path, SearchResult};
+use crate::search::{grid_profile, point, search, GridProfile, Method, Path, SearchResult};
+use crate::uncertainty::{analyse, cutoffs, Analysed, Analysis, Parameter, Searched};
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
@@ -81,9 +82,23 @@ pub struct Fit {
     pub nonpositive: usize,
     /// Parameter sets evaluated.
     pub evaluated: usize,
-    /// Each searched parameter of the best estimate with its edge flags
-    /// ([`crate::edges`]); empty when nothing was searched ([`Fitter::assess`]).
-    pub edges: Vec<ParameterEdges>,
+    /// The refined estimate ([`crate::refine`]), when refined: never a
+    /// larger Δ_RMS than `best`, the grid's.
+    pub refined: Option<Estimate>,
+    /// Each searched parameter: grid value, refined value, intervals and
+    /// edge flags ([`crate::uncertainty`]); empty when nothing was searched
+    /// ([`Fitter::assess`]).
+    pub parameters: Vec<Parameter>,
+    /// The Jacobian's covariance and correlations at the refined optimum
+    /// (when asked for and no parameter is at a bound of its domain).
+    pub covariance: Option<Covariance>,
+}
+
+impl Fit {
+    /// The estimate to use: the refined one when there is one, else the grid's.
+    pub fn estimate(&self) -> &Estimate {
+        self.refined.as_ref().unwrap_or(&self.best)
+    }
 }
 
 /// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
@@ -100,7 +115,8 @@ pub fn oren_nayar_grid() -> (Axis, Axis) {
 }
 
 /// Exhaustive 2-D search in f64 of a max-normalised baseline; ties keep the
-/// first point in row-major order.
+/// first point in row-major order. The best (Δ_RMS, x, y) and every
+/// point's Δ_RMS in row-major order.
 fn grid2<G: Sync, K>(
     scene: &Scene,
     outer: &Axis,
@@ -108,29 +124,78 @@ fn grid2<G: Sync, K>(
     geometry: &[G],
     coefficients: impl Fn(f64, f64) -> K + Sync,
     radiance: impl Fn(&G, &K) -> f64 + Sync,
-) -> (f64, f64, f64) {
-    let rows: Vec<(f64, f64, f64)> = outer
+) -> ((f64, f64, f64), Vec<f64>) {
+    let rows: Vec<Vec<f64>> = outer
         .values
         .par_iter()
         .map(|&x| {
-            let mut best = (f64::INFINITY, x, inner.values[0]);
-            for &y in &inner.values {
-                let k = coefficients(x, y);
-                let mut p: Vec<f64> = geometry.iter().map(|g| radiance(g, &k)).collect();
-                normalise_by_max(&mut p);
-                let rms = rms_error(&scene.data, &p).unwrap_or(f64::INFINITY);
-                if rms < best.0 {
-                    best = (rms, x, y);
-                }
-            }
-            best
+            inner
+                .values
+                .iter()
+                .map(|&y| {
+                    let k = coefficients(x, y);
+                    let mut p: Vec<f64> = geometry.iter().map(|g| radiance(g, &k)).collect();
+                    normalise_by_max(&mut p);
+                    rms_error(&scene.data, &p).unwrap_or(f64::INFINITY)
+                })
+                .collect()
         })
         .collect();
-    // Starting from the first row keeps the result a grid point even if no
-    // error is finite.
-    rows.into_iter()
-        .reduce(|b, r| if r.0 < b.0 { r } else { b })
-        .expect("the axes are not empty")
+    let surface: Vec<f64> = rows.concat();
+    // Starting from the first point keeps the result a grid point even if
+    // no error is finite.
+    let mut best = (surface[0], 0);
+    for (i, &rms) in surface.iter().enumerate() {
+        if rms < best.0 {
+            best = (rms, i);
+        }
+    }
+    let (x, y) = (
+        outer.values[best.1 / inner.len()],
+        inner.values[best.1 % inner.len()],
+    );
+    ((best.0, x, y), surface)
+}
+
+/// The [`GridProfile`] of a full surface of Δ_RMS over axes of lengths
+/// `lens` (row-major), on `k` measurements, to the cutoffs `(profile, near)`
+/// on the objective `Σ (D − P)²`.
+fn profile_of(
+    surface: &[f64],
+    lens: [usize; 2],
+    k: usize,
+    (cutoff, near): (f64, f64),
+) -> GridProfile {
+    let mut axes: Vec<Vec<(f64, usize)>> = lens
+        .iter()
+        .map(|&len| vec![(f64::INFINITY, usize::MAX); len])
+        .collect();
+    let mut near_points = Vec::new();
+    for (flat, &rms) in surface.iter().enumerate() {
+        let e = sum_of_rms(rms, k);
+        if e > cutoff {
+            continue;
+        }
+        for (axis, i) in axes.iter_mut().zip([flat / lens[1], flat % lens[1]]) {
+            if e < axis[i].0 {
+                axis[i] = (e, flat);
+            }
+        }
+        if e <= near {
+            near_points.push((flat, e));
+        }
+    }
+    GridProfile {
+        axes,
+        near: near_points,
+        cutoff,
+    }
+}
+
+/// `Σ (D − P)²` from `Δ_RMS = 100·sqrt(Σ(D − P)²)/K` (eq. 15).
+fn sum_of_rms(rms: f64, k: usize) -> f64 {
+    let root = rms * k as f64 / 100.0;
+    root * root
 }
 
 type Progress = Arc<dyn Fn() + Send + Sync>;
@@ -163,11 +228,13 @@ pub struct Fitter {
     path: Path,
     pool: Option<Arc<rayon::ThreadPool>>,
     progress: Option<Progress>,
+    analysis: Analysis,
 }
 
 impl Fitter {
     /// A fitter on `grid` (validated: [`Grid::validate`]) with the default
-    /// search path, all cores, no progress callback.
+    /// search path, all cores, no progress callback, refinement and both
+    /// uncertainties ([`Analysis::FULL`]).
     ///
     /// # Errors
     /// [`FitError::Grid`] when the grid fails [`Grid::validate`].
@@ -178,7 +245,19 @@ impl Fitter {
             path: Path::DEFAULT,
             pool: None,
             progress: None,
+            analysis: Analysis::FULL,
         })
+    }
+
+    /// What each fit does after its grid search (default [`Analysis::FULL`]).
+    pub fn analysis(mut self, analysis: Analysis) -> Self {
+        self.analysis = analysis;
+        self
+    }
+
+    /// The analysis after the grid search.
+    pub fn analysis_of_fits(&self) -> Analysis {
+        self.analysis
     }
 
     /// The search path of the layered models (default [`Path::DEFAULT`]).
@@ -301,8 +380,46 @@ impl Fitter {
             measurements: scene.len(),
             nonpositive: scene.nonpositive,
             evaluated,
-            edges: Vec::new(),
+            refined: None,
+            parameters: Vec::new(),
+            covariance: None,
         }
+    }
+
+    /// The fit record of a search's best `best` and the analysis of it.
+    #[allow(clippy::too_many_arguments)]
+    fn analysed_fit(
+        &self,
+        scene: &Scene,
+        model: Model,
+        best: Estimate,
+        rh: Option<Estimate>,
+        (search_rms, evaluated): (f64, usize),
+        searched: &[Searched],
+        profile: Option<(&GridProfile, &[usize])>,
+    ) -> Fit {
+        let Analysed {
+            refined,
+            parameters,
+            covariance,
+        } = analyse(scene, model, &best, searched, profile, self.analysis);
+        Fit {
+            search_rms,
+            refined,
+            parameters,
+            covariance,
+            ..self.record(scene, model, best, rh, evaluated)
+        }
+    }
+
+    /// The profile cutoffs of a fit whose grid best is `best`, when the
+    /// analysis needs the grid's profile.
+    fn profile_cutoffs(&self, scene: &Scene, model: Model, best: &Estimate) -> Option<(f64, f64)> {
+        if !self.analysis.needs_profile() {
+            return None;
+        }
+        let free = model.parameter_count();
+        cutoffs(scene, sum_of_rms(best.rms, scene.len()), free)
     }
 
     /// The grid a layered model searches: a = 0 only for Ragheb–Hancock.
@@ -328,20 +445,43 @@ impl Fitter {
             .zip(r.rh_best)
             .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
         let (slope, n, a, beta) = point(grid, r.best);
-        let edges = edges(
+        let searched: Vec<Searched> = [
+            (0, "slope", slope, &grid.slope),
+            (1, "n", n, &grid.n),
+            (2, "a", a, &grid.a),
+            (3, "beta", beta, &grid.beta),
+        ]
+        .into_iter()
+        .filter(|s| s.3.len() > 1)
+        .map(|(axis, name, value, values)| Searched {
+            axis,
+            name,
+            value,
+            values,
+        })
+        .collect();
+        let lens = [
+            grid.slope.len(),
+            grid.n.len(),
+            grid.a.len(),
+            grid.beta.len(),
+        ];
+        let corr = model.correlation().expect("a layered model");
+        let profile = self
+            .profile_cutoffs(scene, model, &best)
+            .map(|(cutoff, near)| {
+                grid_profile(scene, grid, corr, self.path, cutoff, near)
+                    .expect("the grid was validated by Fitter::new")
+            });
+        self.analysed_fit(
+            scene,
             model,
-            &[
-                ("slope", slope, &grid.slope),
-                ("beta", beta, &grid.beta),
-                ("n", n, &grid.n),
-                ("a", a, &grid.a),
-            ],
-        );
-        Fit {
-            search_rms: r.best_rms,
-            edges,
-            ..self.record(scene, model, best, rh, grid.size())
-        }
+            best,
+            rh,
+            (r.best_rms, grid.size()),
+            &searched,
+            profile.as_ref().map(|p| (p, &lens[..])),
+        )
     }
 
     /// Progress calls of [`Fitter::fit_batch`] on `scenes` with `model`.
@@ -392,11 +532,13 @@ impl Fitter {
                     search_batch(scenes, &grid, corr, self.path.arith, &tick)
                         .expect("the grid was validated by Fitter::new")
                 });
-                scenes
-                    .iter()
-                    .zip(&results)
-                    .map(|(scene, r)| self.layered_fit(scene, model, &grid, r))
-                    .collect()
+                self.run(|| {
+                    scenes
+                        .par_iter()
+                        .zip(&results)
+                        .map(|(scene, r)| self.layered_fit(scene, model, &grid, r))
+                        .collect()
+                })
             }
             _ => scenes.iter().map(|s| self.fit(s, model)).collect(),
         }
@@ -446,16 +588,39 @@ impl Fitter {
         params: impl Fn(f64, f64) -> ModelParams,
     ) -> Fit {
         let geometry: Vec<G> = scene.angles.iter().map(geometry).collect();
-        let (rms, x, y) = grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
+        let ((rms, x, y), surface) =
+            grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
         let best =
             Estimate::new(scene, model, params(x, y)).expect("grid values are in the domain");
-        let names: Vec<&str> = best.fitted.params.pairs().iter().map(|p| p.0).collect();
-        let edges = edges(model, &[(names[0], x, &outer), (names[1], y, &inner)]);
+        let names: Vec<&'static str> = best.fitted.params.pairs().iter().map(|p| p.0).collect();
+        let searched = [
+            Searched {
+                axis: 0,
+                name: names[0],
+                value: x,
+                values: &outer,
+            },
+            Searched {
+                axis: 1,
+                name: names[1],
+                value: y,
+                values: &inner,
+            },
+        ];
+        let lens = [outer.len(), inner.len()];
+        let profile = self
+            .profile_cutoffs(scene, model, &best)
+            .map(|cut| profile_of(&surface, lens, scene.len(), cut));
+        let fit = self.analysed_fit(
+            scene,
+            model,
+            best,
+            None,
+            (rms, outer.len() * inner.len()),
+            &searched,
+            profile.as_ref().map(|p| (p, &lens[..])),
+        );
         self.tick();
-        Fit {
-            search_rms: rms,
-            edges,
-            ..self.record(scene, model, best, None, outer.len() * inner.len())
-        }
+        fit
     }
 }

@@ -167,61 +167,93 @@ pub struct FittedModel {
     pub data_scale: f64,
 }
 
-/// Raw model radiance at each geometry: (surface, subsurface) for the
-/// layered models, (radiance, unused) for the baselines.
-fn raw(model: Model, params: &ModelParams, angles: &[Angles]) -> Result<Vec<[f64; 2]>, ModelError> {
-    match (model.correlation(), *params) {
-        (Some(corr), ModelParams::Layered { a, .. }) => {
-            if model.is_ragheb_hancock() && a != 0.0 {
-                return Err(ModelError::WrongParameters {
-                    model: model.name().into(),
-                    expected: "slope, beta, n and a = 0",
-                });
-            }
-            let p = params.layered()?;
-            Ok(angles
-                .iter()
-                .map(|g| {
-                    let c = components(&Geometry::<f64>::splat(g), corr, &p);
-                    [c.surface, c.subsurface]
-                })
-                .collect())
+/// The measurements' geometry in the form a model evaluates it, built once
+/// (sines and cosines) and evaluated at any parameters.
+#[derive(Debug, Clone)]
+pub(crate) enum Geometries {
+    /// The layered models' geometry.
+    Layered(Vec<Geometry<f64>>),
+    /// Jensen's.
+    Jensen(Vec<JensenGeometry<f64>>),
+    /// Oren–Nayar's.
+    OrenNayar(Vec<OrenNayarGeometry<f64>>),
+}
+
+impl Geometries {
+    /// The geometry `model` needs at `angles`.
+    pub(crate) fn new(model: Model, angles: &[Angles]) -> Self {
+        match model {
+            Model::Jensen => Self::Jensen(
+                angles
+                    .iter()
+                    .map(|g| JensenGeometry::from_lanes(|_| *g))
+                    .collect(),
+            ),
+            Model::OrenNayar => Self::OrenNayar(
+                angles
+                    .iter()
+                    .map(|g| OrenNayarGeometry::from_lanes(|_| *g))
+                    .collect(),
+            ),
+            _ => Self::Layered(angles.iter().map(Geometry::<f64>::splat).collect()),
         }
-        (None, ModelParams::Jensen { sigma_a, sigma_s }) if model == Model::Jensen => {
-            let k = JensenCoefficients::<f64>::new(sigma_a, sigma_s)
-                .map_err(ModelError::OutOfDomain)?;
-            Ok(angles
-                .iter()
-                .map(|g| {
-                    [
-                        jensen_radiance(&JensenGeometry::from_lanes(|_| *g), &k),
-                        0.0,
-                    ]
-                })
-                .collect())
-        }
-        (None, ModelParams::OrenNayar { sigma, rho }) if model == Model::OrenNayar => {
-            let k =
-                OrenNayarCoefficients::<f64>::new(sigma, rho).map_err(ModelError::OutOfDomain)?;
-            Ok(angles
-                .iter()
-                .map(|g| {
-                    [
-                        oren_nayar_radiance(&OrenNayarGeometry::from_lanes(|_| *g), &k),
-                        0.0,
-                    ]
-                })
-                .collect())
-        }
-        _ => Err(ModelError::WrongParameters {
-            model: model.name().into(),
-            expected: match model {
-                Model::Jensen => "sigma_a, sigma_s",
-                Model::OrenNayar => "sigma, rho",
-                _ => "slope, beta, n, a",
-            },
-        }),
     }
+
+    /// Raw model radiance at each geometry: (surface, subsurface) for the
+    /// layered models, (radiance, unused) for the baselines.
+    pub(crate) fn raw(
+        &self,
+        model: Model,
+        params: &ModelParams,
+    ) -> Result<Vec<[f64; 2]>, ModelError> {
+        match (self, model.correlation(), *params) {
+            (Self::Layered(geometry), Some(corr), ModelParams::Layered { a, .. }) => {
+                if model.is_ragheb_hancock() && a != 0.0 {
+                    return Err(ModelError::WrongParameters {
+                        model: model.name().into(),
+                        expected: "slope, beta, n and a = 0",
+                    });
+                }
+                let p = params.layered()?;
+                Ok(geometry
+                    .iter()
+                    .map(|g| {
+                        let c = components(g, corr, &p);
+                        [c.surface, c.subsurface]
+                    })
+                    .collect())
+            }
+            (Self::Jensen(geometry), None, ModelParams::Jensen { sigma_a, sigma_s }) => {
+                let k = JensenCoefficients::<f64>::new(sigma_a, sigma_s)
+                    .map_err(ModelError::OutOfDomain)?;
+                Ok(geometry
+                    .iter()
+                    .map(|g| [jensen_radiance(g, &k), 0.0])
+                    .collect())
+            }
+            (Self::OrenNayar(geometry), None, ModelParams::OrenNayar { sigma, rho }) => {
+                let k = OrenNayarCoefficients::<f64>::new(sigma, rho)
+                    .map_err(ModelError::OutOfDomain)?;
+                Ok(geometry
+                    .iter()
+                    .map(|g| [oren_nayar_radiance(g, &k), 0.0])
+                    .collect())
+            }
+            _ => Err(ModelError::WrongParameters {
+                model: model.name().into(),
+                expected: match model {
+                    Model::Jensen => "sigma_a, sigma_s",
+                    Model::OrenNayar => "sigma, rho",
+                    _ => "slope, beta, n, a",
+                },
+            }),
+        }
+    }
+}
+
+/// Raw model radiance at each geometry ([`Geometries::raw`]).
+fn raw(model: Model, params: &ModelParams, angles: &[Angles]) -> Result<Vec<[f64; 2]>, ModelError> {
+    Geometries::new(model, angles).raw(model, params)
 }
 
 /// `v / m`, or 0 for a term whose max was not positive (docs/conventions.md §4).
@@ -256,7 +288,22 @@ impl FittedModel {
         angles: &[Angles],
         data_scale: f64,
     ) -> Result<Self, ModelError> {
-        let raw = raw(model, &params, angles)?;
+        Ok(Self::from_raw(
+            model,
+            params,
+            &raw(model, &params, angles)?,
+            data_scale,
+        ))
+    }
+
+    /// [`FittedModel::normalised_on`] from the raw terms at the geometries
+    /// ([`Geometries::raw`]), with parameters already checked.
+    pub(crate) fn from_raw(
+        model: Model,
+        params: ModelParams,
+        raw: &[[f64; 2]],
+        data_scale: f64,
+    ) -> Self {
         let (normalisation, beta_eq8, eq8_scale) = match params {
             ModelParams::Layered { beta, .. } => {
                 let surface_max = positive_max(raw.iter().map(|r| r[0]));
@@ -294,14 +341,14 @@ impl FittedModel {
                 None,
             ),
         };
-        Ok(Self {
+        Self {
             model,
             params,
             normalisation,
             beta_eq8,
             eq8_scale,
             data_scale,
-        })
+        }
     }
 
     /// The normalised prediction `P` at each geometry (the quantity the fit
@@ -313,7 +360,11 @@ impl FittedModel {
     /// [`ModelError::BadConstant`] for a negative or non-finite constant.
     pub fn predict(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
         self.check_constants()?;
-        let raw = raw(self.model, &self.params, angles)?;
+        self.predict_raw(&raw(self.model, &self.params, angles)?)
+    }
+
+    /// [`FittedModel::predict`] from the raw terms ([`Geometries::raw`]).
+    pub(crate) fn predict_raw(&self, raw: &[[f64; 2]]) -> Result<Vec<f64>, ModelError> {
         Ok(match (self.normalisation, self.params) {
             (
                 NormalisationConstants::Layered {

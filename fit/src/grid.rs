@@ -155,6 +155,15 @@ impl Grid {
         ((s * self.n.len() + n) * self.a.len() + a) * self.beta.len() + b
     }
 
+    /// The axis indices (σ/T, n, a, β) of a flattened index ([`Grid::flat`]).
+    pub fn indices(&self, flat: usize) -> (usize, usize, usize, usize) {
+        let b = flat % self.beta.len();
+        let rest = flat / self.beta.len();
+        let a = rest % self.a.len();
+        let rest = rest / self.a.len();
+        (rest / self.n.len(), rest % self.n.len(), a, b)
+    }
+
     /// Checks every value against the model's domain ([`Params::new`]; the
     /// domain is a box, so each axis is checked on its own) and the size
     /// against [`MAX_GRID_SIZE`].

@@ -51,6 +51,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod covariance;
+pub mod coverage;
 pub mod edges;
 pub mod error;
 pub mod fit;
@@ -58,11 +60,14 @@ pub mod fitted;
 pub mod grid;
 pub mod measurements;
 pub mod model;
+pub mod profile;
+pub mod refine;
 pub mod scene;
 pub mod search;
 pub mod synthetic;
+pub mod uncertainty;
 
-pub use edges::{Edge, ParameterEdges};
+pub use edges::Edge;
 pub use error::{FitError, GridError, MeasurementError, ModelError};
 pub use fit::{Estimate, Fit, Fitter};
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
@@ -71,3 +76,4 @@ pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::Model;
 pub use scene::Scene;
 pub use search::Path;
+pub use uncertainty::{Analysis, Parameter, Uncertainty};

@@ -11,12 +11,14 @@
 use crate::error::ReadError;
 use laminar_fit::edges::edges_text;
 use laminar_fit::fitted::format_value;
-use laminar_fit::{Estimate, Fit, FittedModel, Model};
+use laminar_fit::profile::Interval;
+use laminar_fit::{Estimate, Fit, FittedModel, Model, Parameter};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-/// CSV header (a contract: scripts read these columns).
+/// The first columns of the CSV (a contract: scripts read these columns);
+/// [`csv_header`] adds the refinement's.
 pub const CSV_HEADER: [&str; 15] = [
     "sample",
     "channel",
@@ -35,14 +37,93 @@ pub const CSV_HEADER: [&str; 15] = [
     "edges",
 ];
 
+/// The columns each parameter gets, after its name and `_`.
+pub const PARAMETER_COLUMNS: [&str; 7] =
+    ["refined", "lo68", "hi68", "lo95", "hi95", "interval", "sd"];
+
+/// The parameter names of `models`, in order of first appearance.
+fn parameter_names(models: impl IntoIterator<Item = Model>) -> Vec<&'static str> {
+    let mut names: Vec<&'static str> = Vec::new();
+    for model in models {
+        for name in model_parameters(model) {
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+    }
+    names
+}
+
+/// A model's parameter names in output order.
+fn model_parameters(model: Model) -> Vec<&'static str> {
+    match model {
+        Model::Jensen => vec!["sigma_a", "sigma_s"],
+        Model::OrenNayar => vec!["sigma", "rho"],
+        _ => vec!["slope", "beta", "n", "a"],
+    }
+}
+
+/// The full CSV header for fits of `models`: [`CSV_HEADER`], then
+/// `rms_grid`, `rms_refined`, then for each parameter of those models
+/// `{name}_{column}` for each of [`PARAMETER_COLUMNS`], then `correlations`
+/// and `trade_offs`.
+pub fn csv_header(models: &[Model]) -> Vec<String> {
+    let mut header: Vec<String> = CSV_HEADER.iter().map(|c| c.to_string()).collect();
+    header.extend(["rms_grid".to_string(), "rms_refined".to_string()]);
+    for name in parameter_names(models.iter().copied()) {
+        header.extend(PARAMETER_COLUMNS.iter().map(|c| format!("{name}_{c}")));
+    }
+    header.extend(["correlations".to_string(), "trade_offs".to_string()]);
+    header
+}
+
 fn opt(v: Option<f64>) -> String {
     v.map(|x| format!("{x:.6}")).unwrap_or_default()
 }
 
-fn row(r: &Fit) -> Vec<String> {
+/// A value to 10 significant decimals (parameters and interval ends).
+fn value(v: Option<f64>) -> String {
+    v.map(format_value).unwrap_or_default()
+}
+
+/// The `trade_offs` text of a fit: `a~b=r` for each pair whose correlation
+/// is at least [`laminar_fit::covariance::TRADE_OFF`] in magnitude.
+fn trade_offs_text(r: &Fit) -> String {
+    r.covariance
+        .as_ref()
+        .map(|c| {
+            c.trade_offs()
+                .iter()
+                .map(|(a, b, r)| format!("{a}~{b}={r:.3}"))
+                .collect::<Vec<_>>()
+                .join(";")
+        })
+        .unwrap_or_default()
+}
+
+/// The parameter columns of `p` ([`PARAMETER_COLUMNS`]).
+fn parameter_cells(p: Option<&Parameter>) -> Vec<String> {
+    let Some(p) = p else {
+        return vec![String::new(); PARAMETER_COLUMNS.len()];
+    };
+    let ends = |i: Option<Interval>| (value(i.map(|i| i.lo)), value(i.map(|i| i.hi)));
+    let (lo68, hi68) = ends(p.interval68);
+    let (lo95, hi95) = ends(p.interval95);
+    vec![
+        value(p.refined),
+        lo68,
+        hi68,
+        lo95,
+        hi95,
+        p.source.map(|s| s.to_string()).unwrap_or_default(),
+        p.sd.map(|sd| format!("{sd:.6e}")).unwrap_or_default(),
+    ]
+}
+
+fn row(r: &Fit, names: &[&str]) -> Vec<String> {
     let chi = r.best.chi2;
     let rh = r.rh.as_ref();
-    vec![
+    let mut out = vec![
         r.sample.clone(),
         r.channel.clone(),
         r.model.name().into(),
@@ -57,13 +138,29 @@ fn row(r: &Fit) -> Vec<String> {
         r.measurements.to_string(),
         r.nonpositive.to_string(),
         format!("{:.6}", r.search_rms),
-        edges_text(&r.edges),
-    ]
+        edges_text(&r.parameters),
+    ];
+    out.push(format!("{:.6}", r.best.rms));
+    out.push(opt(r.refined.as_ref().map(|e| e.rms)));
+    for name in names {
+        out.extend(parameter_cells(
+            r.parameters.iter().find(|p| p.name == *name),
+        ));
+    }
+    out.push(
+        r.covariance
+            .as_ref()
+            .map(|c| c.correlations_text())
+            .unwrap_or_default(),
+    );
+    out.push(trade_offs_text(r));
+    out
 }
 
-/// Records as CSV with [`CSV_HEADER`].
+/// Records as CSV with the [`csv_header`] of their models.
 pub fn csv(records: &[Fit]) -> String {
-    let mut rows = CsvRows::new(Vec::new()).expect("in-memory write");
+    let models: Vec<Model> = records.iter().map(|r| r.model).collect();
+    let mut rows = CsvRows::new(Vec::new(), &models).expect("in-memory write");
     for r in records {
         rows.write(r).expect("in-memory write");
     }
@@ -74,17 +171,21 @@ pub fn csv(records: &[Fit]) -> String {
 /// holding every record): the header first, then [`CsvRows::write`] per fit.
 pub struct CsvRows<W: Write> {
     writer: csv::Writer<W>,
+    names: Vec<&'static str>,
 }
 
 impl<W: Write> CsvRows<W> {
-    /// Writes [`CSV_HEADER`] to `out`.
+    /// Writes the [`csv_header`] of fits of `models` to `out`.
     ///
     /// # Errors
     /// The writer's error.
-    pub fn new(out: W) -> std::io::Result<Self> {
+    pub fn new(out: W, models: &[Model]) -> std::io::Result<Self> {
         let mut writer = csv::Writer::from_writer(out);
-        writer.write_record(CSV_HEADER)?;
-        Ok(Self { writer })
+        writer.write_record(csv_header(models))?;
+        Ok(Self {
+            writer,
+            names: parameter_names(models.iter().copied()),
+        })
     }
 
     /// Writes one record.
@@ -93,7 +194,7 @@ impl<W: Write> CsvRows<W> {
     /// The writer's error.
     pub fn write(&mut self, record: &Fit) -> std::io::Result<()> {
         self.writer
-            .write_record(row(record))
+            .write_record(row(record, &self.names))
             .map_err(std::io::Error::other)
     }
 
@@ -143,13 +244,30 @@ pub struct FitEntry {
     pub nonpositive: usize,
     /// The search's own Δ_RMS.
     pub search_rms: f64,
-    /// The fitted model, to predict with.
+    /// The fitted model, to predict with: the refined one when the fit was
+    /// refined, else the grid's.
     pub fitted: FittedModel,
+    /// The grid's best as a fitted model, when `fitted` is the refined one.
+    #[serde(default)]
+    pub grid_fitted: Option<FittedModel>,
+    /// Δ_RMS of the grid's best (the `rms` above).
+    #[serde(default)]
+    pub rms_grid: Option<f64>,
+    /// Δ_RMS of the refined estimate (never above `rms_grid`).
+    #[serde(default)]
+    pub rms_refined: Option<f64>,
+    /// Correlations of the refined estimate from the Jacobian, `"a~b": r`.
+    #[serde(default)]
+    pub correlations: serde_json::Map<String, serde_json::Value>,
+    /// Pairs whose correlation is at least 0.9 in magnitude, `"a~b": r`.
+    #[serde(default)]
+    pub trade_offs: serde_json::Map<String, serde_json::Value>,
     /// The Ragheb–Hancock best as a fitted model.
     pub rh_fitted: Option<FittedModel>,
-    /// Each searched parameter under its name: its grid value and edge
-    /// flags (`range_edge`, `domain_bound`). Absent in files written before
-    /// it existed.
+    /// Each searched parameter under its name: `grid`, `refined`, `lo68`,
+    /// `hi68`, `lo95`, `hi95`, `interval` (`profile` or `jacobian`), `sd`
+    /// and `flags` (`range_edge`, `domain_bound`, `open_below`,
+    /// `open_above`). Absent in files written before it existed.
     #[serde(default)]
     pub parameters: serde_json::Map<String, serde_json::Value>,
 }
@@ -181,6 +299,24 @@ fn params_object(e: &Estimate) -> serde_json::Map<String, serde_json::Value> {
         .collect()
 }
 
+/// A parameter as its JSON object (absent numbers are `null`).
+fn parameter_object(p: &Parameter) -> serde_json::Value {
+    let ends = |i: Option<Interval>| (i.map(|i| i.lo), i.map(|i| i.hi));
+    let (lo68, hi68) = ends(p.interval68);
+    let (lo95, hi95) = ends(p.interval95);
+    serde_json::json!({
+        "grid": p.grid,
+        "refined": p.refined,
+        "lo68": lo68,
+        "hi68": hi68,
+        "lo95": lo95,
+        "hi95": hi95,
+        "interval": p.source.map(|s| s.to_string()),
+        "sd": p.sd,
+        "flags": p.flags,
+    })
+}
+
 impl FitEntry {
     /// The entry of a fit.
     pub fn new(r: &Fit) -> Self {
@@ -199,15 +335,39 @@ impl FitEntry {
             measurements: r.measurements,
             nonpositive: r.nonpositive,
             search_rms: r.search_rms,
-            fitted: r.best.fitted,
+            fitted: r.estimate().fitted,
+            grid_fitted: r.refined.as_ref().map(|_| r.best.fitted),
+            rms_grid: Some(r.best.rms),
+            rms_refined: r.refined.as_ref().map(|e| e.rms),
             rh_fitted: r.rh.as_ref().map(|e| e.fitted),
-            parameters: r
-                .edges
-                .iter()
-                .map(|e| {
-                    let entry = serde_json::json!({ "grid": e.grid, "flags": e.flags });
-                    (e.name.clone(), entry)
+            correlations: r
+                .covariance
+                .as_ref()
+                .map(|c| {
+                    let mut out = serde_json::Map::new();
+                    for i in 0..c.names.len() {
+                        for j in i + 1..c.names.len() {
+                            let key = format!("{}~{}", c.names[i], c.names[j]);
+                            out.insert(key, serde_json::json!(c.correlation(i, j)));
+                        }
+                    }
+                    out
                 })
+                .unwrap_or_default(),
+            trade_offs: r
+                .covariance
+                .as_ref()
+                .map(|c| {
+                    c.trade_offs()
+                        .into_iter()
+                        .map(|(a, b, r)| (format!("{a}~{b}"), serde_json::json!(r)))
+                        .collect()
+                })
+                .unwrap_or_default(),
+            parameters: r
+                .parameters
+                .iter()
+                .map(|p| (p.name.clone(), parameter_object(p)))
                 .collect(),
         }
     }
@@ -230,7 +390,12 @@ pub fn json(records: &[Fit]) -> String {
             "fitted": "the model to predict with: full-precision params; normalisation = maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (baselines: of the raw radiance); P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max",
             "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
             "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",
-            "parameters": "each searched parameter: its grid value and flags, range_edge (first or last value of its grid axis: the optimum may lie outside the range searched) and domain_bound (a bound of the model's domain, e.g. a = 0 or 1, n = 1)",
+            "fitted_note": "fitted is the refined model when the fit was refined (grid_fitted is then the grid's best); laminar predict uses fitted",
+            "rms_grid": "Δ_RMS of the best grid point (= rms)",
+            "rms_refined": "Δ_RMS after local refinement (Nelder–Mead in f64 within the model's domain); never above rms_grid",
+            "parameters": "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the error surface at Δχ² = 1 and 3.84 with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (grid value first or last of its axis: the optimum may lie outside the range searched), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side)",
+            "correlations": "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹",
+            "trade_offs": "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one",
         }),
         fits: records.iter().map(FitEntry::new).collect(),
     };
@@ -285,7 +450,7 @@ pub fn markdown(records: &[Fit]) -> String {
     let rows: Vec<Vec<String>> = records
         .iter()
         .map(|r| {
-            let full = row(r);
+            let full = row(r, &[]);
             vec![
                 full[0].clone(),
                 full[1].clone(),

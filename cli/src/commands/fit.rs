@@ -1,8 +1,8 @@
 //! `laminar fit`: fit models to measurements by exhaustive grid search.
 
 use super::options::{
-    check_out, emit, fitter, jobs, progress, report_time, ChannelArgs, CuretArgs, FileArgs,
-    GridArgs, PathArgs, ThreadArgs, PAIRS,
+    check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs, ChannelArgs, CuretArgs,
+    FileArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
@@ -61,6 +61,8 @@ pub struct FitArgs {
     threads: ThreadArgs,
     #[command(flatten)]
     grid: GridArgs,
+    #[command(flatten)]
+    analysis: AnalysisArgs,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -73,7 +75,7 @@ pub struct FitArgs {
 pub fn run(args: &FitArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref())?;
-    let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
+    let fitter = fitter(&args.grid, &args.threads, args.path.path, &args.analysis)?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     let models = args.models.clone().unwrap_or_else(|| Model::ALL.to_vec());
     let bar = progress(fit_jobs_shards(&fitter, &jobs, &models), "fit");

@@ -1,7 +1,8 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
 use super::options::{
-    check_out, counter, emit, fitter, progress, report_time, GridArgs, PathArgs, ThreadArgs, PAIRS,
+    check_out, counter, emit, fitter, progress, report_time, AnalysisArgs, GridArgs, PathArgs,
+    ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::CliError;
@@ -53,6 +54,8 @@ pub struct FitBatchArgs {
     threads: ThreadArgs,
     #[command(flatten)]
     grid: GridArgs,
+    #[command(flatten)]
+    analysis: AnalysisArgs,
     /// Results file: .csv (fit's columns) or .json (the fitted-model file).
     #[arg(long)]
     out: PathBuf,
@@ -72,7 +75,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         }
     };
     check_out(Some(&args.out))?;
-    let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
+    let fitter = fitter(&args.grid, &args.threads, args.path.path, &args.analysis)?;
     let geometry = read_geometry(&args.geometry, args.angles)?;
     let mut values = ValueRows::open(&args.values)?;
     if values.cols() != geometry.len() {
@@ -106,7 +109,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         None
     } else {
         Some(
-            fits::CsvRows::new(AtomicFile::create(&args.out)?)
+            fits::CsvRows::new(AtomicFile::create(&args.out)?, &args.models)
                 .map_err(|e| io_error(&args.out, e))?,
         )
     };

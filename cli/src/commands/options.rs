@@ -8,7 +8,7 @@ use laminar_cli::selection::{
 };
 use laminar_cli::CliError;
 use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Axis, Fitter, Grid, Quantity};
+use laminar_fit::{Analysis, Axis, Fitter, Grid, Quantity, Uncertainty};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -165,9 +165,54 @@ pub struct PathArgs {
     pub path: SearchPath,
 }
 
-/// A fitter on the grid with the threads and path given.
-pub fn fitter(grid: &GridArgs, threads: &ThreadArgs, path: SearchPath) -> Result<Fitter, CliError> {
-    let mut f = Fitter::new(grid.grid()?)?.path(path);
+/// On or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Switch {
+    /// On.
+    On,
+    /// Off.
+    Off,
+}
+
+/// What each fit does after its grid search (docs/conventions.md §11).
+#[derive(Args, Debug, Clone)]
+pub struct AnalysisArgs {
+    /// Refine the best grid point (and the best of each other basin within
+    /// the 68% level) by Nelder–Mead in f64 within the model's domain.
+    #[arg(long, value_enum, default_value_t = Switch::On)]
+    pub refine: Switch,
+    /// Uncertainty of each parameter: profile (68%/95% intervals from the
+    /// profile of the error surface), jacobian (sd and correlations from
+    /// the Jacobian at the refined optimum, when no bound is active), both,
+    /// or off.
+    #[arg(long, default_value = "both", value_parser = parse_uncertainty)]
+    pub uncertainty: Uncertainty,
+}
+
+fn parse_uncertainty(s: &str) -> Result<Uncertainty, String> {
+    s.parse()
+}
+
+impl AnalysisArgs {
+    /// The analysis asked for.
+    pub fn analysis(&self) -> Analysis {
+        Analysis {
+            refine: self.refine == Switch::On,
+            uncertainty: self.uncertainty,
+        }
+    }
+}
+
+/// A fitter on the grid with the threads, path and analysis given.
+pub fn fitter(
+    grid: &GridArgs,
+    threads: &ThreadArgs,
+    path: SearchPath,
+    analysis: &AnalysisArgs,
+) -> Result<Fitter, CliError> {
+    let mut f = Fitter::new(grid.grid()?)?
+        .path(path)
+        .analysis(analysis.analysis());
     if let Some(t) = threads.threads {
         f = f.threads(t)?;
     }

@@ -1,7 +1,7 @@
 //! `laminar reproduce`: the paper's experiment, tables and figures.
 
 use super::options::{
-    fitter, progress, report_time, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
+    fitter, progress, report_time, AnalysisArgs, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
@@ -28,6 +28,8 @@ pub struct ReproduceArgs {
     threads: ThreadArgs,
     #[command(flatten)]
     grid: GridArgs,
+    #[command(flatten)]
+    analysis: AnalysisArgs,
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
@@ -37,7 +39,7 @@ pub struct ReproduceArgs {
 pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let start = Instant::now();
     prepare_out_dir(&args.out)?;
-    let fitter = fitter(&args.grid, &args.threads, args.path.path)?;
+    let fitter = fitter(&args.grid, &args.threads, args.path.path, &args.analysis)?;
     let jobs = args.curet.jobs()?.ok_or_else(|| {
         CliError::Usage(
             "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),

@@ -156,12 +156,14 @@ impl<L: Lane> Prepared<L> {
     /// Visits every (n, a, β) of slope index `i_s` in loop order as
     /// `visit(flat index, a index, objective)`, the objective being the sum
     /// of squared residuals `Σ (D − P)²` (eq. 15 before the root, widened to
-    /// `f64`).
+    /// `f64`). The envelope method may skip points whose objective exceeds
+    /// `cutoff` (+∞: none is skipped); the others visit every point.
     fn shard(
         &self,
         grid: &Grid,
         corr: Correlation,
         i_s: usize,
+        cutoff: f64,
         mut visit: impl FnMut(usize, usize, f64),
     ) {
         let slope = grid.slope.values[i_s];
@@ -178,7 +180,12 @@ impl<L: Lane> Prepared<L> {
                     grid,
                     corr,
                 };
-                let mut every = Every { grid, i_s, visit };
+                let mut every = Every {
+                    grid,
+                    i_s,
+                    cutoff,
+                    visit,
+                };
                 envelope::shard(&model, i_s, data, &mut every, &mut [SweepStats::default()]);
             }
             Self::OnePass(tables) => {
@@ -210,20 +217,28 @@ impl<L: Lane> Prepared<L> {
 }
 
 /// An envelope [`envelope::Visitor`] that sweeps every triple of one scene
-/// and hands each value to `visit(flat index, a index, objective)`.
+/// whose bound does not exceed `cutoff` (every triple when it is +∞) and
+/// hands each value to `visit(flat index, a index, objective)`.
 struct Every<'g, V> {
     grid: &'g Grid,
     i_s: usize,
+    cutoff: f64,
     visit: V,
 }
 
+impl<V> Every<'_, V> {
+    fn below(&self, bound: f64) -> bool {
+        self.cutoff == f64::INFINITY || bound <= self.cutoff
+    }
+}
+
 impl<V: FnMut(usize, usize, f64)> envelope::Visitor for Every<'_, V> {
-    fn wants_n(&mut self, _: usize, _: usize, _: f64) -> bool {
-        true
+    fn wants_n(&mut self, _: usize, _: usize, bound: f64) -> bool {
+        self.below(bound)
     }
 
-    fn wants(&mut self, _: usize, _: usize, _: usize, _: f64) -> bool {
-        true
+    fn wants(&mut self, _: usize, _: usize, _: usize, bound: f64) -> bool {
+        self.below(bound)
     }
 
     fn sweep(&mut self, _: usize, i_n: usize, i_a: usize, values: &[f64]) {
@@ -408,7 +423,7 @@ fn search_with<L: Lane + Send + Sync>(
         .into_par_iter()
         .map(|i_s| {
             let mut found = ShardBest::default();
-            prepared.shard(grid, corr, i_s, |flat, i_a, e| {
+            prepared.shard(grid, corr, i_s, f64::INFINITY, |flat, i_a, e| {
                 found.visit(&shared, flat, i_a, e)
             });
             progress();
@@ -479,7 +494,7 @@ pub fn error_surface(
         out.par_chunks_mut(per_slope)
             .enumerate()
             .for_each(|(i_s, slice)| {
-                prepared.shard(grid, corr, i_s, |flat, _, e| {
+                prepared.shard(grid, corr, i_s, f64::INFINITY, |flat, _, e| {
                     slice[flat - i_s * per_slope] = rms_of_sum(e, scene.len())
                 });
             });
@@ -491,6 +506,106 @@ pub fn error_surface(
         Arith::F32 => run::<f32>(scene, grid, corr, path.method),
         Arith::F64 => run::<f64>(scene, grid, corr, path.method),
     }
+}
+
+/// The profiles of the error surface along each axis, and the grid points
+/// near the minimum: what the uncertainty of a fit is read from
+/// ([`crate::profile`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GridProfile {
+    /// Per axis in the order σ/T, n, a, β: for each axis value, the smallest
+    /// objective `Σ (D − P)²` over the other axes and the flat index where
+    /// it is, or `(+∞, usize::MAX)` when every point there exceeds the
+    /// profile cutoff.
+    pub axes: Vec<Vec<(f64, usize)>>,
+    /// Every grid point whose objective does not exceed the basin cutoff,
+    /// as (flat index, objective), in flat order.
+    pub near: Vec<(usize, f64)>,
+    /// The profile cutoff: a profile value above it is +∞.
+    pub cutoff: f64,
+}
+
+/// The [`GridProfile`] of `scene` on `path`: exact for every axis value whose
+/// profile is at most `cutoff`, and the points at most `near` (≤ `cutoff`).
+/// The envelope method skips everything above `cutoff` by its bounds, so
+/// this costs about as much as a search.
+///
+/// # Errors
+/// [`GridError`] from [`Grid::validate`].
+pub fn grid_profile(
+    scene: &Scene,
+    grid: &Grid,
+    corr: Correlation,
+    path: Path,
+    cutoff: f64,
+    near: f64,
+) -> Result<GridProfile, GridError> {
+    fn run<L: Lane + Send + Sync>(
+        scene: &Scene,
+        grid: &Grid,
+        corr: Correlation,
+        method: Method,
+        cutoff: f64,
+        near: f64,
+    ) -> GridProfile {
+        let prepared = Prepared::<L>::new(scene, grid, method);
+        let lens = [
+            grid.slope.len(),
+            grid.n.len(),
+            grid.a.len(),
+            grid.beta.len(),
+        ];
+        let empty = || -> Vec<Vec<(f64, usize)>> {
+            lens.iter()
+                .map(|&len| vec![(f64::INFINITY, usize::MAX); len])
+                .collect()
+        };
+        let shards: Vec<(Vec<Vec<(f64, usize)>>, Vec<(usize, f64)>)> = (0..grid.slope.len())
+            .into_par_iter()
+            .map(|i_s| {
+                let (mut axes, mut points) = (empty(), Vec::new());
+                prepared.shard(grid, corr, i_s, cutoff, |flat, _, e| {
+                    if e > cutoff {
+                        return;
+                    }
+                    let (s, n, a, b) = grid.indices(flat);
+                    for (axis, i) in axes.iter_mut().zip([s, n, a, b]) {
+                        // Smallest flat index on ties (shards run in flat order).
+                        if e < axis[i].0 {
+                            axis[i] = (e, flat);
+                        }
+                    }
+                    if e <= near {
+                        points.push((flat, e));
+                    }
+                });
+                (axes, points)
+            })
+            .collect();
+        let (mut axes, mut near_points) = (empty(), Vec::new());
+        for (shard_axes, points) in shards {
+            for (axis, part) in axes.iter_mut().zip(shard_axes) {
+                for (slot, p) in axis.iter_mut().zip(part) {
+                    if p.0 < slot.0 {
+                        *slot = p;
+                    }
+                }
+            }
+            near_points.extend(points);
+        }
+        near_points.sort_unstable_by_key(|p| p.0);
+        GridProfile {
+            axes,
+            near: near_points,
+            cutoff,
+        }
+    }
+    grid.validate()?;
+    Ok(match path.arith {
+        Arith::F32x8 => run::<f32x8>(scene, grid, corr, path.method, cutoff, near),
+        Arith::F32 => run::<f32>(scene, grid, corr, path.method, cutoff, near),
+        Arith::F64 => run::<f64>(scene, grid, corr, path.method, cutoff, near),
+    })
 }
 
 /// The error surfaces of a method's `f32x8` path and its scalar `f32` twin
@@ -533,12 +648,7 @@ impl Twins {
 
 /// The grid point of a flattened index as (σ/T, n, a, β).
 pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
-    let b = flat % grid.beta.len();
-    let rest = flat / grid.beta.len();
-    let a = rest % grid.a.len();
-    let rest = rest / grid.a.len();
-    let n = rest % grid.n.len();
-    let s = rest / grid.n.len();
+    let (s, n, a, b) = grid.indices(flat);
     (
         grid.slope.values[s],
         grid.n.values[n],

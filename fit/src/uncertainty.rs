@@ -1,0 +1,468 @@
+//! What a fit says about each parameter beyond its grid value
+//! (docs/conventions.md §11): the refined value ([`crate::refine`]), its
+//! 68% and 95% intervals from the profile of the error surface
+//! ([`crate::profile`]) or from the Jacobian ([`crate::covariance`]), the
+//! Jacobian's standard deviation and correlations, and the edge flags
+//! ([`crate::edges`]).
+//!
+//! The noise variance `s²` is the mean of the squared per-measurement
+//! uncertainties when the input gives them, and otherwise the residual
+//! estimate `Σ (D − P)² / ν` at the (refined) minimum, `ν = K − p`.
+
+use crate::covariance::Covariance;
+use crate::edges::{at_bound, flags, Edge};
+use crate::fit::Estimate;
+use crate::grid::Axis;
+use crate::model::Model;
+use crate::profile::{basins, Interval, Profile, DELTA_68, DELTA_95};
+use crate::refine::{profile_at, refine, Objective};
+use crate::scene::Scene;
+use crate::search::GridProfile;
+use std::fmt;
+use std::str::FromStr;
+
+/// Which uncertainty a fit computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Uncertainty {
+    /// None.
+    Off,
+    /// Intervals from the profile of the error surface.
+    Profile,
+    /// Standard deviations and correlations from the Jacobian at the refined
+    /// optimum; intervals `θ ± 1 sd` and `θ ± 1.96 sd`.
+    Jacobian,
+    /// Both: intervals from the profile, standard deviations and
+    /// correlations from the Jacobian.
+    Both,
+}
+
+impl Uncertainty {
+    fn profile(self) -> bool {
+        matches!(self, Self::Profile | Self::Both)
+    }
+
+    fn jacobian(self) -> bool {
+        matches!(self, Self::Jacobian | Self::Both)
+    }
+}
+
+impl fmt::Display for Uncertainty {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Off => "off",
+            Self::Profile => "profile",
+            Self::Jacobian => "jacobian",
+            Self::Both => "both",
+        })
+    }
+}
+
+impl FromStr for Uncertainty {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        [Self::Off, Self::Profile, Self::Jacobian, Self::Both]
+            .into_iter()
+            .find(|u| u.to_string() == s)
+            .ok_or_else(|| {
+                format!("unknown uncertainty `{s}` (expected off, profile, jacobian or both)")
+            })
+    }
+}
+
+/// What a fit does after its grid search.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Analysis {
+    /// Refine the best grid point (and the best of each other basin).
+    pub refine: bool,
+    /// Which uncertainty to compute.
+    pub uncertainty: Uncertainty,
+}
+
+impl Analysis {
+    /// Refinement and both uncertainties: every command's default.
+    pub const FULL: Analysis = Analysis {
+        refine: true,
+        uncertainty: Uncertainty::Both,
+    };
+    /// The grid search alone.
+    pub const NONE: Analysis = Analysis {
+        refine: false,
+        uncertainty: Uncertainty::Off,
+    };
+
+    /// True when the grid's profile is needed (for intervals or for the
+    /// starts of the refinement).
+    pub(crate) fn needs_profile(self) -> bool {
+        self.refine || self.uncertainty.profile()
+    }
+}
+
+/// Where an interval comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// The profile of the error surface ([`crate::profile`]).
+    Profile,
+    /// The Jacobian at the refined optimum ([`crate::covariance`]).
+    Jacobian,
+}
+
+impl fmt::Display for Source {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Profile => "profile",
+            Self::Jacobian => "jacobian",
+        })
+    }
+}
+
+/// One searched parameter of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// The parameter's name (as in [`crate::ModelParams`]).
+    pub name: String,
+    /// The chosen grid value.
+    pub grid: f64,
+    /// The refined value (when refined).
+    pub refined: Option<f64>,
+    /// The 68.27% interval.
+    pub interval68: Option<Interval>,
+    /// The 95% interval.
+    pub interval95: Option<Interval>,
+    /// Where both intervals come from.
+    pub source: Option<Source>,
+    /// The Jacobian's standard deviation (no bound active).
+    pub sd: Option<f64>,
+    /// Edge flags (empty for an interior value).
+    pub flags: Vec<Edge>,
+}
+
+impl Parameter {
+    /// A parameter with its grid value only.
+    pub fn new(name: &str, grid: f64) -> Self {
+        Self {
+            name: name.to_string(),
+            grid,
+            refined: None,
+            interval68: None,
+            interval95: None,
+            source: None,
+            sd: None,
+            flags: Vec::new(),
+        }
+    }
+
+    /// The refined value, or the grid value when not refined.
+    pub fn value(&self) -> f64 {
+        self.refined.unwrap_or(self.grid)
+    }
+}
+
+/// One axis a fit searched: its index among the grid's axes (as in
+/// [`GridProfile::axes`]), the parameter's name, its grid value and the axis.
+pub(crate) struct Searched<'a> {
+    pub axis: usize,
+    pub name: &'static str,
+    pub value: f64,
+    pub values: &'a Axis,
+}
+
+/// What [`analyse`] adds to a fit.
+pub(crate) struct Analysed {
+    pub refined: Option<Estimate>,
+    pub parameters: Vec<Parameter>,
+    pub covariance: Option<Covariance>,
+}
+
+/// How far above the minimum (in units of `s²`) the profile is computed:
+/// twice the 95% level, so the first point outside that level is usually
+/// known exactly.
+pub const PROFILE_REACH: f64 = 2.0 * DELTA_95;
+
+/// Most starts of the refinement (the best grid point and the best points
+/// of other basins within `DELTA_68 · s²` of it).
+pub const MOST_STARTS: usize = 4;
+
+/// The noise variance: the mean squared uncertainty when the scene has
+/// them, else `sse / ν`; `None` without degrees of freedom.
+pub(crate) fn noise_variance(scene: &Scene, sse: f64, free: usize) -> Option<f64> {
+    match scene.sigma() {
+        Some(sigma) => Some(sigma.iter().map(|s| s * s).sum::<f64>() / sigma.len() as f64),
+        None => (scene.len() > free).then(|| sse / (scene.len() - free) as f64),
+    }
+}
+
+/// The profile cutoff and basin cutoff for a grid minimum `sse`.
+pub(crate) fn cutoffs(scene: &Scene, sse: f64, free: usize) -> Option<(f64, f64)> {
+    let s2 = noise_variance(scene, sse, free)?;
+    Some((sse + PROFILE_REACH * s2, sse + DELTA_68 * s2))
+}
+
+/// Refines and measures the uncertainty of `model`'s grid best `best` on
+/// `scene`. `searched` lists the searched axes; `profile` is the grid's
+/// profile (over all the grid's axes, of lengths `lens`) when
+/// [`Analysis::needs_profile`], computed with [`cutoffs`].
+pub(crate) fn analyse(
+    scene: &Scene,
+    model: Model,
+    best: &Estimate,
+    searched: &[Searched],
+    profile: Option<(&GridProfile, &[usize])>,
+    analysis: Analysis,
+) -> Analysed {
+    let objective = Objective::new(scene, model);
+    let names = objective.names().to_vec();
+    let x_grid = objective.values(best.params());
+    let sse_grid = objective.sse(&x_grid);
+    let axis_of = |name: &str| searched.iter().find(|s| s.name == name);
+
+    // First simplex steps: one grid step per parameter.
+    let steps: Vec<f64> = names
+        .iter()
+        .map(|&n| axis_of(n).map_or(0.01, |s| step(s.values)))
+        .collect();
+
+    // Refinement: from the best grid point and the best of each basin.
+    let (mut refined, mut x, mut sse) = (None, x_grid.clone(), sse_grid);
+    if analysis.refine {
+        let mut starts = vec![x_grid.clone()];
+        if let Some((grid_profile, lens)) = profile {
+            for (flat, _) in basins(&grid_profile.near, lens, MOST_STARTS) {
+                let start = point_of(flat, lens, searched, &names, &x_grid);
+                if !starts.contains(&start) {
+                    starts.push(start);
+                }
+            }
+            starts.truncate(MOST_STARTS);
+        }
+        let r = refine(&objective, &starts, &steps);
+        let estimate = Estimate::new(scene, model, objective.params(&r.x))
+            .expect("refined values are projected onto the domain");
+        // Never worse than the grid (the refinement starts there; a tie in
+        // the last bit keeps the grid's point).
+        if estimate.rms <= best.rms {
+            x = r.x;
+            sse = r.sse;
+            refined = Some(estimate);
+        } else {
+            refined = Some(best.clone());
+        }
+    }
+
+    let s2 = noise_variance(scene, sse, names.len());
+    let uncertain = analysis.uncertainty != Uncertainty::Off;
+    // The covariance also guides the profile's probes, so it is computed
+    // for either kind of uncertainty and reported for the Jacobian's.
+    let covariance = match s2 {
+        Some(s2) if uncertain => Covariance::new(&objective, &x, s2),
+        _ => None,
+    };
+    let mut parameters = Vec::new();
+    for (i, &name) in names.iter().enumerate() {
+        let Some(s) = axis_of(name) else { continue };
+        let mut p = Parameter::new(name, s.value);
+        p.flags = flags(model, name, s.value, s.values);
+        if analysis.refine {
+            p.refined = Some(x[i]);
+            if at_bound(model, name, x[i]) && !p.flags.contains(&Edge::DomainBound) {
+                p.flags.push(Edge::DomainBound);
+            }
+        }
+        if analysis.uncertainty.jacobian() {
+            p.sd = covariance.as_ref().map(|c| c.sd(i));
+        }
+        // The attainable domain (Jensen's open lower end is 1e-9).
+        let domain = objective.bounds()[i];
+        match s2 {
+            Some(s2) if analysis.uncertainty.profile() => {
+                // First guesses of the 95% ends: the Jacobian's, else the
+                // grid profile's.
+                let guess = match &covariance {
+                    Some(c) => {
+                        let d = 1.959_963_984_540_054 * c.sd(i);
+                        (x[i] - d, x[i] + d)
+                    }
+                    None => {
+                        let grid_interval = profile.map(|(g, _)| {
+                            Profile {
+                                points: s
+                                    .values
+                                    .values
+                                    .iter()
+                                    .zip(&g.axes[s.axis])
+                                    .map(|(&v, &(e, _))| (v, e))
+                                    .collect(),
+                                cutoff: g.cutoff,
+                            }
+                            .interval((x[i], sse), DELTA_95, s2, domain)
+                        });
+                        grid_interval.map_or((x[i] - steps[i], x[i] + steps[i]), |g| (g.lo, g.hi))
+                    }
+                };
+                let probe = Probe {
+                    objective: &objective,
+                    covariance: covariance.as_ref(),
+                    x: &x,
+                    sse,
+                    s2,
+                    steps: &steps,
+                    domain,
+                };
+                let range = s
+                    .values
+                    .values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                        (lo.min(v), hi.max(v))
+                    });
+                let (lo68, lo95, open_below) = probe.end(i, guess.0, range);
+                let (hi68, hi95, open_above) = probe.end(i, guess.1, range);
+                if open_below {
+                    p.flags.push(Edge::OpenBelow);
+                }
+                if open_above {
+                    p.flags.push(Edge::OpenAbove);
+                }
+                p.interval68 = Some(Interval {
+                    lo: lo68,
+                    hi: hi68,
+                    open_below,
+                    open_above,
+                });
+                p.interval95 = Some(Interval {
+                    lo: lo95,
+                    hi: hi95,
+                    open_below,
+                    open_above,
+                });
+                p.source = Some(Source::Profile);
+            }
+            _ => {
+                if let Some(sd) = p.sd {
+                    let (lo, hi) = domain;
+                    let around = |k: f64| Interval {
+                        lo: (x[i] - k * sd).max(lo),
+                        hi: (x[i] + k * sd).min(hi),
+                        open_below: false,
+                        open_above: false,
+                    };
+                    p.interval68 = Some(around(1.0));
+                    p.interval95 = Some(around(1.959_963_984_540_054));
+                    p.source = Some(Source::Jacobian);
+                }
+            }
+        }
+        parameters.push(p);
+    }
+    Analysed {
+        refined,
+        parameters,
+        covariance: covariance.filter(|_| analysis.uncertainty.jacobian()),
+    }
+}
+
+/// Most probes of the continuous profile per interval end.
+const MOST_PROBES: usize = 4;
+
+/// What locating an interval end on the continuous profile needs: the
+/// objective, the minimum `x` (objective `sse`), the noise variance, the
+/// first steps and the parameter's domain.
+struct Probe<'a> {
+    objective: &'a Objective<'a>,
+    covariance: Option<&'a Covariance>,
+    x: &'a [f64],
+    sse: f64,
+    s2: f64,
+    steps: &'a [f64],
+    domain: (f64, f64),
+}
+
+impl Probe<'_> {
+    /// The 68% and 95% ends of parameter `i` on the side of `guess`, and
+    /// whether the interval is open there: the end lies outside the range
+    /// searched `(first, last)`, or the profile did not reach the 95% level
+    /// within [`MOST_PROBES`] probes (the end is then the last probe).
+    ///
+    /// Each probe is the continuous profile at one value (Nelder–Mead over
+    /// the other parameters, started where the Jacobian's linearisation puts
+    /// the profile's path). Between the minimum and a probe whose height
+    /// `h = sqrt(profile − min)` reaches the 95% level, the end at level
+    /// `t` is at the fraction `t/h` of the way (exact for a parabola). A
+    /// probe below the level moves further out; at a bound of the domain
+    /// the interval closes there.
+    fn end(&self, i: usize, guess: f64, (first, last): (f64, f64)) -> (f64, f64, bool) {
+        let centre = self.x[i];
+        let (t68, t95) = ((DELTA_68 * self.s2).sqrt(), (DELTA_95 * self.s2).sqrt());
+        let side = if guess < centre { -1.0 } else { 1.0 };
+        let clamp = |v: f64| v.clamp(self.domain.0, self.domain.1);
+        let mut distance = (guess - centre).abs();
+        if !(distance > 0.0) || !distance.is_finite() {
+            distance = self.steps[i];
+        }
+        let outside = |v: f64| v < first.min(last) || v > first.max(last);
+        let at = |t: f64, h: f64, d: f64| centre + side * d * (t / h).min(1.0);
+        if t95 == 0.0 {
+            return (centre, centre, false);
+        }
+        let mut last_probe = centre;
+        for _ in 0..MOST_PROBES {
+            let value = clamp(centre + side * distance);
+            let d = (value - centre).abs();
+            if d == 0.0 {
+                // The estimate is at this bound of the domain.
+                return (centre, centre, false);
+            }
+            last_probe = value;
+            let start: Vec<f64> = match self.covariance {
+                Some(c) => (0..self.x.len())
+                    .map(|k| self.x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - centre))
+                    .collect(),
+                None => self.x.to_vec(),
+            };
+            let r = profile_at(self.objective, i, value, &start, self.steps);
+            let h = (r.sse - self.sse).max(0.0).sqrt();
+            if h >= t95 {
+                let (e68, e95) = (at(t68, h, d), at(t95, h, d));
+                return (e68, e95, outside(e95));
+            }
+            if value == self.domain.0 || value == self.domain.1 {
+                let e68 = if h >= t68 { at(t68, h, d) } else { value };
+                return (e68, value, outside(value));
+            }
+            // Below the level: go out to where a parabola through this
+            // probe would reach it, with a little to spare.
+            let grow = if h > 0.0 { 1.25 * t95 / h } else { 4.0 };
+            distance = d * grow.clamp(1.25, 4.0);
+        }
+        (last_probe, last_probe, true)
+    }
+}
+
+/// The spacing of an axis near its values (the first step; 0.01 for an axis
+/// of one value).
+fn step(axis: &Axis) -> f64 {
+    match axis.values.as_slice() {
+        [a, b, ..] => (b - a).abs(),
+        _ => 0.01,
+    }
+}
+
+/// The free values of the grid point `flat` (row-major over `lens`),
+/// taking parameters not searched from `fallback`.
+fn point_of(
+    flat: usize,
+    lens: &[usize],
+    searched: &[Searched],
+    names: &[&str],
+    fallback: &[f64],
+) -> Vec<f64> {
+    names
+        .iter()
+        .zip(fallback)
+        .map(|(&name, &f)| {
+            searched.iter().find(|s| s.name == name).map_or(f, |s| {
+                let stride: usize = lens[s.axis + 1..].iter().product();
+                s.values.values[(flat / stride) % lens[s.axis]]
+            })
+        })
+        .collect()
+}
