@@ -104,7 +104,10 @@ pub fn coverage(
     let cases: Vec<(ModelParams, Scene)> = (0..trials)
         .map(|_| {
             let truth = draw(model, &mut rng);
-            (truth, noisy_scene(model, truth, noise, spare_peak, &mut rng))
+            (
+                truth,
+                noisy_scene(model, truth, noise, spare_peak, &mut rng),
+            )
         })
         .collect();
     let scenes: Vec<Scene> = cases.iter().map(|c| c.1.clone()).collect();

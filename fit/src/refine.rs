@@ -315,10 +315,7 @@ pub fn profile_at(
         &without(start, j),
         &without(steps, j),
     );
-    Refined {
-        x: full(&r.x),
-        ..r
-    }
+    Refined { x: full(&r.x), ..r }
 }
 
 #[cfg(test)]

@@ -293,7 +293,12 @@ pub(crate) fn analyse(
                                     .collect(),
                                 cutoff: g.cutoff,
                             }
-                            .interval((x[i], sse), DELTA_95, s2, domain)
+                            .interval(
+                                (x[i], sse),
+                                DELTA_95,
+                                s2,
+                                domain,
+                            )
                         });
                         grid_interval.map_or((x[i] - steps[i], x[i] + steps[i]), |g| (g.lo, g.hi))
                     }

@@ -90,7 +90,10 @@ fn baselines_coverage_is_measured_and_jensen_reports_its_trade_off() {
         })
         .collect();
     assert!(!correlations.is_empty());
-    assert!(correlations.iter().all(|r| r.abs() > 0.99), "{correlations:?}");
+    assert!(
+        correlations.iter().all(|r| r.abs() > 0.99),
+        "{correlations:?}"
+    );
 }
 
 #[test]

@@ -54,28 +54,39 @@ def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64")
     return {name: values.reshape(shape) for name, values in out.items()}
 
 
-def fit(measurements, model="exp", grid=None, refine=False, threads=None):
+def fit(measurements, model="exp", grid=None, refine=True, uncertainty="both", threads=None):
     """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
     ``jensen``, ``oren-nayar``) to a :class:`Measurements` by the exhaustive
     grid search. ``grid`` maps axis names (``slope``, ``beta``, ``n``,
     ``a``) to ``"start:stop:count"`` or a sequence of values; the paper grid
-    otherwise. ``threads``: worker threads (default: all cores). Local
-    refinement (``refine=True``) is not implemented yet."""
-    return _fit(measurements, model, grid, refine, threads)
+    otherwise. ``refine``: refine the best grid point by Nelder–Mead in f64
+    within the model's domain (``FitResult.params`` are then the refined
+    values, ``grid_params`` the grid's). ``uncertainty``: ``"profile"``
+    (68%/95% intervals from the profile of the error surface),
+    ``"jacobian"`` (standard deviations and correlations at the refined
+    optimum), ``"both"`` or ``"off"``; see ``FitResult.parameters``.
+    ``threads``: worker threads (default: all cores)."""
+    return _fit(measurements, model, grid, refine, uncertainty, threads)
 
 
-def fit_batch(geometry, values, model="exp", grid=None, threads=None, quantity="brdf"):
+def fit_batch(
+    geometry, values, model="exp", grid=None, threads=None, quantity="brdf", refine=True, uncertainty="both"
+):
     """Fits a layered ``model`` to every row of ``values`` (N × K) on one
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
     phi_i, theta_v, phi_v``. Each row's result equals :func:`fit` on that row
     alone. Returns a structured array of N rows with the fields of
-    :data:`BATCH_DTYPE` (``rms, chi2_dof, slope, beta, n, a, rh_rms, rh_slope,
-    rh_beta, rh_n, search_rms, measurements``)."""
+    :data:`BATCH_DTYPE` (``rms, chi2_dof, slope, beta, n, a`` of the
+    estimate, refined when ``refine``; ``rh_rms, rh_slope, rh_beta, rh_n,
+    search_rms, measurements, rms_grid`` and each parameter's 68% interval
+    ``slope_lo68, slope_hi68, …, a_hi68``, NaN when not computed).
+    ``refine=False, uncertainty="off"`` is the grid search alone, several
+    times faster."""
     geometry = np.ascontiguousarray(geometry, dtype=np.float64)
     values = np.ascontiguousarray(values, dtype=np.float64)
     if values.ndim != 2:
         raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
-    columns = _fit_batch(geometry, values, model, grid, threads, quantity)
+    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty)
     out = np.empty(values.shape[0], dtype=BATCH_DTYPE)
     for name in BATCH_COLUMNS:
         out[name] = columns[name]

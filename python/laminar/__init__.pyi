@@ -27,7 +27,8 @@ def fit(
     measurements: Measurements,
     model: str = "exp",
     grid: Grid = None,
-    refine: bool = False,
+    refine: bool = True,
+    uncertainty: str = "both",
     threads: Optional[int] = None,
 ) -> FitResult: ...
 def fit_batch(
@@ -37,4 +38,6 @@ def fit_batch(
     grid: Grid = None,
     threads: Optional[int] = None,
     quantity: str = "brdf",
+    refine: bool = True,
+    uncertainty: str = "both",
 ) -> npt.NDArray[np.void]: ...

@@ -11,4 +11,6 @@ def fit_batch_dask(
     grid: Optional[Mapping[str, Union[str, Sequence[float]]]] = None,
     quantity: str = "brdf",
     block: int = 512,
+    refine: bool = True,
+    uncertainty: str = "both",
 ) -> npt.NDArray[np.void]: ...

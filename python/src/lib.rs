@@ -9,12 +9,14 @@
 
 use laminar_core::{components, Angles, Geometry, Params};
 use laminar_fit::{
-    Axis, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams, Quantity, Scene,
+    Analysis, Axis, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams,
+    Quantity, Scene,
 };
 use laminar_io::curet::{Channel, CuretDir};
+use laminar_io::fits::FitEntry;
 use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::{PyNotImplementedError, PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
@@ -37,6 +39,13 @@ fn read_error(e: ReadError) -> PyErr {
         ReadError::Io { .. } => PyOSError::new_err(e.to_string()),
         other => value_error(other),
     }
+}
+
+/// A JSON value as the Python object `json.loads` makes of it (the same
+/// objects the fitted-model file holds).
+fn json_value<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(value).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 fn parse<T: std::str::FromStr>(what: &str, text: &str) -> PyResult<T>
@@ -325,8 +334,16 @@ fn grid_from(grid: Option<HashMap<String, Bound<'_, PyAny>>>) -> PyResult<Grid> 
 fn fitter(
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
     threads: Option<usize>,
+    refine: bool,
+    uncertainty: &str,
 ) -> PyResult<Fitter> {
-    let fitter = Fitter::new(grid_from(grid)?).map_err(value_error)?;
+    let analysis = Analysis {
+        refine,
+        uncertainty: parse("uncertainty", uncertainty)?,
+    };
+    let fitter = Fitter::new(grid_from(grid)?)
+        .map_err(value_error)?
+        .analysis(analysis);
     match threads {
         Some(t) => fitter.threads(t).map_err(value_error),
         None => Ok(fitter),
@@ -354,8 +371,9 @@ fn params_dict<'py>(py: Python<'py>, params: &ModelParams) -> PyResult<Bound<'py
     Ok(d)
 }
 
-/// One fit: the best grid point, its errors, the Ragheb–Hancock best of
-/// the same search (layered models), and the fitted model.
+/// One fit: the refined estimate (the best grid point when not refined),
+/// its errors and uncertainties, the best grid point, the Ragheb–Hancock
+/// best of the same search (layered models), and the fitted model.
 #[pyclass(module = "laminar", frozen)]
 struct FitResult {
     fit: Fit,
@@ -369,22 +387,42 @@ impl FitResult {
         self.fit.model.name()
     }
 
-    /// The fitted parameters (full precision).
+    /// The fitted parameters (full precision): refined when refined.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        params_dict(py, &self.fit.estimate().fitted.params)
+    }
+
+    /// The best grid point's parameters.
+    #[getter]
+    fn grid_params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         params_dict(py, &self.fit.best.fitted.params)
     }
 
     /// Δ_RMS (eq. 15) at the fitted parameters, in f64.
     #[getter]
     fn rms(&self) -> f64 {
+        self.fit.estimate().rms
+    }
+
+    /// Δ_RMS of the best grid point.
+    #[getter]
+    fn rms_grid(&self) -> f64 {
         self.fit.best.rms
     }
 
-    /// χ²/ν (eq. 16), or None when no degree of freedom is left.
+    /// Δ_RMS of the refined estimate (None when not refined); never above
+    /// `rms_grid`.
+    #[getter]
+    fn rms_refined(&self) -> Option<f64> {
+        self.fit.refined.as_ref().map(|e| e.rms)
+    }
+
+    /// χ²/ν (eq. 16) at the fitted parameters, or None when no degree of
+    /// freedom is left.
     #[getter]
     fn chi2_dof(&self) -> Option<f64> {
-        self.fit.best.chi2.map(|c| c.per_dof)
+        self.fit.estimate().chi2.map(|c| c.per_dof)
     }
 
     /// The Ragheb–Hancock best (a = 0) of the same search, as
@@ -403,19 +441,25 @@ impl FitResult {
             .transpose()
     }
 
-    /// Each searched parameter's grid value and edge flags (`range_edge`,
-    /// `domain_bound`), as `{name: {"grid": …, "flags": […]}}`.
+    /// Each searched parameter under its name, as in the fitted-model file:
+    /// `grid`, `refined`, `lo68`, `hi68`, `lo95`, `hi95`, `interval`
+    /// (`"profile"` or `"jacobian"`), `sd` (Jacobian) and `flags`
+    /// (`range_edge`, `domain_bound`, `open_below`, `open_above`).
     #[getter]
-    fn edges<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        for e in &self.fit.edges {
-            let entry = PyDict::new(py);
-            entry.set_item("grid", e.grid)?;
-            let flags: Vec<String> = e.flags.iter().map(ToString::to_string).collect();
-            entry.set_item("flags", flags)?;
-            d.set_item(&e.name, entry)?;
-        }
-        Ok(d)
+    fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_value(py, &FitEntry::new(&self.fit).parameters)
+    }
+
+    /// The Jacobian correlations of the refined parameters, `{"a~b": r}`.
+    #[getter]
+    fn correlations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_value(py, &FitEntry::new(&self.fit).correlations)
+    }
+
+    /// The pairs whose correlation is at least 0.9 in magnitude, `{"a~b": r}`.
+    #[getter]
+    fn trade_offs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_value(py, &FitEntry::new(&self.fit).trade_offs)
     }
 
     /// The search's own Δ_RMS at the best point (its precision).
@@ -433,7 +477,7 @@ impl FitResult {
     /// The balance of eq. 8 giving the fitted lobe (layered models).
     #[getter]
     fn beta_eq8(&self) -> Option<f64> {
-        self.fit.best.fitted.beta_eq8
+        self.fit.estimate().fitted.beta_eq8
     }
 
     /// The normalised prediction P at lab-frame angles (radians), as the fit
@@ -462,7 +506,7 @@ impl FitResult {
                 .map_err(|e| PyValueError::new_err(format!("element {k}: {e}")))
         })
         .collect::<PyResult<Vec<Angles>>>()?;
-        let fitted = &self.fit.best.fitted;
+        let fitted = &self.fit.estimate().fitted;
         let out = py.detach(|| {
             if radiance {
                 fitted.predict_radiance(&angles)
@@ -482,37 +526,36 @@ impl FitResult {
         format!(
             "FitResult(model={:?}, params={}, rms={})",
             self.fit.model.name(),
-            self.fit.best.params_text(),
-            self.fit.best.rms
+            self.fit.estimate().params_text(),
+            self.fit.estimate().rms
         )
     }
 }
 
-/// Fits `model` to `measurements` by the exhaustive grid search.
+/// Fits `model` to `measurements` by the exhaustive grid search, then
+/// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = false, threads = None))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None))]
 fn fit(
     py: Python<'_>,
     measurements: &Measurements,
     model: &str,
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
     refine: bool,
+    uncertainty: &str,
     threads: Option<usize>,
 ) -> PyResult<FitResult> {
-    if refine {
-        return Err(PyNotImplementedError::new_err(
-            "refine: local refinement is not implemented yet; the grid optimum is returned with refine=False",
-        ));
-    }
     let model: Model = parse("model", model)?;
-    let fitter = fitter(grid, threads)?;
+    let fitter = fitter(grid, threads, refine, uncertainty)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
 }
 
-/// One row per set of the batch fit's results, as columns.
-const BATCH_COLUMNS: [&str; 12] = [
+/// One row per set of the batch fit's results, as columns: the estimate
+/// (refined when refined), the Ragheb–Hancock best, the grid's Δ_RMS and
+/// each parameter's 68% interval (NaN when not computed).
+const BATCH_COLUMNS: [&str; 21] = [
     "rms",
     "chi2_dof",
     "slope",
@@ -525,19 +568,40 @@ const BATCH_COLUMNS: [&str; 12] = [
     "rh_n",
     "search_rms",
     "measurements",
+    "rms_grid",
+    "slope_lo68",
+    "slope_hi68",
+    "beta_lo68",
+    "beta_hi68",
+    "n_lo68",
+    "n_hi68",
+    "a_lo68",
+    "a_hi68",
 ];
 
-fn batch_row(fit: &Fit) -> [f64; 12] {
+fn batch_row(fit: &Fit) -> [f64; 21] {
     let layered = |p: &ModelParams| match *p {
         ModelParams::Layered { slope, beta, n, a } => [slope, beta, n, a],
         _ => [f64::NAN; 4],
     };
-    let [slope, beta, n, a] = layered(&fit.best.fitted.params);
+    let estimate = fit.estimate();
+    let [slope, beta, n, a] = layered(&estimate.fitted.params);
     let rh = fit.rh.as_ref();
     let [rs, rb, rn, _] = rh.map_or([f64::NAN; 4], |e| layered(&e.fitted.params));
+    let interval = |name: &str| {
+        fit.parameters
+            .iter()
+            .find(|p| p.name == name)
+            .and_then(|p| p.interval68)
+            .map_or([f64::NAN; 2], |i| [i.lo, i.hi])
+    };
+    let [slo, shi] = interval("slope");
+    let [blo, bhi] = interval("beta");
+    let [nlo, nhi] = interval("n");
+    let [alo, ahi] = interval("a");
     [
-        fit.best.rms,
-        fit.best.chi2.map_or(f64::NAN, |c| c.per_dof),
+        estimate.rms,
+        estimate.chi2.map_or(f64::NAN, |c| c.per_dof),
         slope,
         beta,
         n,
@@ -548,6 +612,15 @@ fn batch_row(fit: &Fit) -> [f64; 12] {
         rn,
         fit.search_rms,
         fit.measurements as f64,
+        fit.best.rms,
+        slo,
+        shi,
+        blo,
+        bhi,
+        nlo,
+        nhi,
+        alo,
+        ahi,
     ]
 }
 
@@ -555,7 +628,8 @@ fn batch_row(fit: &Fit) -> [f64; 12] {
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
 /// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
 #[pyfunction]
-#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf"))]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both"))]
+#[allow(clippy::too_many_arguments)]
 fn fit_batch<'py>(
     py: Python<'py>,
     geometry: PyReadonlyArray2<'py, f64>,
@@ -564,6 +638,8 @@ fn fit_batch<'py>(
     grid: Option<HashMap<String, Bound<'py, PyAny>>>,
     threads: Option<usize>,
     quantity: &str,
+    refine: bool,
+    uncertainty: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
     if model.correlation().is_none() {
@@ -572,7 +648,7 @@ fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let fitter = fitter(grid, threads)?;
+    let fitter = fitter(grid, threads, refine, uncertainty)?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(
@@ -592,7 +668,7 @@ fn fit_batch<'py>(
         )));
     }
     let rows: Vec<Vec<f64>> = v.rows().into_iter().map(|r| r.to_vec()).collect();
-    let out = py.detach(|| -> Result<Vec<[f64; 12]>, String> {
+    let out = py.detach(|| -> Result<Vec<[f64; 21]>, String> {
         let mut out = Vec::with_capacity(rows.len());
         for (b, block) in rows.chunks(BLOCK).enumerate() {
             let scenes = block

@@ -29,13 +29,24 @@ def test_local_cluster_equals_one_process():
     g, values = cube(64, 64, k=198, channels=3)
     pixels = values.shape[0] * values.shape[1]
     start = time.perf_counter()
-    alone = [laminar.fit_batch(g, v, "exp", quantity="radiance") for v in values]
+    # The grid search alone (refinement costs several times the search;
+    # it is compared on a slice below).
+    off = {"refine": False, "uncertainty": "off"}
+    alone = [laminar.fit_batch(g, v, "exp", quantity="radiance", **off) for v in values]
     single = time.perf_counter() - start
     with LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address=None) as cluster:
         with Client(cluster) as client:
             start = time.perf_counter()
-            spread = [fit_batch_dask(client, g, v, "exp", quantity="radiance", block=512) for v in values]
+            spread = [fit_batch_dask(client, g, v, "exp", quantity="radiance", block=512, **off) for v in values]
             elapsed = time.perf_counter() - start
+            # Refined, with intervals: the same on the cluster as in one process.
+            part = values[0][:96]
+            refined = fit_batch_dask(client, g, part, "exp", quantity="radiance", block=32)
+            assert np.array_equal(
+                refined.view(np.float64), laminar.fit_batch(g, part, "exp", quantity="radiance").view(np.float64),
+                equal_nan=True,
+            )
+            assert np.all(refined["rms"] <= refined["rms_grid"])
     print(
         f"\n{pixels} pixel fits: one process (fit_batch, 2 threads) {pixels / single:.0f} pixels/s; "
         f"Dask LocalCluster (2 workers × 1 thread) {pixels / elapsed:.0f} pixels/s"

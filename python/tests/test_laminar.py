@@ -38,13 +38,21 @@ def test_fit_of_a_csv_equals_the_cli(tmp_path):
     result = laminar.fit(m, "exp", grid=GRID)
     fits = cli_fits("--measurements", path, "--quantity", "radiance", "--models", "exp", *GRID_ARGS)
     assert json.loads(result.to_json())["fits"] == fits
+    # The file's fitted model is the refined one; the grid's is kept beside it.
     assert result.params == fits[0]["fitted"]["params"]
-    assert result.edges == fits[0]["parameters"] and set(result.edges) == {"slope", "beta", "n", "a"}
+    assert result.grid_params == fits[0]["grid_fitted"]["params"]
+    assert result.parameters == fits[0]["parameters"] and set(result.parameters) == {"slope", "beta", "n", "a"}
+    assert result.correlations == fits[0]["correlations"]
     # The data were made at a grid point with 1% noise: σ/T comes back
-    # exactly, and Δ_RMS is at the noise level, 100 · 0.01 · sqrt(K) / K.
-    # (n trades off against β and a; issue 10 reports that.)
-    assert result.params["slope"] == pytest.approx(0.92, abs=1e-9)
-    assert result.rms < 1.2 * 100 * 0.01 / np.sqrt(len(g))
+    # exactly on the grid, and Δ_RMS is at the noise level,
+    # 100 · 0.01 · sqrt(K) / K; refinement only lowers it.
+    assert result.grid_params["slope"] == pytest.approx(0.92, abs=1e-9)
+    assert result.rms == result.rms_refined <= result.rms_grid < 1.2 * 100 * 0.01 / np.sqrt(len(g))
+    # Every parameter has a refined value inside its own 68% interval.
+    for name, p in result.parameters.items():
+        assert p["lo68"] <= p["refined"] <= p["hi68"], name
+        assert p["lo95"] <= p["lo68"] and p["hi68"] <= p["hi95"], name
+        assert p["interval"] == "profile", name
 
 
 def test_from_arrays_equals_from_csv_and_predict_reproduces_rms(tmp_path):
@@ -115,8 +123,8 @@ def test_errors_name_the_parameter_file_and_line(tmp_path):
     m = laminar.Measurements.from_arrays(*g.T, radiance(g), quantity="radiance")
     with pytest.raises(ValueError, match="axis a"):
         laminar.fit(m, grid={"a": "0:2:3"})
-    with pytest.raises(NotImplementedError, match="refine"):
-        laminar.fit(m, refine=True)
+    with pytest.raises(ValueError, match="uncertainty"):
+        laminar.fit(m, uncertainty="bootstrap")
     with pytest.raises(ValueError, match="values per set"):
         laminar.fit_batch(g, np.ones((2, 7)))
     with pytest.raises(ValueError, match="row 1"):

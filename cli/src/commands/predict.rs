@@ -21,7 +21,8 @@ use std::time::Instant;
 /// --measurements or --data): data = D, the measured radiance (BRDF·cos θi)
 /// divided by its max over the non-specular measurements, and residual = D − P;
 /// Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K is printed on stderr. On the fit's own
-/// measurements it reproduces the fit's Δ_RMS.
+/// measurements it reproduces the fit's Δ_RMS (the refined one when the fit
+/// was refined: the file's fitted model is then the refined model).
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct PredictArgs {

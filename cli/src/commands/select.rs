@@ -29,7 +29,7 @@ pub struct Selected {
     pub channel: String,
     /// The fitted model.
     pub fitted: FittedModel,
-    /// The fit's own Δ_RMS.
+    /// The fitted model's own Δ_RMS (the refined one when refined).
     pub rms: f64,
 }
 
@@ -41,7 +41,7 @@ fn candidates(entries: &[FitEntry]) -> Vec<Selected> {
             sample: e.sample.clone(),
             channel: e.channel.clone(),
             fitted: e.fitted,
-            rms: e.rms,
+            rms: e.rms_refined.unwrap_or(e.rms),
         });
         if let (Some(rh), Some(rh_model), Some(rms)) =
             (e.rh_fitted, e.model.ragheb_hancock(), e.rh_rms)
