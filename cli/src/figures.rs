@@ -1,7 +1,10 @@
-//! SVG figures: the Fig. 2 transmission/absorption curves and the normalised
-//! data-against-model plots of Figs. 3–4, drawn with `plotters`.
+//! SVG figures: the Fig. 2 transmission/absorption curves, the normalised
+//! data-against-model plots of Figs. 3–4 and the parameters' profiles,
+//! drawn with `plotters`.
 
 use laminar_core::energy_budget;
+use laminar_fit::profile::{DELTA_68, DELTA_95};
+use laminar_fit::uncertainty::ProfileCurve;
 use plotters::prelude::*;
 
 /// Absorption values drawn in Fig. 2.
@@ -126,6 +129,95 @@ pub fn data_vs_model_svg(title: &str, data: &[f64], model: &[f64]) -> Result<Str
                     .zip(model)
                     .map(|(&d, &p)| Circle::new((d, p), 3, BLUE.filled())),
             )
+            .map_err(failed)?;
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}
+
+/// A parameter's profile on the Δχ² scale: the continuous profile (line),
+/// the grid's profile at its axis values (points), the refined estimate
+/// (vertical line), and the 68% and 95% levels (dashed), whose crossings
+/// with the line are the interval ends.
+///
+/// # Errors
+/// The drawing backend's message when the SVG cannot be drawn.
+pub fn profile_svg(title: &str, curve: &ProfileCurve) -> Result<String, String> {
+    let xs = curve.refined.iter().chain(&curve.grid).map(|p| p.0);
+    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let (x0, x1) = if x1 > x0 {
+        (x0, x1)
+    } else {
+        (x0 - 1e-3, x0 + 1e-3)
+    };
+    let top = 2.0 * DELTA_95;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (560, 420)).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 17))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(50)
+            .build_cartesian_2d(x0..x1, 0.0..top)
+            .map_err(failed)?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("{} (fixed)", curve.name))
+            .y_desc("Δχ² = (min over the others − minimum) / s²")
+            .draw()
+            .map_err(failed)?;
+        for (level, label) in [(DELTA_68, "68%"), (DELTA_95, "95%")] {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    [(x0, level), (x1, level)],
+                    6,
+                    4,
+                    BLACK.mix(0.5).stroke_width(1),
+                ))
+                .map_err(failed)?
+                .label(format!("{label} level"))
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], BLACK.mix(0.5)));
+        }
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(curve.estimate, 0.0), (curve.estimate, top)],
+                3,
+                3,
+                RED.stroke_width(1),
+            ))
+            .map_err(failed)?
+            .label("refined estimate")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], RED));
+        let clip = |v: f64| v.min(top);
+        chart
+            .draw_series(LineSeries::new(
+                curve.refined.iter().map(|&(x, y)| (x, clip(y))),
+                BLUE.stroke_width(2),
+            ))
+            .map_err(failed)?
+            .label("profile, others refined")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], BLUE.stroke_width(2)));
+        chart
+            .draw_series(
+                curve
+                    .grid
+                    .iter()
+                    .filter(|p| p.1 <= top)
+                    .map(|&(x, y)| Circle::new((x, y), 4, BLACK.filled())),
+            )
+            .map_err(failed)?
+            .label("profile on the grid")
+            .legend(|(x, y)| Circle::new((x + 9, y), 4, BLACK.filled()));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.3))
+            .position(SeriesLabelPosition::UpperMiddle)
+            .draw()
             .map_err(failed)?;
         root.present().map_err(failed)?;
     }

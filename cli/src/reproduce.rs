@@ -2,7 +2,7 @@
 //! on every job, Tables II–V as Markdown and CSV, Fig. 2 and the
 //! data-against-model figures as SVG.
 
-use crate::figures::{data_vs_model_svg, energy_budget_svg};
+use crate::figures::{data_vs_model_svg, energy_budget_svg, profile_svg};
 use crate::selection::{material, Job};
 use crate::tables::paper_tables;
 use crate::CliError;
@@ -13,6 +13,10 @@ use std::path::{Path, PathBuf};
 
 /// Samples drawn as data against model (the paper's Figs. 3–4).
 pub const FIGURE_SAMPLES: [&str; 4] = ["21", "48", "25", "19"];
+/// The model whose parameters' profiles are drawn for the figure samples.
+pub const PROFILE_MODEL: Model = Model::Exp;
+/// Values on each drawn continuous profile.
+pub const PROFILE_POINTS: usize = 25;
 
 /// Models fitted: the Ragheb–Hancock fits come from the a = 0 slices of the
 /// absorptive searches, so Tables II and V need one search per absorptive model.
@@ -255,6 +259,30 @@ fn write_set(
             let mut shown = vec![(r.model, &r.best)];
             if let (Some(rh), Some(rh_model)) = (&r.rh, r.model.ragheb_hancock()) {
                 shown.push((rh_model, rh));
+            }
+            if r.model == PROFILE_MODEL {
+                for curve in fitter.profiles(&job.scene, r, PROFILE_POINTS) {
+                    let title = format!(
+                        "sample {} ({}), {}: profile of {}",
+                        job.scene.sample(),
+                        job.scene.channel(),
+                        r.model,
+                        curve.name
+                    );
+                    let name = format!(
+                        "fig_profile_sample{}_{}_{}_{}.svg",
+                        job.scene.sample(),
+                        r.model.name(),
+                        job.scene.channel(),
+                        curve.name
+                    );
+                    write(
+                        out,
+                        &name,
+                        &profile_svg(&title, &curve).map_err(CliError::Figure)?,
+                        &mut files,
+                    )?;
+                }
             }
             for (model, estimate) in shown {
                 let p = estimate.fitted.predict(job.scene.angles())?;

@@ -3,7 +3,7 @@
 //! of sets on one geometry, with the fitted power-law exponents.
 
 use laminar_core::Correlation;
-use laminar_fit::{synthetic, Axis, FitError, Fitter, Grid, Model, Scene};
+use laminar_fit::{synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Scene};
 use std::time::Instant;
 
 /// One measured configuration.
@@ -67,7 +67,8 @@ pub fn scaling(
     let run = |k: usize, scale: usize| -> Result<ScalingRow, FitError> {
         progress(&format!("K = {k}, {scale}× points per axis"));
         let grid = scaled(grid, scale);
-        let fitter = Fitter::new(grid.clone())?;
+        // The search's cost: no refinement or uncertainty after it.
+        let fitter = Fitter::new(grid.clone())?.analysis(Analysis::NONE);
         let sets: Vec<Scene> = synthetic::sets(
             Correlation::Exponential,
             &synthetic::spread(k),

@@ -747,6 +747,20 @@ fn curet_paper_fits_are_unchanged() {
     for r in &out[1..] {
         let (g, f): (f64, f64) = (r[grid].parse().unwrap(), r[refined].parse().unwrap());
         assert!(f <= g, "{r:?}");
+        // Each parameter's refined value lies in its 68% interval, which
+        // lies in its 95% interval.
+        for p in [
+            "slope", "beta", "n", "a", "sigma_a", "sigma_s", "sigma", "rho",
+        ] {
+            let cell = |c: &str| -> Option<f64> { r[at(&format!("{p}_{c}"))].parse().ok() };
+            let Some(v) = cell("refined") else { continue };
+            let ends = ["lo95", "lo68", "hi68", "hi95"].map(|c| cell(c).unwrap());
+            let chain = [ends[0], ends[1], v, ends[2], ends[3]];
+            assert!(
+                chain.windows(2).all(|w| w[0] <= w[1]),
+                "{p}: {chain:?} {r:?}"
+            );
+        }
     }
 }
 

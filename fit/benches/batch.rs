@@ -10,7 +10,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use laminar_core::{Angles, Correlation};
 use laminar_fit::synthetic;
-use laminar_fit::{Fitter, Grid, Model};
+use laminar_fit::{Analysis, Fitter, Grid, Model};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -44,7 +44,10 @@ fn batch(c: &mut Criterion) {
     let count = env_usize("LAMINAR_BATCH_SETS", 10_000);
     let block = env_usize("LAMINAR_BATCH_BLOCK", 256).max(1);
     let scenes = synthetic::sets(Correlation::Exponential, &angles, count, 0.01, 11);
-    let fitter = Fitter::new(Grid::paper()).expect("the paper grid is valid");
+    // The search's throughput: no refinement or uncertainty after it.
+    let fitter = Fitter::new(Grid::paper())
+        .expect("the paper grid is valid")
+        .analysis(Analysis::NONE);
     let mut group = c.benchmark_group(format!("batch_{label}_k{}", angles.len()));
     group.sample_size(10);
     group.throughput(Throughput::Elements(count as u64));

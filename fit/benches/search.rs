@@ -2,12 +2,15 @@
 //! parameter sets × measurements. Uses CUReT sample 21 when `CURET_DIR` is
 //! set, else the built-in synthetic scene. The direct paths run on the first
 //! σ/T value only (1/50 of the grid), so their elements are counted on that
-//! slice. Run: `cargo bench --bench search`.
+//! slice. The `analysis_*` group times one default-path fit with each
+//! analysis after the search (none, refinement, profile intervals, both
+//! uncertainties): what refinement and uncertainty add to a fit.
+//! Run: `cargo bench --bench search`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use laminar_core::Correlation;
 use laminar_fit::search::{search, Method, Path};
-use laminar_fit::{Axis, Grid, Scene};
+use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -53,5 +56,38 @@ fn fits(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, fits);
+fn analysis(c: &mut Criterion) {
+    let (label, scene) = scene();
+    let mut group = c.benchmark_group(format!("analysis_{label}"));
+    group.sample_size(10);
+    let cases = [
+        ("search_only", Analysis::NONE),
+        (
+            "refine",
+            Analysis {
+                refine: true,
+                uncertainty: Uncertainty::Off,
+            },
+        ),
+        (
+            "refine_profile",
+            Analysis {
+                refine: true,
+                uncertainty: Uncertainty::Profile,
+            },
+        ),
+        ("refine_both", Analysis::FULL),
+    ];
+    for (name, analysis) in cases {
+        let fitter = Fitter::new(Grid::paper())
+            .expect("the paper grid is valid")
+            .analysis(analysis);
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(fitter.fit(&scene, Model::Exp)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, fits, analysis);
 criterion_main!(benches);

@@ -9,7 +9,9 @@ use crate::model::Model;
 use crate::scene::Scene;
 use crate::search::batch::{search_batch, share_geometry};
 use crate::search::{grid_profile, point, search, GridProfile, Method, Path, SearchResult};
-use crate::uncertainty::{analyse, cutoffs, Analysed, Analysis, Parameter, Searched};
+use crate::uncertainty::{
+    analyse, cutoffs, profile_curves, Analysed, Analysis, Parameter, ProfileCurve, Searched,
+};
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
@@ -444,22 +446,7 @@ impl Fitter {
             .ragheb_hancock()
             .zip(r.rh_best)
             .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
-        let (slope, n, a, beta) = point(grid, r.best);
-        let searched: Vec<Searched> = [
-            (0, "slope", slope, &grid.slope),
-            (1, "n", n, &grid.n),
-            (2, "a", a, &grid.a),
-            (3, "beta", beta, &grid.beta),
-        ]
-        .into_iter()
-        .filter(|s| s.3.len() > 1)
-        .map(|(axis, name, value, values)| Searched {
-            axis,
-            name,
-            value,
-            values,
-        })
-        .collect();
+        let searched = layered_searched(grid, r.best);
         let lens = [
             grid.slope.len(),
             grid.n.len(),
@@ -482,6 +469,29 @@ impl Fitter {
             &searched,
             profile.as_ref().map(|p| (p, &lens[..])),
         )
+    }
+
+    /// The profile of each parameter of `fit` (a fit of a layered model to
+    /// `scene` by this fitter, with profile intervals) for a figure: the
+    /// grid's profile and the continuous one at `points` values
+    /// ([`ProfileCurve`]). Empty for the baselines, or without intervals.
+    pub fn profiles(&self, scene: &Scene, fit: &Fit, points: usize) -> Vec<ProfileCurve> {
+        let Some(corr) = fit.model.correlation() else {
+            return Vec::new();
+        };
+        let grid = self.model_grid(fit.model);
+        let Some(flat) = grid_index(&grid, fit.best.params()) else {
+            return Vec::new();
+        };
+        let searched = layered_searched(&grid, flat);
+        let Some((cutoff, near)) = self.profile_cutoffs(scene, fit.model, &fit.best) else {
+            return Vec::new();
+        };
+        self.run(|| {
+            let profile = grid_profile(scene, &grid, corr, self.path, cutoff, near)
+                .expect("the grid was validated by Fitter::new");
+            profile_curves(scene, fit, &searched, &profile, points)
+        })
     }
 
     /// Progress calls of [`Fitter::fit_batch`] on `scenes` with `model`.
@@ -623,4 +633,39 @@ impl Fitter {
         self.tick();
         fit
     }
+}
+
+/// The flat index of a layered model's grid point.
+fn grid_index(grid: &Grid, params: &ModelParams) -> Option<usize> {
+    let ModelParams::Layered { slope, beta, n, a } = *params else {
+        return None;
+    };
+    let at = |axis: &Axis, v: f64| axis.values.iter().position(|&x| x == v);
+    Some(grid.flat(
+        at(&grid.slope, slope)?,
+        at(&grid.n, n)?,
+        at(&grid.a, a)?,
+        at(&grid.beta, beta)?,
+    ))
+}
+
+/// The searched axes of a layered grid at its point `flat` (an axis of one
+/// value is not searched).
+fn layered_searched(grid: &Grid, flat: usize) -> Vec<Searched<'_>> {
+    let (slope, n, a, beta) = point(grid, flat);
+    [
+        (0, "slope", slope, &grid.slope),
+        (1, "n", n, &grid.n),
+        (2, "a", a, &grid.a),
+        (3, "beta", beta, &grid.beta),
+    ]
+    .into_iter()
+    .filter(|s| s.3.len() > 1)
+    .map(|(axis, name, value, values)| Searched {
+        axis,
+        name,
+        value,
+        values,
+    })
+    .collect()
 }

@@ -192,22 +192,29 @@ impl<F: Fn(&[f64]) -> f64> CostFunction for Cost<F> {
     }
 }
 
-/// Nelder–Mead stops when the standard deviation of the objective over the
+/// Refinement stops when the standard deviation of the objective over the
 /// simplex falls below this fraction of the start's objective.
 pub const TOLERANCE: f64 = 1e-9;
+
+/// A profile probe ([`profile_at`]) stops at this fraction: about 10⁻⁴ of
+/// the noise variance `s² ≈ objective/(K − p)` at K ≈ 200, far below what
+/// moves an interval end.
+pub const PROFILE_TOLERANCE: f64 = 5e-7;
 
 /// Most Nelder–Mead iterations per start.
 pub const MAX_ITERATIONS: u64 = 400;
 
 /// Nelder–Mead on `cost` (evaluated at its argument projected onto
 /// `bounds`) from `start` with a first simplex of `steps` along each axis
-/// (turned back into the domain at an upper end); the best vertex,
-/// projected, and its cost. Never worse than `start`.
+/// (turned back into the domain at an upper end), stopping when the
+/// objective's spread over the simplex is below `tolerance` times the
+/// start's; the best vertex, projected, and its cost. Never worse than
+/// `start`.
 fn nelder_mead(
     cost: impl Fn(&[f64]) -> f64,
     bounds: &[(f64, f64)],
-    start: &[f64],
-    steps: &[f64],
+    (start, steps): (&[f64], &[f64]),
+    tolerance: f64,
 ) -> Refined {
     let project = |x: &[f64]| -> Vec<f64> {
         x.iter()
@@ -235,7 +242,7 @@ fn nelder_mead(
         return fallback;
     }
     let run = NelderMead::new(simplex)
-        .with_sd_tolerance(TOLERANCE * fallback.sse + 1e-300)
+        .with_sd_tolerance(tolerance * fallback.sse + 1e-300)
         .and_then(|solver| {
             Executor::new(Cost(|x: &[f64]| cost(&project(x))), solver)
                 .configure(|state| state.max_iters(MAX_ITERATIONS).counting(true))
@@ -276,7 +283,7 @@ pub fn refine(objective: &Objective, starts: &[Vec<f64>], steps: &[f64]) -> Refi
     let mut evaluations = 0;
     let mut best: Option<Refined> = None;
     for start in starts {
-        let r = nelder_mead(cost, bounds, start, steps);
+        let r = nelder_mead(cost, bounds, (start, steps), TOLERANCE);
         evaluations += r.evaluations;
         if best.as_ref().is_none_or(|b| r.sse < b.sse) {
             best = Some(r);
@@ -284,7 +291,7 @@ pub fn refine(objective: &Objective, starts: &[Vec<f64>], steps: &[f64]) -> Refi
     }
     let best = best.expect("at least one start");
     let fine: Vec<f64> = steps.iter().map(|s| s / 10.0).collect();
-    let again = nelder_mead(cost, bounds, &best.x, &fine);
+    let again = nelder_mead(cost, bounds, (&best.x, &fine), TOLERANCE);
     evaluations += again.evaluations;
     let best = if again.sse < best.sse { again } else { best };
     Refined {
@@ -312,8 +319,8 @@ pub fn profile_at(
     let r = nelder_mead(
         |others: &[f64]| objective.sse(&full(others)),
         &without(objective.bounds(), j),
-        &without(start, j),
-        &without(steps, j),
+        (&without(start, j), &without(steps, j)),
+        PROFILE_TOLERANCE,
     );
     Refined { x: full(&r.x), ..r }
 }

@@ -319,8 +319,8 @@ pub(crate) fn analyse(
                     .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
                         (lo.min(v), hi.max(v))
                     });
-                let (lo68, lo95, open_below) = probe.end(i, guess.0, range);
-                let (hi68, hi95, open_above) = probe.end(i, guess.1, range);
+                let (lo68, lo95, open_below) = probe.end(i, -1.0, x[i] - guess.0, range);
+                let (hi68, hi95, open_above) = probe.end(i, 1.0, guess.1 - x[i], range);
                 if open_below {
                     p.flags.push(Edge::OpenBelow);
                 }
@@ -382,8 +382,10 @@ struct Probe<'a> {
 }
 
 impl Probe<'_> {
-    /// The 68% and 95% ends of parameter `i` on the side of `guess`, and
-    /// whether the interval is open there: the end lies outside the range
+    /// The 68% and 95% ends of parameter `i` on the side `side` (−1 below,
+    /// +1 above; `guess` is a first guess of the 95% end's distance, one
+    /// grid step when it is not positive), and whether the interval is open
+    /// there: the end lies outside the range
     /// searched `(first, last)`, or the profile did not reach the 95% level
     /// within [`MOST_PROBES`] probes (the end is then the last probe).
     ///
@@ -394,12 +396,11 @@ impl Probe<'_> {
     /// `t` is at the fraction `t/h` of the way (exact for a parabola). A
     /// probe below the level moves further out; at a bound of the domain
     /// the interval closes there.
-    fn end(&self, i: usize, guess: f64, (first, last): (f64, f64)) -> (f64, f64, bool) {
+    fn end(&self, i: usize, side: f64, guess: f64, (first, last): (f64, f64)) -> (f64, f64, bool) {
         let centre = self.x[i];
         let (t68, t95) = ((DELTA_68 * self.s2).sqrt(), (DELTA_95 * self.s2).sqrt());
-        let side = if guess < centre { -1.0 } else { 1.0 };
         let clamp = |v: f64| v.clamp(self.domain.0, self.domain.1);
-        let mut distance = (guess - centre).abs();
+        let mut distance = guess;
         if !(distance > 0.0) || !distance.is_finite() {
             distance = self.steps[i];
         }
@@ -470,4 +471,95 @@ fn point_of(
             })
         })
         .collect()
+}
+
+/// A parameter's profile for a figure, on the `Δχ²` scale
+/// `(Σ (D − P)² − min) / s²` ([`crate::Fitter::profiles`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProfileCurve {
+    /// The parameter's name.
+    pub name: String,
+    /// The grid's profile (the smallest objective over the grid values of
+    /// the other parameters) at each axis value in the plotted range whose
+    /// profile was computed, as (value, Δχ²).
+    pub grid: Vec<(f64, f64)>,
+    /// The continuous profile (minimised over the other parameters by
+    /// Nelder–Mead) at evenly spaced values, as (value, Δχ²).
+    pub refined: Vec<(f64, f64)>,
+    /// The estimate (refined value).
+    pub estimate: f64,
+}
+
+/// The profiles of every parameter of `fit` with a 95% interval, over its
+/// interval widened by half its width each side (within the domain), with
+/// `points` values on the refined curve. `grid_profile` is the grid's
+/// profile over axes `searched`.
+pub(crate) fn profile_curves(
+    scene: &Scene,
+    fit: &crate::Fit,
+    searched: &[Searched],
+    grid_profile: &GridProfile,
+    points: usize,
+) -> Vec<ProfileCurve> {
+    let objective = Objective::new(scene, fit.model);
+    let names = objective.names().to_vec();
+    let x = objective.values(fit.estimate().params());
+    let sse = objective.sse(&x);
+    let Some(s2) = noise_variance(scene, sse, names.len()).filter(|&s2| s2 > 0.0) else {
+        return Vec::new();
+    };
+    let covariance = Covariance::new(&objective, &x, s2);
+    let steps: Vec<f64> = names
+        .iter()
+        .map(|&n| {
+            searched
+                .iter()
+                .find(|s| s.name == n)
+                .map_or(0.01, |s| step(s.values))
+        })
+        .collect();
+    let mut out = Vec::new();
+    for (i, &name) in names.iter().enumerate() {
+        let (Some(s), Some(p)) = (
+            searched.iter().find(|s| s.name == name),
+            fit.parameters.iter().find(|p| p.name == name),
+        ) else {
+            continue;
+        };
+        let Some(i95) = p.interval95 else { continue };
+        let (lo_d, hi_d) = objective.bounds()[i];
+        let width = (i95.hi - i95.lo).max(steps[i]);
+        let (lo, hi) = (
+            (i95.lo - width / 2.0).max(lo_d),
+            (i95.hi + width / 2.0).min(hi_d),
+        );
+        let scale = |e: f64| (e - sse) / s2;
+        let grid = s
+            .values
+            .values
+            .iter()
+            .zip(&grid_profile.axes[s.axis])
+            .filter(|(&v, &(e, _))| v >= lo && v <= hi && e.is_finite())
+            .map(|(&v, &(e, _))| (v, scale(e)))
+            .collect();
+        let refined = (0..points)
+            .map(|k| {
+                let v = lo + (hi - lo) * k as f64 / (points - 1).max(1) as f64;
+                let start: Vec<f64> = match &covariance {
+                    Some(c) => (0..x.len())
+                        .map(|m| x[m] + c.matrix[m][i] / c.matrix[i][i] * (v - x[i]))
+                        .collect(),
+                    None => x.clone(),
+                };
+                (v, scale(profile_at(&objective, i, v, &start, &steps).sse))
+            })
+            .collect();
+        out.push(ProfileCurve {
+            name: name.to_string(),
+            grid,
+            refined,
+            estimate: x[i],
+        });
+    }
+    out
 }
