@@ -152,7 +152,7 @@ pub fn profile_svg(title: &str, curve: &ProfileCurve) -> Result<String, String> 
     } else {
         (x0 - 1e-3, x0 + 1e-3)
     };
-    let top = 2.0 * DELTA_95;
+    let top = 3.0 * DELTA_95;
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (560, 420)).into_drawing_area();
@@ -216,7 +216,7 @@ pub fn profile_svg(title: &str, curve: &ProfileCurve) -> Result<String, String> 
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.3))
-            .position(SeriesLabelPosition::UpperMiddle)
+            .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(failed)?;
         root.present().map_err(failed)?;

@@ -20,8 +20,8 @@ use std::fmt;
 pub enum Edge {
     /// The grid value is the first or last value of the parameter's axis.
     RangeEdge,
-    /// The grid or refined value is a bound of the model's domain (e.g.
-    /// a = 0 or 1, n = 1).
+    /// The value reported (the refined one when refined, else the grid's)
+    /// is a bound of the model's domain (e.g. a = 0 or 1, n = 1).
     DomainBound,
     /// The 95% profile interval does not close within the range searched
     /// below the estimate (and the range does not start at a domain bound).

@@ -112,7 +112,9 @@ pub fn basins(near: &[(usize, f64)], lens: &[usize], most: usize) -> Vec<(usize,
         .filter(|p| {
             lens.iter().zip(&strides).all(|(&len, &stride)| {
                 let i = (p.0 / stride) % len;
-                !(i > 0 && lower(p, p.0 - stride)) && !(i + 1 < len && lower(p, p.0 + stride))
+                let below = i > 0 && lower(p, p.0 - stride);
+                let above = i + 1 < len && lower(p, p.0 + stride);
+                !(below || above)
             })
         })
         .copied()

@@ -262,8 +262,10 @@ pub(crate) fn analyse(
         let mut p = Parameter::new(name, s.value);
         p.flags = flags(model, name, s.value, s.values);
         if analysis.refine {
+            // domain_bound describes the value reported: the refined one.
             p.refined = Some(x[i]);
-            if at_bound(model, name, x[i]) && !p.flags.contains(&Edge::DomainBound) {
+            p.flags.retain(|&f| f != Edge::DomainBound);
+            if at_bound(model, name, x[i]) {
                 p.flags.push(Edge::DomainBound);
             }
         }
@@ -365,6 +367,23 @@ pub(crate) fn analyse(
     }
 }
 
+impl Probe<'_> {
+    /// `sqrt(profile − min)` of parameter `i` at `value`: Nelder–Mead over
+    /// the other parameters, started where the Jacobian's linearisation puts
+    /// the profile's path (at the minimum without a Jacobian).
+    fn height(&self, i: usize, value: f64) -> f64 {
+        let centre = self.x[i];
+        let start: Vec<f64> = match self.covariance {
+            Some(c) => (0..self.x.len())
+                .map(|k| self.x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - centre))
+                .collect(),
+            None => self.x.to_vec(),
+        };
+        let r = profile_at(self.objective, i, value, &start, self.steps);
+        (r.sse - self.sse).max(0.0).sqrt()
+    }
+}
+
 /// Most probes of the continuous profile per interval end.
 const MOST_PROBES: usize = 4;
 
@@ -389,11 +408,11 @@ impl Probe<'_> {
     /// searched `(first, last)`, or the profile did not reach the 95% level
     /// within [`MOST_PROBES`] probes (the end is then the last probe).
     ///
-    /// Each probe is the continuous profile at one value (Nelder–Mead over
-    /// the other parameters, started where the Jacobian's linearisation puts
-    /// the profile's path). Between the minimum and a probe whose height
-    /// `h = sqrt(profile − min)` reaches the 95% level, the end at level
-    /// `t` is at the fraction `t/h` of the way (exact for a parabola). A
+    /// Each probe is the continuous profile at one value
+    /// ([`Probe::height`]). Once a probe's height `h = sqrt(profile − min)`
+    /// reaches the 95% level, a second probe goes where a parabola through
+    /// the first puts the 68% end, and each end is interpolated linearly in
+    /// `h` between the points that bracket it (exact for a parabola). A
     /// probe below the level moves further out; at a bound of the domain
     /// the interval closes there.
     fn end(&self, i: usize, side: f64, guess: f64, (first, last): (f64, f64)) -> (f64, f64, bool) {
@@ -401,7 +420,7 @@ impl Probe<'_> {
         let (t68, t95) = ((DELTA_68 * self.s2).sqrt(), (DELTA_95 * self.s2).sqrt());
         let clamp = |v: f64| v.clamp(self.domain.0, self.domain.1);
         let mut distance = guess;
-        if !(distance > 0.0) || !distance.is_finite() {
+        if distance.is_nan() || distance <= 0.0 || distance.is_infinite() {
             distance = self.steps[i];
         }
         let outside = |v: f64| v < first.min(last) || v > first.max(last);
@@ -418,16 +437,21 @@ impl Probe<'_> {
                 return (centre, centre, false);
             }
             last_probe = value;
-            let start: Vec<f64> = match self.covariance {
-                Some(c) => (0..self.x.len())
-                    .map(|k| self.x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - centre))
-                    .collect(),
-                None => self.x.to_vec(),
-            };
-            let r = profile_at(self.objective, i, value, &start, self.steps);
-            let h = (r.sse - self.sse).max(0.0).sqrt();
+            let h = self.height(i, value);
             if h >= t95 {
-                let (e68, e95) = (at(t68, h, d), at(t95, h, d));
+                // One more probe where a parabola through this one puts the
+                // 68% end; each end is then interpolated between the two
+                // points (of 0, the inner probe, this probe) that bracket it.
+                let d68 = d * t68 / h;
+                let h68 = self.height(i, centre + side * d68);
+                let points = [(0.0, 0.0), (d68, h68), (d, h)];
+                let cross = |t: f64| {
+                    let k = points.windows(2).position(|w| w[1].1 >= t).unwrap_or(1);
+                    let ((d0, h0), (d1, h1)) = (points[k], points[k + 1]);
+                    let f = if h1 > h0 { (t - h0) / (h1 - h0) } else { 1.0 };
+                    centre + side * (d0 + f.clamp(0.0, 1.0) * (d1 - d0))
+                };
+                let (e68, e95) = (cross(t68), cross(t95));
                 return (e68, e95, outside(e95));
             }
             if value == self.domain.0 || value == self.domain.1 {

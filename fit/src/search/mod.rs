@@ -560,7 +560,8 @@ pub fn grid_profile(
                 .map(|&len| vec![(f64::INFINITY, usize::MAX); len])
                 .collect()
         };
-        let shards: Vec<(Vec<Vec<(f64, usize)>>, Vec<(usize, f64)>)> = (0..grid.slope.len())
+        type Shard = (Vec<Vec<(f64, usize)>>, Vec<(usize, f64)>);
+        let shards: Vec<Shard> = (0..grid.slope.len())
             .into_par_iter()
             .map(|i_s| {
                 let (mut axes, mut points) = (empty(), Vec::new());
