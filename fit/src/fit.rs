@@ -404,7 +404,14 @@ impl Fitter {
             refined,
             parameters,
             covariance,
-        } = analyse(scene, model, &best, searched, profile, self.analysis);
+        } = analyse(
+            scene,
+            model,
+            (&best, rh.as_ref()),
+            searched,
+            profile,
+            self.analysis,
+        );
         Fit {
             search_rms,
             refined,

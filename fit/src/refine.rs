@@ -338,7 +338,11 @@ mod tests {
         let objective = Objective::new(&scene, Model::Exp);
         assert_eq!(objective.names(), ["slope", "beta", "n", "a"]);
         let start = vec![1.24, 0.46, 1.42, 0.32];
-        let r = refine(&objective, std::slice::from_ref(&start), &[0.08, 0.01, 0.02, 0.01]);
+        let r = refine(
+            &objective,
+            std::slice::from_ref(&start),
+            &[0.08, 0.01, 0.02, 0.01],
+        );
         assert!(r.sse < objective.sse(&start));
         for (got, want) in r.x.iter().zip([1.234, 0.456, 1.417, 0.321]) {
             assert!((got - want).abs() < 1e-6, "{:?}", r.x);

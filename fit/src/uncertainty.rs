@@ -178,8 +178,9 @@ pub(crate) struct Analysed {
 /// known exactly.
 pub const PROFILE_REACH: f64 = 2.0 * DELTA_95;
 
-/// Most starts of the refinement (the best grid point and the best points
-/// of other basins within `DELTA_68 · s²` of it).
+/// Most starts of the refinement from the grid (the best grid point and
+/// the best points of other basins within `DELTA_68 · s²` of it); the
+/// Ragheb–Hancock best is one more.
 pub const MOST_STARTS: usize = 4;
 
 /// The noise variance: the mean squared uncertainty when the scene has
@@ -198,13 +199,13 @@ pub(crate) fn cutoffs(scene: &Scene, sse: f64, free: usize) -> Option<(f64, f64)
 }
 
 /// Refines and measures the uncertainty of `model`'s grid best `best` on
-/// `scene`. `searched` lists the searched axes; `profile` is the grid's
+/// `scene` (refining also from `rh`, the best of the a = 0 slice). `searched` lists the searched axes; `profile` is the grid's
 /// profile (over all the grid's axes, of lengths `lens`) when
 /// [`Analysis::needs_profile`], computed with [`cutoffs`].
 pub(crate) fn analyse(
     scene: &Scene,
     model: Model,
-    best: &Estimate,
+    (best, rh): (&Estimate, Option<&Estimate>),
     searched: &[Searched],
     profile: Option<(&GridProfile, &[usize])>,
     analysis: Analysis,
@@ -233,6 +234,14 @@ pub(crate) fn analyse(
                 }
             }
             starts.truncate(MOST_STARTS);
+        }
+        // The Ragheb–Hancock best (a = 0) is a point of this model too, and
+        // often in another basin.
+        if let Some(rh) = rh {
+            let start = objective.values(rh.params());
+            if !starts.contains(&start) {
+                starts.push(start);
+            }
         }
         let r = refine(&objective, &starts, &steps);
         let estimate = Estimate::new(scene, model, objective.params(&r.x))
