@@ -39,10 +39,17 @@ pub enum Format {
 /// paper normalisation's balance; the JSON gives eq. 8's beta_eq8), rh_rms,
 /// rh_chi2_dof, rh_params (the Ragheb–Hancock best, a = 0, of the same
 /// search), measurements (K), nonpositive, search_rms (the search's own
-/// Δ_RMS in its precision), edges (searched parameters at an end of their
-/// grid axis, range_edge, or of the model's domain, domain_bound, e.g.
-/// `n:range_edge;a:range_edge+domain_bound`). rms and chi2_dof are
-/// recomputed in f64.
+/// Δ_RMS in its precision), edges (flags per searched parameter: range_edge,
+/// its grid value is an end of its axis; domain_bound, the value reported
+/// is a bound of the model's domain; open_below/open_above, its 95%
+/// interval reaches past the range searched; e.g.
+/// `n:range_edge+open_above;a:range_edge+domain_bound`). rms and chi2_dof
+/// are recomputed in f64 at the best grid point. Then rms_grid,
+/// rms_refined, and per parameter {name}_refined, _lo68, _hi68, _lo95,
+/// _hi95 (68% and 95% intervals), _interval (profile or jacobian: where
+/// the ends come from), _sd (the Jacobian's), then correlations and
+/// trade_offs (pairs with |r| ≥ 0.9); see --refine and --uncertainty
+/// (docs/conventions.md §11).
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitArgs {
