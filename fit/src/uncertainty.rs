@@ -381,15 +381,22 @@ impl Probe<'_> {
     /// the other parameters, started where the Jacobian's linearisation puts
     /// the profile's path (at the minimum without a Jacobian).
     fn height(&self, i: usize, value: f64) -> f64 {
-        let centre = self.x[i];
-        let start: Vec<f64> = match self.covariance {
-            Some(c) => (0..self.x.len())
-                .map(|k| self.x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - centre))
-                .collect(),
-            None => self.x.to_vec(),
-        };
+        let start = path_start(self.x, self.covariance, i, value);
         let r = profile_at(self.objective, i, value, &start, self.steps);
         (r.sse - self.sse).max(0.0).sqrt()
+    }
+}
+
+/// Where the Jacobian's linearisation puts the profile's path when
+/// parameter `i` moves from the minimum `x` to `value`: the other
+/// parameters move by their regression on it, `C_ki / C_ii`. `x` itself
+/// (with `value`) without a covariance.
+fn path_start(x: &[f64], covariance: Option<&Covariance>, i: usize, value: f64) -> Vec<f64> {
+    match covariance {
+        Some(c) => (0..x.len())
+            .map(|k| x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - x[i]))
+            .collect(),
+        None => x.to_vec(),
     }
 }
 
@@ -578,12 +585,7 @@ pub(crate) fn profile_curves(
         let refined = (0..points)
             .map(|k| {
                 let v = lo + (hi - lo) * k as f64 / (points - 1).max(1) as f64;
-                let start: Vec<f64> = match &covariance {
-                    Some(c) => (0..x.len())
-                        .map(|m| x[m] + c.matrix[m][i] / c.matrix[i][i] * (v - x[i]))
-                        .collect(),
-                    None => x.clone(),
-                };
+                let start = path_start(&x, covariance.as_ref(), i, v);
                 (v, scale(profile_at(&objective, i, v, &start, &steps).sse))
             })
             .collect();

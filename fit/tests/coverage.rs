@@ -29,7 +29,10 @@ fn run(model: Model, spare_peak: bool) -> Coverage {
         );
     }
     assert_eq!(c.parameters.len(), model.parameter_count());
-    assert_eq!(c.refined_above_grid, 0, "{model}: refined Δ_RMS above the grid's");
+    assert_eq!(
+        c.refined_above_grid, 0,
+        "{model}: refined Δ_RMS above the grid's"
+    );
     c
 }
 
