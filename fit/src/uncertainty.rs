@@ -173,6 +173,10 @@ pub(crate) struct Analysed {
     pub covariance: Option<Covariance>,
 }
 
+/// The normal quantile of a two-sided 95% interval (Jacobian intervals are
+/// `θ ± Z_95 sd`).
+pub const Z_95: f64 = 1.959_963_984_540_054;
+
 /// How far above the minimum (in units of `s²`) the profile is computed:
 /// twice the 95% level, so the first point outside that level is usually
 /// known exactly.
@@ -289,7 +293,7 @@ pub(crate) fn analyse(
                 // grid profile's.
                 let guess = match &covariance {
                     Some(c) => {
-                        let d = 1.959_963_984_540_054 * c.sd(i);
+                        let d = Z_95 * c.sd(i);
                         (x[i] - d, x[i] + d)
                     }
                     None => {
@@ -362,7 +366,7 @@ pub(crate) fn analyse(
                         open_above: false,
                     };
                     p.interval68 = Some(around(1.0));
-                    p.interval95 = Some(around(1.959_963_984_540_054));
+                    p.interval95 = Some(around(Z_95));
                     p.source = Some(Source::Jacobian);
                 }
             }
