@@ -21,6 +21,7 @@ use crate::model::Model;
 use crate::scene::Scene;
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
+use rayon::prelude::*;
 
 /// The objective of one (scene, model): the sum of squared residuals
 /// `Σ (D − P)²` (eq. 15 before the root) as a function of the model's free
@@ -280,10 +281,15 @@ fn nelder_mead(
 pub fn refine(objective: &Objective, starts: &[Vec<f64>], steps: &[f64]) -> Refined {
     let cost = |x: &[f64]| objective.sse(x);
     let bounds = objective.bounds();
+    // The starts run in parallel; the best is chosen in start order (the
+    // first on ties), so the result does not depend on the thread count.
+    let runs: Vec<Refined> = starts
+        .par_iter()
+        .map(|start| nelder_mead(cost, bounds, (start, steps), TOLERANCE))
+        .collect();
     let mut evaluations = 0;
     let mut best: Option<Refined> = None;
-    for start in starts {
-        let r = nelder_mead(cost, bounds, (start, steps), TOLERANCE);
+    for r in runs {
         evaluations += r.evaluations;
         if best.as_ref().is_none_or(|b| r.sse < b.sse) {
             best = Some(r);

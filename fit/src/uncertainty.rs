@@ -18,6 +18,7 @@ use crate::profile::{basins, Interval, Profile, DELTA_68, DELTA_95};
 use crate::refine::{profile_at, refine, Objective};
 use crate::scene::Scene;
 use crate::search::GridProfile;
+use rayon::prelude::*;
 use std::fmt;
 use std::str::FromStr;
 
@@ -269,110 +270,116 @@ pub(crate) fn analyse(
         Some(s2) if uncertain => Covariance::new(&objective, &x, s2),
         _ => None,
     };
-    let mut parameters = Vec::new();
-    for (i, &name) in names.iter().enumerate() {
-        let Some(s) = axis_of(name) else { continue };
-        let mut p = Parameter::new(name, s.value);
-        p.flags = flags(model, name, s.value, s.values);
-        if analysis.refine {
-            // domain_bound describes the value reported: the refined one.
-            p.refined = Some(x[i]);
-            p.flags.retain(|&f| f != Edge::DomainBound);
-            if at_bound(model, name, x[i]) {
-                p.flags.push(Edge::DomainBound);
-            }
-        }
-        if analysis.uncertainty.jacobian() {
-            p.sd = covariance.as_ref().map(|c| c.sd(i));
-        }
-        // The attainable domain (Jensen's open lower end is 1e-9).
-        let domain = objective.bounds()[i];
-        match s2 {
-            Some(s2) if analysis.uncertainty.profile() => {
-                // First guesses of the 95% ends: the Jacobian's, else the
-                // grid profile's.
-                let guess = match &covariance {
-                    Some(c) => {
-                        let d = Z_95 * c.sd(i);
-                        (x[i] - d, x[i] + d)
-                    }
-                    None => {
-                        let grid_interval = profile.map(|(g, _)| {
-                            Profile {
-                                points: s
-                                    .values
-                                    .values
-                                    .iter()
-                                    .zip(&g.axes[s.axis])
-                                    .map(|(&v, &(e, _))| (v, e))
-                                    .collect(),
-                                cutoff: g.cutoff,
-                            }
-                            .interval(
-                                (x[i], sse),
-                                DELTA_95,
-                                s2,
-                                domain,
-                            )
-                        });
-                        grid_interval.map_or((x[i] - steps[i], x[i] + steps[i]), |g| (g.lo, g.hi))
-                    }
-                };
-                let probe = Probe {
-                    objective: &objective,
-                    covariance: covariance.as_ref(),
-                    x: &x,
-                    sse,
-                    s2,
-                    steps: &steps,
-                    domain,
-                };
-                let range = s
-                    .values
-                    .values
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                        (lo.min(v), hi.max(v))
-                    });
-                let (lo68, lo95, open_below) = probe.end(i, -1.0, x[i] - guess.0, range);
-                let (hi68, hi95, open_above) = probe.end(i, 1.0, guess.1 - x[i], range);
-                if open_below {
-                    p.flags.push(Edge::OpenBelow);
+    // Each parameter's interval is independent of the others': they run in
+    // parallel, collected in parameter order.
+    let parameters: Vec<Parameter> = names
+        .par_iter()
+        .enumerate()
+        .filter_map(|(i, &name)| {
+            let s = axis_of(name)?;
+            let mut p = Parameter::new(name, s.value);
+            p.flags = flags(model, name, s.value, s.values);
+            if analysis.refine {
+                // domain_bound describes the value reported: the refined one.
+                p.refined = Some(x[i]);
+                p.flags.retain(|&f| f != Edge::DomainBound);
+                if at_bound(model, name, x[i]) {
+                    p.flags.push(Edge::DomainBound);
                 }
-                if open_above {
-                    p.flags.push(Edge::OpenAbove);
-                }
-                p.interval68 = Some(Interval {
-                    lo: lo68,
-                    hi: hi68,
-                    open_below,
-                    open_above,
-                });
-                p.interval95 = Some(Interval {
-                    lo: lo95,
-                    hi: hi95,
-                    open_below,
-                    open_above,
-                });
-                p.source = Some(Source::Profile);
             }
-            _ => {
-                if let Some(sd) = p.sd {
-                    let (lo, hi) = domain;
-                    let around = |k: f64| Interval {
-                        lo: (x[i] - k * sd).max(lo),
-                        hi: (x[i] + k * sd).min(hi),
-                        open_below: false,
-                        open_above: false,
+            if analysis.uncertainty.jacobian() {
+                p.sd = covariance.as_ref().map(|c| c.sd(i));
+            }
+            // The attainable domain (Jensen's open lower end is 1e-9).
+            let domain = objective.bounds()[i];
+            match s2 {
+                Some(s2) if analysis.uncertainty.profile() => {
+                    // First guesses of the 95% ends: the Jacobian's, else the
+                    // grid profile's.
+                    let guess = match &covariance {
+                        Some(c) => {
+                            let d = Z_95 * c.sd(i);
+                            (x[i] - d, x[i] + d)
+                        }
+                        None => {
+                            let grid_interval = profile.map(|(g, _)| {
+                                Profile {
+                                    points: s
+                                        .values
+                                        .values
+                                        .iter()
+                                        .zip(&g.axes[s.axis])
+                                        .map(|(&v, &(e, _))| (v, e))
+                                        .collect(),
+                                    cutoff: g.cutoff,
+                                }
+                                .interval(
+                                    (x[i], sse),
+                                    DELTA_95,
+                                    s2,
+                                    domain,
+                                )
+                            });
+                            grid_interval
+                                .map_or((x[i] - steps[i], x[i] + steps[i]), |g| (g.lo, g.hi))
+                        }
                     };
-                    p.interval68 = Some(around(1.0));
-                    p.interval95 = Some(around(Z_95));
-                    p.source = Some(Source::Jacobian);
+                    let probe = Probe {
+                        objective: &objective,
+                        covariance: covariance.as_ref(),
+                        x: &x,
+                        sse,
+                        s2,
+                        steps: &steps,
+                        domain,
+                    };
+                    let range = s
+                        .values
+                        .values
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                            (lo.min(v), hi.max(v))
+                        });
+                    let (lo68, lo95, open_below) = probe.end(i, -1.0, x[i] - guess.0, range);
+                    let (hi68, hi95, open_above) = probe.end(i, 1.0, guess.1 - x[i], range);
+                    if open_below {
+                        p.flags.push(Edge::OpenBelow);
+                    }
+                    if open_above {
+                        p.flags.push(Edge::OpenAbove);
+                    }
+                    p.interval68 = Some(Interval {
+                        lo: lo68,
+                        hi: hi68,
+                        open_below,
+                        open_above,
+                    });
+                    p.interval95 = Some(Interval {
+                        lo: lo95,
+                        hi: hi95,
+                        open_below,
+                        open_above,
+                    });
+                    p.source = Some(Source::Profile);
+                }
+                _ => {
+                    if let Some(sd) = p.sd {
+                        let (lo, hi) = domain;
+                        let around = |k: f64| Interval {
+                            lo: (x[i] - k * sd).max(lo),
+                            hi: (x[i] + k * sd).min(hi),
+                            open_below: false,
+                            open_above: false,
+                        };
+                        p.interval68 = Some(around(1.0));
+                        p.interval95 = Some(around(Z_95));
+                        p.source = Some(Source::Jacobian);
+                    }
                 }
             }
-        }
-        parameters.push(p);
-    }
+            Some(p)
+        })
+        .collect();
     Analysed {
         refined,
         parameters,
@@ -386,7 +393,8 @@ impl Probe<'_> {
     /// the profile's path (at the minimum without a Jacobian).
     fn height(&self, i: usize, value: f64) -> f64 {
         let start = path_start(self.x, self.covariance, i, value);
-        let r = profile_at(self.objective, i, value, &start, self.steps);
+        let steps = path_steps(self.steps, self.covariance, i);
+        let r = profile_at(self.objective, i, value, &start, &steps);
         (r.sse - self.sse).max(0.0).sqrt()
     }
 }
@@ -401,6 +409,27 @@ fn path_start(x: &[f64], covariance: Option<&Covariance>, i: usize, value: f64) 
             .map(|k| x[k] + c.matrix[k][i] / c.matrix[i][i] * (value - x[i]))
             .collect(),
         None => x.to_vec(),
+    }
+}
+
+/// First simplex steps of a profile probe of parameter `i`: each other
+/// parameter's standard deviation given parameter `i`
+/// (`sqrt(C_kk − C_ki²/C_ii)`, the width of the valley across the path),
+/// at most its grid step; the grid steps without a covariance.
+fn path_steps(steps: &[f64], covariance: Option<&Covariance>, i: usize) -> Vec<f64> {
+    match covariance {
+        Some(c) => (0..steps.len())
+            .map(|k| {
+                let m = &c.matrix;
+                let across = (m[k][k] - m[k][i] * m[k][i] / m[i][i]).max(0.0).sqrt();
+                if across > 0.0 {
+                    across.min(steps[k])
+                } else {
+                    steps[k]
+                }
+            })
+            .collect(),
+        None => steps.to_vec(),
     }
 }
 
