@@ -1,0 +1,72 @@
+//! `examples/evaluate.c` builds against the committed header and the static
+//! library, and prints the Rust core's f32 bits. Needs a C compiler (`cc`);
+//! without one it says it was skipped, where the user sees it, unless
+//! `LAMINAR_REQUIRE_CC=1` (CI) makes that a failure.
+
+use laminar_core::{total_radiance, Angles, Correlation, Geometry, Params};
+use std::path::PathBuf;
+use std::process::Command;
+
+/// The directory cargo put this crate's static library in (the test binary
+/// is in its `deps/`).
+fn library_dir() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().unwrap().parent().unwrap().to_path_buf()
+}
+
+#[test]
+fn c_example_prints_the_cores_bits() {
+    let dir = env!("CARGO_MANIFEST_DIR");
+    let lib = library_dir().join("liblaminar_ffi.a");
+    assert!(lib.exists(), "{} was not built", lib.display());
+    let exe = std::env::temp_dir().join(format!("laminar-evaluate-{}", std::process::id()));
+    let built = Command::new("cc")
+        .args(["-std=c99", "-Wall", "-Werror", "-I"])
+        .arg(format!("{dir}/include"))
+        .arg(format!("{dir}/examples/evaluate.c"))
+        .arg(&lib)
+        .args(["-lm", "-lpthread", "-ldl", "-o"])
+        .arg(&exe)
+        .output();
+    let built = match built {
+        Ok(b) => b,
+        Err(e) if std::env::var_os("LAMINAR_REQUIRE_CC").is_none() => {
+            let _ = std::io::Write::write_all(
+                &mut std::io::stderr(),
+                format!("SKIPPED C example: no C compiler `cc` ({e})\n").as_bytes(),
+            );
+            return;
+        }
+        Err(e) => panic!("cc: {e}"),
+    };
+    assert!(
+        built.status.success(),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let run = Command::new(&exe).output().unwrap();
+    let _ = std::fs::remove_file(&exe);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = String::from_utf8(run.stdout).unwrap();
+    let p = Params::new(1.48, 0.39, 1.44, 0.17).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    for (k, line) in lines.iter().take(12).enumerate() {
+        let a = Angles::new(
+            0.1 * k as f64,
+            0.05 + 0.11 * k as f64,
+            -2.5 + 0.4 * k as f64,
+        )
+        .unwrap();
+        let v = total_radiance(&Geometry::<f32>::splat(&a), Correlation::Exponential, &p);
+        let bits = line.split_whitespace().next().unwrap();
+        assert_eq!(bits, format!("{:08x}", v.to_bits()), "geometry {k}");
+    }
+    assert_eq!(lines[12], "bad n: 5");
+    assert_eq!(lines[13], "bad theta_s: 8, out[3] still -1");
+    assert_eq!(lines[14], "null output: 1");
+    assert_eq!(lines[15], "bad correlation: 2");
+}
