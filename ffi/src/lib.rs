@@ -120,27 +120,38 @@ fn status(result: Result<(), Status>) -> Status {
     result.err().unwrap_or(Status::Ok)
 }
 
-/// Evaluates `total` into `out[k]` for each of the `count` geometries
-/// `angles[k]` (eq. 8 in `L` precision, as `laminar_core::total_radiance`).
-fn evaluate<L: laminar_core::Lane>(
+/// The correlation, the parameters and the `count` geometries at
+/// `angles_in`, every one of them checked (before anything is written).
+fn checked<'a>(
     corr: u32,
     p: &LaminarParams,
     angles_in: *const LaminarAngles,
     count: usize,
-    out: *mut L,
-    each: impl Fn(&Geometry<L>, Correlation, &Params) -> L,
-) -> Result<(), Status> {
+) -> Result<(Correlation, Params, &'a [LaminarAngles]), Status> {
     let corr = correlation(corr)?;
     let p = params(p)?;
     let input = buffers::input(angles_in, count)?;
-    // Every geometry is checked before anything is written.
     for a in input {
         angles(a)?;
     }
-    let out = buffers::output(out, count)?;
-    for (slot, a) in out.iter_mut().zip(input) {
+    Ok((corr, p, input))
+}
+
+/// Writes `width` values per geometry into `out` (`width · count` slots):
+/// `each(geometry, correlation, parameters, slots)` for each of the
+/// `count` checked geometries at `angles_in`.
+fn evaluate<L: laminar_core::Lane>(
+    (corr, p): (u32, &LaminarParams),
+    (angles_in, count): (*const LaminarAngles, usize),
+    (out, width): (*mut L, usize),
+    each: impl Fn(&Geometry<L>, Correlation, &Params, &mut [L]),
+) -> Result<(), Status> {
+    let (corr, p, input) = checked(corr, p, angles_in, count)?;
+    let slots = count.checked_mul(width).ok_or(Status::NullPointer)?;
+    let out = buffers::output(out, slots)?;
+    for (chunk, a) in out.chunks_exact_mut(width).zip(input) {
         let g = Geometry::<L>::splat(&angles(a)?);
-        *slot = each(&g, corr, &p);
+        each(&g, corr, &p, chunk);
     }
     Ok(())
 }
@@ -175,12 +186,10 @@ mod exports {
         out: *mut f32,
     ) -> Status {
         status(evaluate(
-            corr,
-            &p,
-            angles,
-            count,
-            out,
-            total_radiance::<f32>,
+            (corr, &p),
+            (angles, count),
+            (out, 1),
+            |g, c, p, slot| slot[0] = total_radiance(g, c, p),
         ))
     }
 
@@ -194,12 +203,10 @@ mod exports {
         out: *mut f64,
     ) -> Status {
         status(evaluate(
-            corr,
-            &p,
-            angles,
-            count,
-            out,
-            total_radiance::<f64>,
+            (corr, &p),
+            (angles, count),
+            (out, 1),
+            |g, c, p, slot| slot[0] = total_radiance(g, c, p),
         ))
     }
 
@@ -213,24 +220,13 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        let run = || -> Result<(), Status> {
-            let corr = correlation(corr)?;
-            let p = params(&p)?;
-            let input = buffers::input(angles_in, count)?;
-            for a in input {
-                angles(a)?;
-            }
-            let slots = count
-                .checked_mul(LAMINAR_COMPONENTS)
-                .ok_or(Status::NullPointer)?;
-            let out = buffers::output(out, slots)?;
-            for (chunk, a) in out.chunks_exact_mut(LAMINAR_COMPONENTS).zip(input) {
-                let g = Geometry::<f64>::splat(&angles(a)?);
-                chunk.copy_from_slice(&components(&g, corr, &p).to_array());
-            }
-            Ok(())
-        };
-        status(run())
+        let width = LAMINAR_COMPONENTS;
+        status(evaluate(
+            (corr, &p),
+            (angles_in, count),
+            (out, width),
+            |g, c, p, chunk| chunk.copy_from_slice(&components(g, c, p).to_array()),
+        ))
     }
 }
 
@@ -242,4 +238,59 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     // Unreachable: no function of this crate panics (checked by linking
     // the firmware image without a panic path).
     loop {}
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const P: LaminarParams = LaminarParams {
+        slope: 0.8,
+        beta: 0.3,
+        n: 1.45,
+        a: 0.2,
+    };
+
+    #[test]
+    fn components_are_the_cores_and_bad_input_writes_nothing() {
+        let geometries = [
+            LaminarAngles {
+                theta_i: 0.4,
+                theta_s: 0.7,
+                phi_s: 2.5,
+            },
+            LaminarAngles {
+                theta_i: 1.2,
+                theta_s: 0.1,
+                phi_s: -1.0,
+            },
+        ];
+        let mut out = [0.0f64; 2 * LAMINAR_COMPONENTS];
+        let s = laminar_components_f64(1, P, geometries.as_ptr(), 2, out.as_mut_ptr());
+        assert_eq!(s, Status::Ok);
+        let p = Params::new(0.8, 0.3, 1.45, 0.2).unwrap();
+        for (k, a) in geometries.iter().enumerate() {
+            let g = Geometry::<f64>::splat(&angles(a).unwrap());
+            let want = components(&g, Correlation::Gaussian, &p).to_array();
+            let got = &out[k * LAMINAR_COMPONENTS..(k + 1) * LAMINAR_COMPONENTS];
+            assert_eq!(got, &want[..]);
+        }
+        // The last component is the total.
+        let mut total = [0.0f64; 2];
+        laminar_total_radiance_f64(1, P, geometries.as_ptr(), 2, total.as_mut_ptr());
+        assert_eq!(total[1], out[2 * LAMINAR_COMPONENTS - 1]);
+        // Bad input: a status, and the output untouched.
+        let mut untouched = [7.0f64; LAMINAR_COMPONENTS];
+        let bad = LaminarParams { beta: 1.5, ..P };
+        let s = laminar_components_f64(0, bad, geometries.as_ptr(), 1, untouched.as_mut_ptr());
+        assert_eq!((s, untouched), (Status::BadBeta, [7.0; LAMINAR_COMPONENTS]));
+        let s = laminar_components_f64(0, P, core::ptr::null(), 1, untouched.as_mut_ptr());
+        assert_eq!(s, Status::NullPointer);
+        let nan = LaminarAngles {
+            phi_s: f64::NAN,
+            ..geometries[0]
+        };
+        assert_eq!(laminar_validate_angles(nan), Status::BadPhiS);
+        assert_eq!(laminar_validate_params(P), Status::Ok);
+    }
 }
