@@ -19,11 +19,13 @@
 
 // On a hosted target the standard library provides the panic handler (no
 // function here can panic; the handler is never reached). On bare metal
-// this crate provides one, so that a C firmware can link the static library.
+// this crate provides one, so that a C firmware can link the static library
+// (and a Rust firmware uses it too).
 #[cfg(not(target_os = "none"))]
 extern crate std;
 
 mod buffers;
+pub mod probe;
 
 use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, InputError, Params};
 

@@ -4,20 +4,33 @@
 //! `LAMINAR_REQUIRE_CC=1` (CI) makes that a failure.
 
 use laminar_core::{total_radiance, Angles, Correlation, Geometry, Params};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// The directory cargo put this crate's static library in (the test binary
-/// is in its `deps/`).
-fn library_dir() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    exe.parent().unwrap().parent().unwrap().to_path_buf()
+/// Builds this crate's static library (`cargo test` builds only the rlib)
+/// into its own target directory and returns its path.
+fn static_library() -> PathBuf {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let target_dir = dir.join("../target/ffi-c");
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let built = Command::new(cargo)
+        .current_dir(dir)
+        .args(["build", "-p", "laminar-ffi", "--lib"])
+        .env("CARGO_TARGET_DIR", &target_dir)
+        .output()
+        .expect("cargo runs");
+    assert!(
+        built.status.success(),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    target_dir.join("debug/liblaminar_ffi.a")
 }
 
 #[test]
 fn c_example_prints_the_cores_bits() {
     let dir = env!("CARGO_MANIFEST_DIR");
-    let lib = library_dir().join("liblaminar_ffi.a");
+    let lib = static_library();
     assert!(lib.exists(), "{} was not built", lib.display());
     let exe = std::env::temp_dir().join(format!("laminar-evaluate-{}", std::process::id()));
     let built = Command::new("cc")
