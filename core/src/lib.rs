@@ -90,6 +90,7 @@ pub mod fresnel;
 pub mod geometry;
 pub mod lane;
 pub mod measures;
+pub mod probe;
 pub mod radiance;
 pub mod subsurface;
 pub mod surface;

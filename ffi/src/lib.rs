@@ -158,6 +158,18 @@ fn evaluate<L: laminar_core::Lane>(
     Ok(())
 }
 
+/// The total radiance (eq. 8) in `L` precision at `count` geometries.
+fn total<L: laminar_core::Lane>(
+    corr: u32,
+    p: &LaminarParams,
+    input: (*const LaminarAngles, usize),
+    out: *mut L,
+) -> Status {
+    status(evaluate((corr, p), input, (out, 1), |g, c, p, slot| {
+        slot[0] = total_radiance(g, c, p)
+    }))
+}
+
 /// The exported functions. `#[no_mangle]` counts as unsafe code (two
 /// libraries exporting one name is undefined behaviour at link time); the
 /// names all start with `laminar_`.
@@ -187,12 +199,7 @@ mod exports {
         count: usize,
         out: *mut f32,
     ) -> Status {
-        status(evaluate(
-            (corr, &p),
-            (angles, count),
-            (out, 1),
-            |g, c, p, slot| slot[0] = total_radiance(g, c, p),
-        ))
+        total(corr, &p, (angles, count), out)
     }
 
     /// The total radiance (eq. 8) in f64 at `count` geometries into `out`.
@@ -204,12 +211,7 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        status(evaluate(
-            (corr, &p),
-            (angles, count),
-            (out, 1),
-            |g, c, p, slot| slot[0] = total_radiance(g, c, p),
-        ))
+        total(corr, &p, (angles, count), out)
     }
 
     /// Every component (in the order of [`LAMINAR_COMPONENTS`]) in f64 at

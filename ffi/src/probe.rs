@@ -1,40 +1,13 @@
 //! The probe cases of the firmware test (`ffi/firmware`, run on an
-//! emulated Cortex-M4 by `ffi/tests/firmware.rs`): geometries and
-//! parameter sets at which the device and the host evaluate the model
-//! through the C ABI, to compare bit for bit.
+//! emulated Cortex-M4 by `ffi/tests/firmware.rs`): the core's parity cases
+//! ([`laminar_core::probe`]) in the C ABI's types.
 
 use crate::{LaminarAngles, LaminarParams};
-use core::f64::consts::{FRAC_PI_2, PI};
+pub use laminar_core::probe::{GEOMETRIES, PARAMS};
 
-/// Geometries probed.
-pub const GEOMETRIES: u32 = 64;
-/// Parameter sets probed.
-pub const PARAMS: u32 = 6;
-
-/// Geometry `g`: hard cases first (normal, grazing, φs wrap), then a
-/// deterministic spread over the hemisphere.
+/// Geometry `g` ([`laminar_core::probe::angles`]).
 pub fn angles(g: u32) -> LaminarAngles {
-    let hard = [
-        (0.0, 0.0, 0.0),
-        (0.0, 1e-6, 0.0),
-        (FRAC_PI_2, FRAC_PI_2, 0.0),
-        (FRAC_PI_2, 0.3, PI),
-        (0.7, 0.7, 0.0),
-        (0.7, 0.7, -PI),
-        (1.2, FRAC_PI_2, 2.0),
-        (1e-6, 1.4, -3.0),
-    ];
-    let (theta_i, theta_s, phi_s) = match hard.get(g as usize) {
-        Some(&h) => h,
-        None => {
-            let t = g as f64;
-            (
-                FRAC_PI_2 * ((t * 0.618_033_988_75) % 1.0),
-                FRAC_PI_2 * ((t * 0.414_213_562_37) % 1.0),
-                PI * (2.0 * ((t * 0.732_050_807_57) % 1.0) - 1.0),
-            )
-        }
-    };
+    let (theta_i, theta_s, phi_s) = laminar_core::probe::angles(g);
     LaminarAngles {
         theta_i,
         theta_s,
@@ -42,16 +15,8 @@ pub fn angles(g: u32) -> LaminarAngles {
     }
 }
 
-/// Parameter set `j` (`j < PARAMS`): the ends of the paper grid and of
-/// the domain, and interior points.
+/// Parameter set `j` ([`laminar_core::probe::params`]).
 pub fn params(j: u32) -> LaminarParams {
-    let (slope, beta, n, a) = [
-        (0.12, 0.01, 1.3, 0.0),
-        (0.52, 0.39, 1.42, 0.17),
-        (4.04, 1.0, 1.5, 1.0),
-        (1e-3, 0.5, 1.0, 0.5),
-        (1e3, 0.0, 2.5, 0.9),
-        (1.48, 0.73, 1.44, 0.05),
-    ][(j % PARAMS) as usize];
+    let (slope, beta, n, a) = laminar_core::probe::params(j);
     LaminarParams { slope, beta, n, a }
 }

@@ -4,16 +4,15 @@
 //! Value `i` is decoded as (geometry, parameter set, correlation, output),
 //! outputs being the seven model components plus Jensen and Oren–Nayar.
 
-use core::f64::consts::{FRAC_PI_2, PI};
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
-use laminar_core::{components, f32x8, Angles, Correlation, Geometry, Lane, Params};
+use laminar_core::{components, f32x8, probe, Angles, Correlation, Geometry, Lane, Params};
 
 /// Geometries probed (a multiple of 8).
-pub const GEOMETRIES: u32 = 64;
-const PARAMS: u32 = 6;
+pub const GEOMETRIES: u32 = probe::GEOMETRIES;
+const PARAMS: u32 = probe::PARAMS;
 const OUTPUTS: u32 = 9;
 const PER_GEOMETRY: u32 = PARAMS * 2 * OUTPUTS;
 
@@ -22,40 +21,15 @@ pub fn count() -> u32 {
     GEOMETRIES * PER_GEOMETRY
 }
 
-/// Geometry `g`: hard cases first (normal, grazing, φs wrap), then a
-/// deterministic spread over the hemisphere.
+/// Geometry `g` ([`probe::angles`]).
 pub fn angles(g: u32) -> Angles {
-    let hard = [
-        (0.0, 0.0, 0.0),
-        (0.0, 1e-6, 0.0),
-        (FRAC_PI_2, FRAC_PI_2, 0.0),
-        (FRAC_PI_2, 0.3, PI),
-        (0.7, 0.7, 0.0),
-        (0.7, 0.7, -PI),
-        (1.2, FRAC_PI_2, 2.0),
-        (1e-6, 1.4, -3.0),
-    ];
-    if (g as usize) < hard.len() {
-        let (a, b, c) = hard[g as usize];
-        return Angles::new(a, b, c).unwrap_or_else(|_| unreachable!());
-    }
-    let t = g as f64;
-    let ti = FRAC_PI_2 * ((t * 0.618_033_988_75) % 1.0);
-    let ts = FRAC_PI_2 * ((t * 0.414_213_562_37) % 1.0);
-    let ps = PI * (2.0 * ((t * 0.732_050_807_57) % 1.0) - 1.0);
-    Angles::new(ti, ts, ps).unwrap_or_else(|_| unreachable!())
+    let (theta_i, theta_s, phi_s) = probe::angles(g);
+    Angles::new(theta_i, theta_s, phi_s).unwrap_or_else(|_| unreachable!())
 }
 
 fn params(j: u32) -> Params {
-    let v = [
-        (0.12, 0.01, 1.3, 0.0),
-        (0.52, 0.39, 1.42, 0.17),
-        (4.04, 1.0, 1.5, 1.0),
-        (1e-3, 0.5, 1.0, 0.5),
-        (1e3, 0.0, 2.5, 0.9),
-        (1.48, 0.73, 1.44, 0.05),
-    ][j as usize];
-    Params::new(v.0, v.1, v.2, v.3).unwrap_or_else(|_| unreachable!())
+    let (slope, beta, n, a) = probe::params(j);
+    Params::new(slope, beta, n, a).unwrap_or_else(|_| unreachable!())
 }
 
 struct Index {
