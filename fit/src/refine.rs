@@ -40,12 +40,7 @@ impl<'a> Objective<'a> {
     /// model's parameters in output order, without a of the Ragheb–Hancock
     /// variants (fixed at 0).
     pub fn new(scene: &'a Scene, model: Model) -> Self {
-        let names: Vec<&'static str> = template(model)
-            .pairs()
-            .into_iter()
-            .map(|(name, _)| name)
-            .filter(|&name| !(model.is_ragheb_hancock() && name == "a"))
-            .collect();
+        let names = free_names(model);
         let bounds = names
             .iter()
             .map(|&name| attainable(domain(model, name)))
@@ -136,6 +131,17 @@ impl<'a> Objective<'a> {
             Err(_) => f64::INFINITY,
         }
     }
+}
+
+/// The free parameters of `model` in output order: its parameters, without
+/// a of the Ragheb–Hancock variants (fixed at 0).
+pub fn free_names(model: Model) -> Vec<&'static str> {
+    template(model)
+        .pairs()
+        .into_iter()
+        .map(|(name, _)| name)
+        .filter(|&name| !(model.is_ragheb_hancock() && name == "a"))
+        .collect()
 }
 
 /// A model's parameters (values unused) to read names and kind from.

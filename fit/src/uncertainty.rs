@@ -15,7 +15,7 @@ use crate::fit::Estimate;
 use crate::grid::Axis;
 use crate::model::Model;
 use crate::profile::{basins, Interval, Profile, DELTA_68, DELTA_95};
-use crate::refine::{profile_at, refine, Objective};
+use crate::refine::{free_names, profile_at, refine, Objective};
 use crate::scene::Scene;
 use crate::search::GridProfile;
 use rayon::prelude::*;
@@ -215,11 +215,24 @@ pub(crate) fn analyse(
     profile: Option<(&GridProfile, &[usize])>,
     analysis: Analysis,
 ) -> Analysed {
+    let axis_of = |name: &str| searched.iter().find(|s| s.name == name);
+    if analysis == Analysis::NONE {
+        // The grid search alone: the grid values' flags, and no model
+        // evaluation (batches of pixels take this path).
+        let parameters = free_names(model)
+            .into_iter()
+            .filter_map(|name| axis_of(name).map(|s| grid_parameter(model, s)))
+            .collect();
+        return Analysed {
+            refined: None,
+            parameters,
+            covariance: None,
+        };
+    }
     let objective = Objective::new(scene, model);
     let names = objective.names().to_vec();
     let x_grid = objective.values(best.params());
     let sse_grid = objective.sse(&x_grid);
-    let axis_of = |name: &str| searched.iter().find(|s| s.name == name);
 
     // First simplex steps: one grid step per parameter.
     let steps: Vec<f64> = names
@@ -277,8 +290,7 @@ pub(crate) fn analyse(
         .enumerate()
         .filter_map(|(i, &name)| {
             let s = axis_of(name)?;
-            let mut p = Parameter::new(name, s.value);
-            p.flags = flags(model, name, s.value, s.values);
+            let mut p = grid_parameter(model, s);
             if analysis.refine {
                 // domain_bound describes the value reported: the refined one.
                 p.refined = Some(x[i]);
@@ -513,6 +525,14 @@ impl Probe<'_> {
             distance = d * grow.clamp(1.25, 4.0);
         }
         (last_probe, last_probe, true)
+    }
+}
+
+/// A searched parameter with its grid value and that value's flags.
+fn grid_parameter(model: Model, s: &Searched) -> Parameter {
+    Parameter {
+        flags: flags(model, s.name, s.value, s.values),
+        ..Parameter::new(s.name, s.value)
     }
 }
 
