@@ -5,6 +5,7 @@
 use crate::error::InputError;
 use crate::fresnel::refract_cos;
 use crate::lane::Lane;
+use crate::trig::{sin_cos, P1, P2};
 use core::f64::consts::{FRAC_PI_2, PI};
 
 /// The angles of one measurement in the paper's Beckmann geometry (radians):
@@ -143,6 +144,126 @@ pub struct Geometry<L> {
     pub lead: L,
     /// `v_xy² / v_z²`, so that eqs. 1–2 use `x = ratio · (T/σ)²`; +∞ where `v_z = 0`.
     pub ratio: L,
+}
+
+/// One measurement's directions as a sensor gives them: the sines and
+/// cosines of θi, θs (each in `[0, 1]`) and of φs (each in `[−1, 1]`), in the
+/// paper's frame (docs/conventions.md §1). Input of
+/// [`Geometry::from_directions`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Directions {
+    /// cos θi.
+    pub cos_i: f32,
+    /// sin θi.
+    pub sin_i: f32,
+    /// cos θs.
+    pub cos_s: f32,
+    /// sin θs.
+    pub sin_s: f32,
+    /// cos φs.
+    pub cos_phi: f32,
+    /// sin φs.
+    pub sin_phi: f32,
+}
+
+/// How far `cos² + sin²` of a [`Directions`] pair may be from 1.
+pub const UNIT_TOLERANCE: f32 = 1e-4;
+
+/// The largest `f32` not above π/2 (the `f32` π/2 itself is above it).
+const F32_FRAC_PI_2: f32 = 1.570_796_2;
+/// The largest `f32` not above π.
+const F32_PI: f32 = 3.141_592_5;
+
+fn out_of_range(name: &'static str, value: f32, allowed: &'static str) -> InputError {
+    InputError::OutOfRange {
+        name,
+        value: value as f64,
+        allowed,
+    }
+}
+
+/// The geometry of one measurement in `f32` arithmetic alone (no `f64`
+/// operation: on a single-precision FPU such as the Cortex-M4F's, each
+/// would be a software call). Error budget against the `f64` constructor
+/// ([`Geometry::from_lanes`]), measured by `core/tests/geometry_f32.rs`:
+/// the table in docs/conventions.md §2.
+impl Geometry<f32> {
+    /// From the angles in `f32` radians: `θi, θs ∈ [0, π/2]`, `φs ∈ [−π, π]`.
+    /// `v_xy²` by the same cancellation-free form as the `f64` constructor,
+    /// with five [`sin_cos`](crate::trig::sin_cos) calls.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
+    pub fn from_angles_f32(theta_i: f32, theta_s: f32, phi_s: f32) -> Result<Self, InputError> {
+        let zenith = |name, v: f32| {
+            if (0.0..=F32_FRAC_PI_2).contains(&v) {
+                Ok(v)
+            } else {
+                Err(out_of_range(name, v, "[0, π/2]"))
+            }
+        };
+        let (ti, ts) = (zenith("theta_i", theta_i)?, zenith("theta_s", theta_s)?);
+        if !(-F32_PI..=F32_PI).contains(&phi_s) {
+            return Err(out_of_range("phi_s", phi_s, "[−π, π]"));
+        }
+        let (sin_i, cos_i) = sin_cos(ti);
+        let (sin_s, cos_s) = sin_cos(ts);
+        let (sin_half_phi, cos_half_phi) = sin_cos(0.5 * phi_s);
+        // cos((θi + θs)/2) as the sine of the half-sum of the complements
+        // π/2 − θ, exact where the half-sum nears π/2 (see `vxy2`).
+        let complement = |t: f32| (P1 - t) + P2;
+        let (cos_half_sum, _) = sin_cos(0.5 * (complement(ti) + complement(ts)));
+        let (sin_half_diff, _) = sin_cos(0.5 * (ti - ts));
+        let dx = 2.0 * cos_half_sum * sin_half_diff + 2.0 * sin_s * sin_half_phi * sin_half_phi;
+        let dy = sin_s * (2.0 * sin_half_phi * cos_half_phi);
+        Ok(Self::from_parts(
+            [cos_i.clamp(0.0, 1.0), cos_s.clamp(0.0, 1.0)],
+            [(sin_i * sin_i).min(1.0), (sin_s * sin_s).min(1.0)],
+            dx * dx + dy * dy,
+        ))
+    }
+
+    /// From sines and cosines as a sensor gives them (each pair's
+    /// `cos² + sin²` within [`UNIT_TOLERANCE`] of 1). `v_xy²` is formed as
+    /// `(sin θi − sin θs) + sin θs (1 − cos φs)` and `sin θs sin φs`, with
+    /// `1 − cos φs = sin²φs / (1 + cos φs)` where `cos φs > 0`: nothing
+    /// cancels but the difference of the two given sines, which is exact
+    /// where they are close (Sterbenz).
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`
+    /// (a sine or cosine out of range, or a pair off the unit circle).
+    pub fn from_directions(d: &Directions) -> Result<Self, InputError> {
+        let pair = |name, c: f32, s: f32, lo: f32| {
+            let unit = c * c + s * s - 1.0;
+            if c >= lo && s >= lo && c <= 1.0 && s <= 1.0 && unit.abs() <= UNIT_TOLERANCE {
+                Ok(())
+            } else if unit.abs() <= UNIT_TOLERANCE {
+                Err(out_of_range(
+                    name,
+                    if c < lo || c > 1.0 { c } else { s },
+                    "cosine and sine in range",
+                ))
+            } else {
+                Err(out_of_range(name, unit, "cos² + sin² − 1 within 1e-4"))
+            }
+        };
+        pair("theta_i", d.cos_i, d.sin_i, 0.0)?;
+        pair("theta_s", d.cos_s, d.sin_s, 0.0)?;
+        pair("phi_s", d.cos_phi, d.sin_phi, -1.0)?;
+        let one_minus_cos_phi = if d.cos_phi > 0.0 {
+            d.sin_phi * d.sin_phi / (1.0 + d.cos_phi)
+        } else {
+            1.0 - d.cos_phi
+        };
+        let dx = (d.sin_i - d.sin_s) + d.sin_s * one_minus_cos_phi;
+        let dy = d.sin_s * d.sin_phi;
+        Ok(Self::from_parts(
+            [d.cos_i, d.cos_s],
+            [(d.sin_i * d.sin_i).min(1.0), (d.sin_s * d.sin_s).min(1.0)],
+            dx * dx + dy * dy,
+        ))
+    }
 }
 
 impl<L: Lane> Geometry<L> {

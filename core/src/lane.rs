@@ -94,6 +94,8 @@ pub trait Real: Lane<Scalar = Self, Mask = bool> + PartialOrd + Default {
     fn to_f64(self) -> f64;
     /// Degree of the Taylor polynomial of `exp` on its reduced argument.
     const EXP_DEGREE: usize;
+    /// Its coefficients `1/k!` in this precision (a compile-time table).
+    const INV_FACTORIALS: [Self; 16];
     /// Below this argument `exp` returns exactly 0 (a flush: `exp(EXP_MIN)`
     /// is just above the smallest normal number).
     const EXP_MIN: f64;
@@ -125,7 +127,7 @@ impl Lane for f32 {
     }
     #[inline]
     fn sqrt(self) -> Self {
-        libm::sqrtf(self)
+        crate::sqrt::sqrtf(self)
     }
     #[inline]
     fn lt(self, rhs: Self) -> bool {
@@ -163,6 +165,15 @@ impl Real for f32 {
         self as f64
     }
     const EXP_DEGREE: usize = 7;
+    const INV_FACTORIALS: [f32; 16] = {
+        let mut t = [0.0f32; 16];
+        let mut k = 0;
+        while k < 16 {
+            t[k] = crate::exp::INV_FACTORIALS_F64[k] as f32;
+            k += 1;
+        }
+        t
+    };
     const EXP_MIN: f64 = -87.0;
     const EXP_MAX: f64 = 88.0;
     const LN2_HI: f64 = 0.693_359_375;
@@ -226,6 +237,7 @@ impl Real for f64 {
         self
     }
     const EXP_DEGREE: usize = 13;
+    const INV_FACTORIALS: [f64; 16] = crate::exp::INV_FACTORIALS_F64;
     const EXP_MIN: f64 = -708.0;
     const EXP_MAX: f64 = 709.0;
     const LN2_HI: f64 = 6.931_471_803_691_238e-1;

@@ -77,7 +77,7 @@
 //! only, on geometry and σ/T, on geometry and n, or on geometry and a.
 #![no_std]
 #![forbid(missing_docs)]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)] // allowed in `sqrt` alone (one FPU instruction)
 
 #[cfg(test)]
 extern crate std;
@@ -92,8 +92,10 @@ pub mod lane;
 pub mod measures;
 pub mod probe;
 pub mod radiance;
+mod sqrt;
 pub mod subsurface;
 pub mod surface;
+pub mod trig;
 
 pub use absorption::{absorbed, attenuation, energy_budget, transmitted, EnergyBudget};
 pub use error::InputError;
@@ -101,10 +103,13 @@ pub use fresnel::{
     fresnel, fresnel_from_cosines, fresnel_pair, refract_cos, solid_angle, transmittance,
     transmittance_from_cosines,
 };
-pub use geometry::{wrap_pi, Angles, Geometry};
+pub use geometry::{wrap_pi, Angles, Directions, Geometry};
 pub use lane::{Lane, Mask, Real};
 pub use measures::{chi_square_per_dof, normalise_by_max, rms_error, ChiSquare, Normalisation};
-pub use radiance::{components, mix, total_radiance, Components, Params};
+pub use radiance::{
+    components, components_in, mix, total_radiance, total_radiance_in, Components, LaneParams,
+    Params,
+};
 pub use subsurface::{absorption_factor, subsurface_base, subsurface_radiance, Interface};
 pub use surface::{inverse_slope_squared, surface_radiance, Correlation};
 pub use wide::f32x8;

@@ -4,7 +4,7 @@
 use crate::absorption::absorbed;
 use crate::error::{check_range, InputError};
 use crate::geometry::Geometry;
-use crate::lane::Lane;
+use crate::lane::{Lane, Real};
 use crate::subsurface::{absorption_factor, subsurface_base, Interface};
 use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
 
@@ -58,6 +58,90 @@ impl Params {
     /// Fractional absorption a (0: Ragheb–Hancock).
     #[must_use]
     pub fn a(&self) -> f64 {
+        self.a
+    }
+    /// The parameters rounded once to the precision `S` (what the `S`
+    /// lanes evaluate with).
+    #[must_use]
+    pub fn in_precision<S: Real>(&self) -> LaneParams<S> {
+        LaneParams::rounded(
+            S::from_f64(self.slope),
+            S::from_f64(self.beta),
+            S::from_f64(self.n),
+            S::from_f64(self.a),
+        )
+    }
+}
+
+/// Validated parameters in a lane's scalar precision `S` (`f32` or `f64`),
+/// with `(T/σ)²` computed once: what [`total_radiance_in`] and
+/// [`components_in`] evaluate with, so that an `f32` evaluation does no
+/// `f64` work at all (on an FPU without double precision, such as the
+/// Cortex-M4F's, every `f64` operation is a software call).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneParams<S> {
+    slope: S,
+    beta: S,
+    n: S,
+    a: S,
+    inv_slope2: S,
+}
+
+impl<S: Real> LaneParams<S> {
+    /// Validates in `S` and builds a parameter set, with the domains of
+    /// [`Params::new`] (whose ends are `f32` values or round up to one, so
+    /// an `f32` value passes here exactly when it passes there).
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
+    pub fn new(slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
+        let check = |name, v: S, lo: f64, hi: f64, allowed| {
+            if v >= S::from_f64(lo) && v <= S::from_f64(hi) {
+                Ok(v)
+            } else {
+                Err(InputError::OutOfRange {
+                    name,
+                    value: v.to_f64(),
+                    allowed,
+                })
+            }
+        };
+        Ok(Self::rounded(
+            check("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,
+            check("beta", beta, 0.0, 1.0, "[0, 1]")?,
+            check("n", n, 1.0, INDEX_MAX, "[1, 10]")?,
+            check("a", a, 0.0, 1.0, "[0, 1]")?,
+        ))
+    }
+
+    fn rounded(slope: S, beta: S, n: S, a: S) -> Self {
+        Self {
+            slope,
+            beta,
+            n,
+            a,
+            inv_slope2: inverse_slope_squared(slope),
+        }
+    }
+
+    /// RMS slope σ/T.
+    #[must_use]
+    pub fn slope(&self) -> S {
+        self.slope
+    }
+    /// Balance β.
+    #[must_use]
+    pub fn beta(&self) -> S {
+        self.beta
+    }
+    /// Refractive index n.
+    #[must_use]
+    pub fn n(&self) -> S {
+        self.n
+    }
+    /// Fractional absorption a.
+    #[must_use]
+    pub fn a(&self) -> S {
         self.a
     }
 }
@@ -120,9 +204,19 @@ pub fn mix<L: Lane>(beta: L, subsurface: L, surface: L) -> L {
 /// within 9.9 ulps (f64) and 6.2 (f32), plus the Gaussian-tail allowance.
 #[must_use]
 pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Components<L> {
-    let inv_slope2 = inverse_slope_squared(L::c(p.slope));
-    let iface = Interface::new(g, L::c(p.n));
-    let a = L::c(p.a);
+    components_in(g, corr, &p.in_precision())
+}
+
+/// [`components`] with the parameters already in the lane precision.
+#[must_use]
+pub fn components_in<L: Lane>(
+    g: &Geometry<L>,
+    corr: Correlation,
+    p: &LaneParams<L::Scalar>,
+) -> Components<L> {
+    let inv_slope2 = L::splat(p.inv_slope2);
+    let iface = Interface::new(g, L::splat(p.n));
+    let a = L::splat(p.a);
     let surface = surface_radiance(g, corr, inv_slope2);
     let subsurface = subsurface_base(&iface, corr, inv_slope2) * absorption_factor(g, a);
     Components {
@@ -132,7 +226,7 @@ pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Co
         absorb_out: absorbed(a, g.cos_s, iface.transmit_out),
         surface,
         subsurface,
-        total: mix(L::c(p.beta), subsurface, surface),
+        total: mix(L::splat(p.beta), subsurface, surface),
     }
 }
 
@@ -151,24 +245,36 @@ pub fn components<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> Co
 /// work at a = 0. Bitwise equal to [`components`]`.total`.
 #[must_use]
 pub fn total_radiance<L: Lane>(g: &Geometry<L>, corr: Correlation, p: &Params) -> L {
-    let inv_slope2 = inverse_slope_squared(L::c(p.slope));
+    total_radiance_in(g, corr, &p.in_precision())
+}
+
+/// [`total_radiance`] with the parameters already in the lane precision:
+/// the `f32` path without any `f64` operation.
+#[must_use]
+pub fn total_radiance_in<L: Lane>(
+    g: &Geometry<L>,
+    corr: Correlation,
+    p: &LaneParams<L::Scalar>,
+) -> L {
+    let inv_slope2 = L::splat(p.inv_slope2);
     let zero = L::c(0.0);
-    let surface = if p.beta < 1.0 {
+    let (one, none) = (L::Scalar::c(1.0), L::Scalar::c(0.0));
+    let surface = if p.beta < one {
         surface_radiance(g, corr, inv_slope2)
     } else {
         zero
     };
-    let subsurface = if p.beta > 0.0 {
-        let base = subsurface_base(&Interface::new(g, L::c(p.n)), corr, inv_slope2);
-        if p.a > 0.0 {
-            base * absorption_factor(g, L::c(p.a))
+    let subsurface = if p.beta > none {
+        let base = subsurface_base(&Interface::new(g, L::splat(p.n)), corr, inv_slope2);
+        if p.a > none {
+            base * absorption_factor(g, L::splat(p.a))
         } else {
             base
         }
     } else {
         zero
     };
-    mix(L::c(p.beta), subsurface, surface)
+    mix(L::splat(p.beta), subsurface, surface)
 }
 
 #[cfg(test)]
@@ -187,5 +293,49 @@ mod tests {
         assert!(Params::new(f64::NAN, 0.5, 1.3, 0.0).is_err());
         assert!(Params::new(0.5, 0.5, f64::INFINITY, 0.0).is_err());
         assert!(Params::new(0.12, 0.01, 1.3, 0.0).is_ok());
+    }
+
+    #[test]
+    fn f32_validation_accepts_what_f64_validation_accepts() {
+        // Around every end of every domain, each f32 passes in f32 exactly
+        // when its widened value passes in f64.
+        let ends = [SLOPE_MIN, SLOPE_MAX, 0.0, 1.0, INDEX_MAX];
+        for &end in &ends {
+            let mut v = (end as f32).to_bits().saturating_sub(3);
+            for _ in 0..7 {
+                let x = f32::from_bits(v);
+                for k in 0..4 {
+                    let mut f = [0.5f32, 0.5, 1.5, 0.5];
+                    f[k] = x;
+                    let p32 = LaneParams::<f32>::new(f[0], f[1], f[2], f[3]);
+                    let p64 = Params::new(f[0] as f64, f[1] as f64, f[2] as f64, f[3] as f64);
+                    assert_eq!(p32.is_ok(), p64.is_ok(), "parameter {k} = {x:e}");
+                    if let (Ok(a), Ok(b)) = (p32, p64) {
+                        assert_eq!(a, b.in_precision::<f32>());
+                    }
+                }
+                v += 1;
+            }
+        }
+        assert!(LaneParams::<f32>::new(f32::NAN, 0.5, 1.5, 0.5).is_err());
+    }
+
+    #[test]
+    fn lane_precision_evaluation_is_bitwise_the_f64_parameter_one() {
+        use crate::geometry::Angles;
+        let g = Geometry::<f32>::splat(&Angles::new(0.3, 0.9, 2.1).unwrap());
+        for (s, b, n, a) in [
+            (0.5, 0.4, 1.45, 0.2),
+            (0.12, 0.0, 1.3, 0.0),
+            (4.04, 1.0, 1.5, 1.0),
+        ] {
+            let p = Params::new(s, b, n, a).unwrap();
+            let q = LaneParams::<f32>::new(s as f32, b as f32, n as f32, a as f32).unwrap();
+            for corr in [Correlation::Gaussian, Correlation::Exponential] {
+                let want = total_radiance(&g, corr, &p).to_bits();
+                assert_eq!(total_radiance_in(&g, corr, &q).to_bits(), want);
+                assert_eq!(components_in(&g, corr, &q).total.to_bits(), want);
+            }
+        }
     }
 }
