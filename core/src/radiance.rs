@@ -301,8 +301,8 @@ mod tests {
         // when its widened value passes in f64.
         let ends = [SLOPE_MIN, SLOPE_MAX, 0.0, 1.0, INDEX_MAX];
         for &end in &ends {
-            let mut v = (end as f32).to_bits().saturating_sub(3);
-            for _ in 0..7 {
+            let first = (end as f32).to_bits().saturating_sub(3);
+            for v in first..first + 7 {
                 let x = f32::from_bits(v);
                 for k in 0..4 {
                     let mut f = [0.5f32, 0.5, 1.5, 0.5];
@@ -314,7 +314,6 @@ mod tests {
                         assert_eq!(a, b.in_precision::<f32>());
                     }
                 }
-                v += 1;
             }
         }
         assert!(LaneParams::<f32>::new(f32::NAN, 0.5, 1.5, 0.5).is_err());
