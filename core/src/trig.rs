@@ -79,7 +79,7 @@ mod tests {
             2.0 * P1,
             f32::from_bits(top),
             1e-30,
-            0.7853982,
+            core::f32::consts::FRAC_PI_4,
         ] {
             check(x);
         }
