@@ -174,6 +174,7 @@ const F32_FRAC_PI_2: f32 = 1.570_796_2;
 /// The largest `f32` not above π.
 const F32_PI: f32 = 3.141_592_5;
 
+#[inline(always)]
 fn out_of_range(name: &'static str, value: f32, allowed: &'static str) -> InputError {
     InputError::OutOfRange {
         name,
@@ -194,6 +195,7 @@ impl Geometry<f32> {
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
+    #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn from_angles_f32(theta_i: f32, theta_s: f32, phi_s: f32) -> Result<Self, InputError> {
         let zenith = |name, v: f32| {
             if (0.0..=F32_FRAC_PI_2).contains(&v) {
@@ -233,6 +235,7 @@ impl Geometry<f32> {
     /// # Errors
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`
     /// (a sine or cosine out of range, or a pair off the unit circle).
+    #[inline(always)] // as `from_angles_f32`
     pub fn from_directions(d: &Directions) -> Result<Self, InputError> {
         let pair = |name, c: f32, s: f32, lo: f32| {
             let unit = c * c + s * s - 1.0;

@@ -94,6 +94,7 @@ impl<S: Real> LaneParams<S> {
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
+    #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn new(slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
         let check = |name, v: S, lo: f64, hi: f64, allowed| {
             if v >= S::from_f64(lo) && v <= S::from_f64(hi) {

@@ -68,7 +68,9 @@ fn field_errors(fast: &Geometry<f32>, want: &Geometry<f64>, max: &mut [f64; 7]) 
     }
 }
 
-const FIELDS: [&str; 7] = ["cos_i", "cos_s", "sin2_i", "sin2_s", "vxy2", "lead", "ratio"];
+const FIELDS: [&str; 7] = [
+    "cos_i", "cos_s", "sin2_i", "sin2_s", "vxy2", "lead", "ratio",
+];
 
 #[test]
 fn f32_geometry_is_within_its_budget() {
@@ -139,15 +141,24 @@ fn f32_geometry_is_within_its_budget() {
     for ((name, got), budget) in FIELDS.iter().zip(angles_max).zip(angles_budget) {
         assert!(got <= budget, "{name} from angles: {got} ulps > {budget}");
     }
-    assert!(total_angles <= 16.0, "total from angles: {total_angles} ulps");
+    assert!(
+        total_angles <= 16.0,
+        "total from angles: {total_angles} ulps"
+    );
     // From rounded sines, v_xy² and the ratio carry the inputs' rounding
     // divided by the cancelling difference sin θi − sin θs: no fixed
     // budget; the cosines, sines and lead keep theirs.
     let directions_budget = [0.5, 0.5, 2.0, 2.0, f64::INFINITY, 4.5, f64::INFINITY];
     for ((name, got), budget) in FIELDS.iter().zip(directions_max).zip(directions_budget) {
-        assert!(got <= budget, "{name} from directions: {got} ulps > {budget}");
+        assert!(
+            got <= budget,
+            "{name} from directions: {got} ulps > {budget}"
+        );
     }
-    assert!(total_directions <= 32.0, "total from directions: {total_directions} ulps");
+    assert!(
+        total_directions <= 32.0,
+        "total from directions: {total_directions} ulps"
+    );
 }
 
 #[test]

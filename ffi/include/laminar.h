@@ -61,6 +61,70 @@ typedef struct LaminarAngles {
   double phi_s;
 } LaminarAngles;
 
+// The model's parameters in `f32`, for the `f32` functions: validated
+// and used in `f32` without any `f64` operation.
+typedef struct LaminarParamsF32 {
+  // σ/T.
+  float slope;
+  // β.
+  float beta;
+  // n.
+  float n;
+  // a (0: the Ragheb–Hancock model).
+  float a;
+} LaminarParamsF32;
+
+// One measurement's geometry, ready to evaluate (the core's
+// `Geometry<f32>`: the model's terms that depend on the angles only).
+// Build it with a `laminar_geometry_*` function; its fields are not
+// meant to be set by hand.
+typedef struct LaminarGeometry {
+  // cos θi.
+  float cos_i;
+  // cos θs.
+  float cos_s;
+  // sin²θi.
+  float sin2_i;
+  // sin²θs.
+  float sin2_s;
+  // `v_xy²` (docs/conventions.md §2).
+  float vxy2;
+  // `v_z²`.
+  float vz2;
+  // `cos θi / v_z²`.
+  float lead;
+  // `v_xy² / v_z²`.
+  float ratio;
+} LaminarGeometry;
+
+// A geometry in `f32` radians: θi, θs ∈ [0, π/2], φs ∈ [−π, π].
+typedef struct LaminarAnglesF32 {
+  // Incidence angle θi.
+  float theta_i;
+  // Scattering angle θs.
+  float theta_s;
+  // Scattering azimuth φs.
+  float phi_s;
+} LaminarAnglesF32;
+
+// A geometry as a sensor gives it: the cosine and sine of θi, θs (each in
+// [0, 1]) and φs (each in [−1, 1]); each pair's `cos² + sin²` within 1e-4
+// of 1.
+typedef struct LaminarDirections {
+  // cos θi.
+  float cos_i;
+  // sin θi.
+  float sin_i;
+  // cos θs.
+  float cos_s;
+  // sin θs.
+  float sin_s;
+  // cos φs.
+  float cos_phi;
+  // sin φs.
+  float sin_phi;
+} LaminarDirections;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -93,6 +157,46 @@ enum LaminarStatus laminar_components_f64(uint32_t corr,
                                           const struct LaminarAngles *angles_in,
                                           size_t count,
                                           double *out);
+
+// Checks `f32` parameters: [`Status::Ok`] or the first one out of its
+// domain (the same domains as [`laminar_validate_params`]).
+enum LaminarStatus laminar_validate_params_f32(struct LaminarParamsF32 p);
+
+// Builds `count` geometries from `f64` angles with `f64`
+// trigonometry (bitwise the fitting library's `f32` geometry; on a
+// single-precision FPU about 19,000 instructions each, see the README).
+enum LaminarStatus laminar_geometry_from_angles(const struct LaminarAngles *angles,
+                                                size_t count,
+                                                struct LaminarGeometry *out);
+
+// Builds `count` geometries from `f32` angles in `f32` arithmetic
+// (error budget: docs/conventions.md §2).
+enum LaminarStatus laminar_geometry_from_angles_f32(const struct LaminarAnglesF32 *angles,
+                                                    size_t count,
+                                                    struct LaminarGeometry *out);
+
+// Builds `count` geometries from sensor directions (sines and
+// cosines) in `f32` arithmetic.
+enum LaminarStatus laminar_geometry_from_directions(const struct LaminarDirections *directions,
+                                                    size_t count,
+                                                    struct LaminarGeometry *out);
+
+// The total radiance (eq. 8) in f32 at `count` prebuilt geometries
+// into `out` (`count` floats): the fast path, no `f64` operation.
+// `corr`: 0 exponential, 1 Gaussian.
+enum LaminarStatus laminar_evaluate_f32(uint32_t corr,
+                                        struct LaminarParamsF32 p,
+                                        const struct LaminarGeometry *geometries,
+                                        size_t count,
+                                        float *out);
+
+// Every component (in the order of [`LAMINAR_COMPONENTS`]) in f32 at
+// `count` prebuilt geometries into `out` (`7 · count` floats).
+enum LaminarStatus laminar_components_f32(uint32_t corr,
+                                          struct LaminarParamsF32 p,
+                                          const struct LaminarGeometry *geometries,
+                                          size_t count,
+                                          float *out);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -25,9 +25,14 @@
 extern crate std;
 
 mod buffers;
+mod geometry;
 pub mod probe;
 
-use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, InputError, Params};
+pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
+use laminar_core::{
+    components_in, total_radiance_in, Angles, Correlation, Geometry, InputError, Lane, LaneParams,
+    Params,
+};
 
 /// What a call did. `Ok` is 0; every other value names what was wrong.
 #[repr(C)]
@@ -70,6 +75,21 @@ pub struct LaminarParams {
     pub a: f64,
 }
 
+/// The model's parameters in `f32`, for the `f32` functions: validated
+/// and used in `f32` without any `f64` operation.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaminarParamsF32 {
+    /// σ/T.
+    pub slope: f32,
+    /// β.
+    pub beta: f32,
+    /// n.
+    pub n: f32,
+    /// a (0: the Ragheb–Hancock model).
+    pub a: f32,
+}
+
 /// A geometry in the paper's frame (radians).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,7 +107,8 @@ pub struct LaminarAngles {
 /// term, subsurface term, total (eq. 8).
 pub const LAMINAR_COMPONENTS: usize = 7;
 
-fn status_of(e: InputError) -> Status {
+#[inline(always)] // the names fold away where the error is built inline
+pub(crate) fn status_of(e: InputError) -> Status {
     match e {
         InputError::OutOfRange { name, .. } => match name {
             "slope" => Status::BadSlope,
@@ -114,7 +135,11 @@ fn params(p: &LaminarParams) -> Result<Params, Status> {
     Params::new(p.slope, p.beta, p.n, p.a).map_err(status_of)
 }
 
-fn angles(a: &LaminarAngles) -> Result<Angles, Status> {
+fn params_f32(p: &LaminarParamsF32) -> Result<LaneParams<f32>, Status> {
+    LaneParams::new(p.slope, p.beta, p.n, p.a).map_err(status_of)
+}
+
+pub(crate) fn angles(a: &LaminarAngles) -> Result<Angles, Status> {
     Angles::new(a.theta_i, a.theta_s, a.phi_s).map_err(status_of)
 }
 
@@ -139,35 +164,99 @@ fn checked<'a>(
     Ok((corr, p, input))
 }
 
-/// Writes `width` values per geometry into `out` (`width · count` slots):
-/// `each(geometry, correlation, parameters, slots)` for each of the
-/// `count` checked geometries at `angles_in`.
-fn evaluate<L: laminar_core::Lane>(
+/// What an evaluation writes per geometry: `width` values from
+/// `each(geometry, correlation, parameters, slots)`.
+struct Writer<F> {
+    width: usize,
+    each: F,
+}
+
+/// Writes `writer.width` values per geometry into `out` for each of the
+/// `count` checked geometries at `angles_in` (parameters rounded to the
+/// lane precision once per call).
+fn evaluate<L: Lane>(
     (corr, p): (u32, &LaminarParams),
     (angles_in, count): (*const LaminarAngles, usize),
-    (out, width): (*mut L, usize),
-    each: impl Fn(&Geometry<L>, Correlation, &Params, &mut [L]),
+    out: *mut L,
+    writer: Writer<impl Fn(&Geometry<L>, Correlation, &LaneParams<L::Scalar>, &mut [L])>,
 ) -> Result<(), Status> {
     let (corr, p, input) = checked(corr, p, angles_in, count)?;
-    let slots = count.checked_mul(width).ok_or(Status::NullPointer)?;
-    let out = buffers::output(out, slots)?;
-    for (chunk, a) in out.chunks_exact_mut(width).zip(input) {
+    let p = p.in_precision::<L::Scalar>();
+    let out = buffers::output(out, slots(count, writer.width)?)?;
+    for (chunk, a) in out.chunks_exact_mut(writer.width).zip(input) {
         let g = Geometry::<L>::splat(&angles(a)?);
-        each(&g, corr, &p, chunk);
+        (writer.each)(&g, corr, &p, chunk);
     }
     Ok(())
 }
 
+/// `count · width` output slots, or [`Status::NullPointer`] when that
+/// overflows (no buffer can hold it).
+fn slots(count: usize, width: usize) -> Result<usize, Status> {
+    count.checked_mul(width).ok_or(Status::NullPointer)
+}
+
+/// Evaluates `each` at the `count` prebuilt `f32` geometries at
+/// `geometries`, `width` values per geometry, into `out`.
+fn evaluate_geometries(
+    (corr, p): (u32, &LaminarParamsF32),
+    (geometries, count): (*const LaminarGeometry, usize),
+    out: *mut f32,
+    writer: Writer<impl Fn(&Geometry<f32>, Correlation, &LaneParams<f32>, &mut [f32])>,
+) -> Result<(), Status> {
+    let corr = correlation(corr)?;
+    let p = params_f32(p)?;
+    let input = buffers::input(geometries, count)?;
+    let out = buffers::output(out, slots(count, writer.width)?)?;
+    for (chunk, g) in out.chunks_exact_mut(writer.width).zip(input) {
+        (writer.each)(&g.into(), corr, &p, chunk);
+    }
+    Ok(())
+}
+
+/// Builds `count` geometries from `input` into `out` with `build`, every
+/// input checked before anything is written.
+fn build_geometries<T>(
+    (input, count): (*const T, usize),
+    out: *mut LaminarGeometry,
+    build: impl Fn(&T) -> Result<LaminarGeometry, Status>,
+) -> Result<(), Status> {
+    let input = buffers::input(input, count)?;
+    for x in input {
+        build(x)?;
+    }
+    let out = buffers::output(out, count)?;
+    for (slot, x) in out.iter_mut().zip(input) {
+        *slot = build(x)?;
+    }
+    Ok(())
+}
+
+fn total<L: Lane>(g: &Geometry<L>, c: Correlation, p: &LaneParams<L::Scalar>, slot: &mut [L]) {
+    slot[0] = total_radiance_in(g, c, p);
+}
+
+fn all_components<L: Lane>(
+    g: &Geometry<L>,
+    c: Correlation,
+    p: &LaneParams<L::Scalar>,
+    chunk: &mut [L],
+) {
+    chunk.copy_from_slice(&components_in(g, c, p).to_array());
+}
+
 /// The total radiance (eq. 8) in `L` precision at `count` geometries.
-fn total<L: laminar_core::Lane>(
+fn total_at<L: Lane>(
     corr: u32,
     p: &LaminarParams,
     input: (*const LaminarAngles, usize),
     out: *mut L,
 ) -> Status {
-    status(evaluate((corr, p), input, (out, 1), |g, c, p, slot| {
-        slot[0] = total_radiance(g, c, p)
-    }))
+    let writer = Writer {
+        width: 1,
+        each: total::<L>,
+    };
+    status(evaluate((corr, p), input, out, writer))
 }
 
 /// The exported functions. `#[no_mangle]` counts as unsafe code (two
@@ -199,7 +288,7 @@ mod exports {
         count: usize,
         out: *mut f32,
     ) -> Status {
-        total(corr, &p, (angles, count), out)
+        total_at(corr, &p, (angles, count), out)
     }
 
     /// The total radiance (eq. 8) in f64 at `count` geometries into `out`.
@@ -211,7 +300,7 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        total(corr, &p, (angles, count), out)
+        total_at(corr, &p, (angles, count), out)
     }
 
     /// Every component (in the order of [`LAMINAR_COMPONENTS`]) in f64 at
@@ -224,12 +313,108 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        let width = LAMINAR_COMPONENTS;
-        status(evaluate(
+        let writer = Writer {
+            width: LAMINAR_COMPONENTS,
+            each: all_components::<f64>,
+        };
+        status(evaluate((corr, &p), (angles_in, count), out, writer))
+    }
+
+    /// Checks `f32` parameters: [`Status::Ok`] or the first one out of its
+    /// domain (the same domains as [`laminar_validate_params`]).
+    #[no_mangle]
+    pub extern "C" fn laminar_validate_params_f32(p: LaminarParamsF32) -> Status {
+        status(params_f32(&p).map(|_| ()))
+    }
+
+    /// Builds `count` geometries from `f64` angles with `f64`
+    /// trigonometry (bitwise the fitting library's `f32` geometry; on a
+    /// single-precision FPU about 19,000 instructions each, see the README).
+    #[no_mangle]
+    pub extern "C" fn laminar_geometry_from_angles(
+        angles: *const LaminarAngles,
+        count: usize,
+        out: *mut LaminarGeometry,
+    ) -> Status {
+        status(build_geometries(
+            (angles, count),
+            out,
+            geometry::from_angles,
+        ))
+    }
+
+    /// Builds `count` geometries from `f32` angles in `f32` arithmetic
+    /// (error budget: docs/conventions.md §2).
+    #[no_mangle]
+    pub extern "C" fn laminar_geometry_from_angles_f32(
+        angles: *const LaminarAnglesF32,
+        count: usize,
+        out: *mut LaminarGeometry,
+    ) -> Status {
+        status(build_geometries(
+            (angles, count),
+            out,
+            geometry::from_angles_f32,
+        ))
+    }
+
+    /// Builds `count` geometries from sensor directions (sines and
+    /// cosines) in `f32` arithmetic.
+    #[no_mangle]
+    pub extern "C" fn laminar_geometry_from_directions(
+        directions: *const LaminarDirections,
+        count: usize,
+        out: *mut LaminarGeometry,
+    ) -> Status {
+        status(build_geometries(
+            (directions, count),
+            out,
+            geometry::from_directions,
+        ))
+    }
+
+    /// The total radiance (eq. 8) in f32 at `count` prebuilt geometries
+    /// into `out` (`count` floats): the fast path, no `f64` operation.
+    /// `corr`: 0 exponential, 1 Gaussian.
+    #[no_mangle]
+    pub extern "C" fn laminar_evaluate_f32(
+        corr: u32,
+        p: LaminarParamsF32,
+        geometries: *const LaminarGeometry,
+        count: usize,
+        out: *mut f32,
+    ) -> Status {
+        let writer = Writer {
+            width: 1,
+            each: total::<f32>,
+        };
+        status(evaluate_geometries(
             (corr, &p),
-            (angles_in, count),
-            (out, width),
-            |g, c, p, chunk| chunk.copy_from_slice(&components(g, c, p).to_array()),
+            (geometries, count),
+            out,
+            writer,
+        ))
+    }
+
+    /// Every component (in the order of [`LAMINAR_COMPONENTS`]) in f32 at
+    /// `count` prebuilt geometries into `out` (`7 · count` floats).
+    #[no_mangle]
+    pub extern "C" fn laminar_components_f32(
+        corr: u32,
+        p: LaminarParamsF32,
+        geometries: *const LaminarGeometry,
+        count: usize,
+        out: *mut f32,
+    ) -> Status {
+        let writer = Writer {
+            width: LAMINAR_COMPONENTS,
+            each: all_components::<f32>,
+        };
+        status(evaluate_geometries(
+            (corr, &p),
+            (geometries, count),
+            out,
+            writer,
         ))
     }
 }
@@ -273,6 +458,7 @@ mod tests {
         let s = laminar_components_f64(1, P, geometries.as_ptr(), 2, out.as_mut_ptr());
         assert_eq!(s, Status::Ok);
         let p = Params::new(0.8, 0.3, 1.45, 0.2).unwrap();
+        use laminar_core::components;
         for (k, a) in geometries.iter().enumerate() {
             let g = Geometry::<f64>::splat(&angles(a).unwrap());
             let want = components(&g, Correlation::Gaussian, &p).to_array();
@@ -296,5 +482,77 @@ mod tests {
         };
         assert_eq!(laminar_validate_angles(nan), Status::BadPhiS);
         assert_eq!(laminar_validate_params(P), Status::Ok);
+    }
+
+    #[test]
+    fn prebuilt_f32_geometries_give_the_f32_paths_bits() {
+        let angles: [LaminarAngles; 16] = core::array::from_fn(|k| probe::angles(k as u32 * 3));
+        let mut geometries =
+            [LaminarGeometry::from(Geometry::<f32>::splat(&Angles::new(0.0, 0.0, 0.0).unwrap()));
+                16];
+        let s = laminar_geometry_from_angles(angles.as_ptr(), 16, geometries.as_mut_ptr());
+        assert_eq!(s, Status::Ok);
+        for j in 0..probe::PARAMS {
+            let p = probe::params(j);
+            let p32 = LaminarParamsF32 {
+                slope: p.slope as f32,
+                beta: p.beta as f32,
+                n: p.n as f32,
+                a: p.a as f32,
+            };
+            for corr in 0..2 {
+                let (mut want, mut got) = ([0.0f32; 16], [0.0f32; 16]);
+                let mut parts = [0.0f32; 16 * LAMINAR_COMPONENTS];
+                laminar_total_radiance_f32(corr, p, angles.as_ptr(), 16, want.as_mut_ptr());
+                let s1 = laminar_evaluate_f32(corr, p32, geometries.as_ptr(), 16, got.as_mut_ptr());
+                let s2 =
+                    laminar_components_f32(corr, p32, geometries.as_ptr(), 16, parts.as_mut_ptr());
+                assert_eq!((s1, s2), (Status::Ok, Status::Ok));
+                for k in 0..16 {
+                    assert_eq!(got[k].to_bits(), want[k].to_bits(), "geometry {k}");
+                    let total = parts[(k + 1) * LAMINAR_COMPONENTS - 1];
+                    assert_eq!(total.to_bits(), want[k].to_bits());
+                }
+            }
+        }
+        // The f32 constructors are the core's, and bad input names itself.
+        let a32 = LaminarAnglesF32 {
+            theta_i: 0.4,
+            theta_s: 0.9,
+            phi_s: -2.0,
+        };
+        let mut g = geometries[0];
+        assert_eq!(
+            laminar_geometry_from_angles_f32(&a32, 1, &mut g),
+            Status::Ok
+        );
+        assert_eq!(g, Geometry::from_angles_f32(0.4, 0.9, -2.0).unwrap().into());
+        let bad = LaminarAnglesF32 { phi_s: 4.0, ..a32 };
+        assert_eq!(
+            laminar_geometry_from_angles_f32(&bad, 1, &mut g),
+            Status::BadPhiS
+        );
+        let d = LaminarDirections {
+            cos_i: 0.6,
+            sin_i: 0.8,
+            cos_s: 1.0,
+            sin_s: 0.0,
+            cos_phi: 0.0,
+            sin_phi: 0.9,
+        };
+        assert_eq!(
+            laminar_geometry_from_directions(&d, 1, &mut g),
+            Status::BadPhiS
+        );
+        let p32 = LaminarParamsF32 {
+            slope: 0.5,
+            beta: 0.5,
+            n: 11.0,
+            a: 0.0,
+        };
+        assert_eq!(laminar_validate_params_f32(p32), Status::BadN);
+        let mut out = [0.0f32; 1];
+        let s = laminar_evaluate_f32(0, p32, geometries.as_ptr(), 1, out.as_mut_ptr());
+        assert_eq!(s, Status::BadN);
     }
 }

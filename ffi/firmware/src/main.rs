@@ -6,6 +6,7 @@
 #![no_main]
 
 use cortex_m_rt::entry;
+use laminar_firmware as _; // the interrupt table
 use cortex_m_semihosting::{debug, hprintln};
 use laminar_ffi::{
     laminar_components_f64, laminar_total_radiance_f32, probe, Status, LAMINAR_COMPONENTS,
