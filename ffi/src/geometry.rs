@@ -10,7 +10,7 @@ use laminar_core::{Directions, Geometry};
 /// Build it with a `laminar_geometry_*` function; its fields are not
 /// meant to be set by hand.
 #[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LaminarGeometry {
     /// cos θi.
     pub cos_i: f32,

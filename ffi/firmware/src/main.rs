@@ -1,16 +1,16 @@
 //! Evaluates every probe case (`laminar_ffi::probe`) through the C ABI on
-//! the device and prints, one line per (geometry, parameters, correlation):
-//! the f32 total's bits, then the seven f64 components' bits, in hex.
+//! the device and prints, in hex: per geometry (`G` lines) the fields of
+//! its two `f32`-built geometries; per (geometry, parameters, correlation)
+//! the case's values (`probe::case_values`). The host test computes the
+//! same lines and compares them bit for bit.
 
 #![no_std]
 #![no_main]
 
 use cortex_m_rt::entry;
+use cortex_m_semihosting::{debug, hprint, hprintln};
+use laminar_ffi::probe;
 use laminar_firmware as _; // the interrupt table
-use cortex_m_semihosting::{debug, hprintln};
-use laminar_ffi::{
-    laminar_components_f64, laminar_total_radiance_f32, probe, Status, LAMINAR_COMPONENTS,
-};
 
 // The panic handler is laminar-ffi's (bare metal): no function it exports
 // panics, and the host test runs this image under a timeout.
@@ -18,32 +18,18 @@ use laminar_ffi::{
 #[entry]
 fn main() -> ! {
     for g in 0..probe::GEOMETRIES {
-        let a = probe::angles(g);
+        hprint!("G {}", g);
+        for v in probe::geometry_values(g) {
+            hprint!(" {:08x}", v);
+        }
+        hprintln!();
         for j in 0..probe::PARAMS {
-            let p = probe::params(j);
             for corr in 0..2 {
-                let mut total = [0.0f32];
-                let mut parts = [0.0f64; LAMINAR_COMPONENTS];
-                let s1 = laminar_total_radiance_f32(corr, p, &a, 1, total.as_mut_ptr());
-                let s2 = laminar_components_f64(corr, p, &a, 1, parts.as_mut_ptr());
-                if s1 != Status::Ok || s2 != Status::Ok {
-                    hprintln!("status {} {}", s1 as u32, s2 as u32);
-                    debug::exit(debug::EXIT_FAILURE);
+                hprint!("{} {} {}", g, j, corr);
+                for v in probe::case_values(g, j, corr) {
+                    hprint!(" {:x}", v);
                 }
-                hprintln!(
-                    "{} {} {} {:08x} {:016x} {:016x} {:016x} {:016x} {:016x} {:016x} {:016x}",
-                    g,
-                    j,
-                    corr,
-                    total[0].to_bits(),
-                    parts[0].to_bits(),
-                    parts[1].to_bits(),
-                    parts[2].to_bits(),
-                    parts[3].to_bits(),
-                    parts[4].to_bits(),
-                    parts[5].to_bits(),
-                    parts[6].to_bits()
-                );
+                hprintln!();
             }
         }
     }

@@ -1,0 +1,103 @@
+//! What the f32 path costs on the emulated Cortex-M4F, at opt-level 3 and
+//! "s": instructions and stack per function (the `bench` image under QEMU
+//! `-icount`; instructions, not cycles), and the flash of the
+//! evaluation-only image (`eval_only`), which must link no `f64` software
+//! routine and no panic path. Asserts the README's targets and prints the
+//! table the README shows. Skips as `common` says.
+
+mod common;
+
+use std::collections::BTreeMap;
+use std::io::Write;
+
+/// `name → (instructions, stack bytes)` from the bench image's output.
+fn costs(text: &str) -> BTreeMap<String, (f64, u64)> {
+    text.lines()
+        .filter(|l| *l != "done")
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            assert_eq!(f.len(), 3, "bad bench line `{l}`");
+            (
+                f[0].to_string(),
+                (f[1].parse().unwrap(), f[2].parse().unwrap()),
+            )
+        })
+        .collect()
+}
+
+/// Soft-float `f64` routines (and the f32 → f64 conversion) of the ARM EABI.
+fn soft_f64(name: &str) -> bool {
+    name.starts_with("__aeabi_d") || name == "__aeabi_f2d" || name.starts_with("__adddf")
+}
+
+#[test]
+fn the_f32_path_meets_its_targets_on_the_cortex_m4() {
+    let mut table = String::from(
+        "| function | instructions (O3) | stack B (O3) | instructions (s) | stack B (s) |\n|---|---|---|---|---|\n",
+    );
+    let mut measured = Vec::new();
+    for level in ["3", "s"] {
+        let Some(images) = common::build("firmware cost test", level) else {
+            return;
+        };
+        let text = common::run(&images.join("bench"), true);
+        assert!(text.ends_with("done\n"), "{text}");
+        let costs = costs(&text);
+        let total_limit = if level == "3" { 450.0 } else { 600.0 };
+        for name in ["total_radiance_exp", "total_radiance_gauss"] {
+            let (count, _) = costs[name];
+            assert!(
+                count <= total_limit,
+                "{name} at O{level}: {count} instructions > {total_limit}"
+            );
+        }
+        let (geometry, _) = costs["geometry_from_angles_f32"];
+        assert!(
+            geometry <= 1500.0,
+            "geometry at O{level}: {geometry} instructions"
+        );
+
+        let eval_only = images.join("eval_only");
+        let symbols = common::symbols(&eval_only);
+        let soft: Vec<&String> = symbols
+            .iter()
+            .map(|s| &s.0)
+            .filter(|n| soft_f64(n))
+            .collect();
+        assert!(
+            soft.is_empty(),
+            "f64 software routines in the f32 image at O{level}: {soft:?}"
+        );
+        let panics: Vec<&String> = symbols
+            .iter()
+            .map(|s| &s.0)
+            .filter(|n| n.contains("panic"))
+            .collect();
+        assert!(
+            panics.is_empty(),
+            "panic paths in the f32 image at O{level}: {panics:?}"
+        );
+        common::run(&eval_only, false); // and it runs, with every status Ok
+        let flash = common::flash_bytes(&eval_only);
+        if level == "3" {
+            assert!(
+                flash <= 4096,
+                "evaluation-only image: {flash} bytes of flash at O3"
+            );
+        }
+        measured.push((costs, flash));
+    }
+    let (o3, s) = (&measured[0].0, &measured[1].0);
+    for (name, (count, stack)) in o3 {
+        let (count_s, stack_s) = s[name];
+        table += &format!("| `{name}` | {count:.0} | {stack} | {count_s:.0} | {stack_s} |\n");
+    }
+    table += &format!(
+        "| evaluation-only image, flash bytes | {} | | {} | |\n",
+        measured[0].1, measured[1].1
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "Cortex-M4F (QEMU mps2-an386, icount):\n{table}"
+    );
+}
