@@ -191,7 +191,7 @@ fn out_of_range(name: &'static str, value: f32, allowed: &'static str) -> InputE
 impl Geometry<f32> {
     /// From the angles in `f32` radians: `θi, θs ∈ [0, π/2]`, `φs ∈ [−π, π]`.
     /// `v_xy²` by the same cancellation-free form as the `f64` constructor,
-    /// with five [`sin_cos`](crate::trig::sin_cos) calls.
+    /// with five [`crate::trig::sin_cos`] calls.
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.

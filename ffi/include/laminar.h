@@ -14,6 +14,12 @@
 // term, subsurface term, total (eq. 8).
 #define LAMINAR_COMPONENTS 7
 
+// Most measurements [`crate::laminar_fit`] takes.
+#define LAMINAR_FIT_MAX_MEASUREMENTS MAX_MEASUREMENTS
+
+// 64-bit words of [`LaminarFitScratch`].
+#define LAMINAR_FIT_SCRATCH_WORDS 640
+
 // What a call did. `Ok` is 0; every other value names what was wrong.
 typedef enum LaminarStatus {
   // Done: the outputs are written.
@@ -36,6 +42,12 @@ typedef enum LaminarStatus {
   LAMINAR_STATUS_BAD_THETA_S = 8,
   // φs outside [−π, π] or not finite.
   LAMINAR_STATUS_BAD_PHI_S = 9,
+  // A fit's measurement count was 0 or above `LAMINAR_FIT_MAX_MEASUREMENTS`.
+  LAMINAR_STATUS_BAD_COUNT = 10,
+  // A fit's datum was not finite, or no datum was positive.
+  LAMINAR_STATUS_BAD_DATA = 11,
+  // A fit's grid had an axis with no value.
+  LAMINAR_STATUS_EMPTY_AXIS = 12,
 } LaminarStatus;
 
 // The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -125,6 +137,60 @@ typedef struct LaminarDirections {
   float sin_phi;
 } LaminarDirections;
 
+// The grid: each axis's values (`f64`) and count, searched in loop order
+// σ/T, n, a, β (ties go to the first). The paper's grid: σ/T = 0.12 +
+// 0.08 i (50 values), n = 1.30 + 0.02 m (11), a = 0.01 l (101), β = 0.01 +
+// 0.01 j (100), each computed in `double` as written.
+typedef struct LaminarGrid {
+  // σ/T values.
+  const double *slope;
+  // Number of σ/T values.
+  size_t slope_count;
+  // n values.
+  const double *n;
+  // Number of n values.
+  size_t n_count;
+  // a values.
+  const double *a;
+  // Number of a values.
+  size_t a_count;
+  // β values.
+  const double *beta;
+  // Number of β values.
+  size_t beta_count;
+} LaminarGrid;
+
+// Working memory of a fit (5 KB), owned by the caller: a `static` or a
+// local. Its contents between calls do not matter.
+typedef struct LaminarFitScratch {
+  // Opaque.
+  uint64_t words[LAMINAR_FIT_SCRATCH_WORDS];
+} LaminarFitScratch;
+
+// What a fit found: the best grid point's parameters, its Δ_RMS (eq. 15)
+// and flat index, and the same for the best point with a = 0 (the
+// Ragheb–Hancock model; `rh_found` is false when the a axis lacks 0).
+typedef struct LaminarFitResult {
+  // σ/T.
+  double slope;
+  // β.
+  double beta;
+  // n.
+  double n;
+  // a.
+  double a;
+  // Δ_RMS (eq. 15) at the best point.
+  double rms;
+  // Flat index of the best point (loop order σ/T, n, a, β).
+  size_t index;
+  // Whether the a axis holds 0.
+  bool rh_found;
+  // Flat index of the best point with a = 0.
+  size_t rh_index;
+  // Its Δ_RMS.
+  double rh_rms;
+} LaminarFitResult;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -189,6 +255,21 @@ enum LaminarStatus laminar_evaluate_f32(uint32_t corr,
                                         const struct LaminarGeometry *geometries,
                                         size_t count,
                                         float *out);
+
+// Fits the model (correlation `corr`) to `count` ≤
+// [`LAMINAR_FIT_MAX_MEASUREMENTS`] measurements: `data[k]` measured at
+// `geometries[k]` (un-normalised; divided by their max), by the
+// library's exhaustive grid search over `grid` (the `onepass-f32`
+// path: the same best point, bit for bit, as `laminar fit --path
+// onepass-f32` at geometries built by [`laminar_geometry_from_angles`]).
+// Allocation-free: `scratch` is the working memory. Writes `out`.
+enum LaminarStatus laminar_fit(uint32_t corr,
+                               const struct LaminarGeometry *geometries,
+                               const double *data,
+                               size_t count,
+                               struct LaminarGrid grid,
+                               struct LaminarFitScratch *scratch,
+                               struct LaminarFitResult *out);
 
 // Every component (in the order of [`LAMINAR_COMPONENTS`]) in f32 at
 // `count` prebuilt geometries into `out` (`7 · count` floats).

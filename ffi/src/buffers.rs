@@ -40,3 +40,22 @@ pub fn output<'a, T>(ptr: *mut T, count: usize) -> Result<&'a mut [T], Status> {
     // no other pointer of the call aliases, valid for the call.
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, count) })
 }
+
+/// The fit's scratch words at `ptr` as the core's scratch, or
+/// [`Status::NullPointer`].
+///
+/// # Errors
+/// [`Status::NullPointer`].
+pub fn scratch<'a>(
+    ptr: *mut crate::fit::LaminarFitScratch,
+) -> Result<&'a mut laminar_core::small_fit::Scratch, Status> {
+    if ptr.is_null() {
+        return Err(Status::NullPointer);
+    }
+    // SAFETY: the C contract: `ptr` points to a writable
+    // `LaminarFitScratch` that nothing else uses during the call. It is at
+    // least as large and as aligned as `Scratch` (checked at compile time
+    // in `fit.rs`), and `Scratch` holds only `f32` and `f64` values, for
+    // which every bit pattern is valid.
+    Ok(unsafe { &mut *ptr.cast::<laminar_core::small_fit::Scratch>() })
+}

@@ -25,9 +25,14 @@
 extern crate std;
 
 mod buffers;
+mod fit;
 mod geometry;
 pub mod probe;
 
+pub use fit::{
+    LaminarFitResult, LaminarFitScratch, LaminarGrid, LAMINAR_FIT_MAX_MEASUREMENTS,
+    LAMINAR_FIT_SCRATCH_WORDS,
+};
 pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
 use laminar_core::{
     components_in, total_radiance_in, Angles, Correlation, Geometry, InputError, Lane, LaneParams,
@@ -58,6 +63,12 @@ pub enum Status {
     BadThetaS = 8,
     /// φs outside [−π, π] or not finite.
     BadPhiS = 9,
+    /// A fit's measurement count was 0 or above `LAMINAR_FIT_MAX_MEASUREMENTS`.
+    BadCount = 10,
+    /// A fit's datum was not finite, or no datum was positive.
+    BadData = 11,
+    /// A fit's grid had an axis with no value.
+    EmptyAxis = 12,
 }
 
 /// The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -393,6 +404,32 @@ mod exports {
             (geometries, count),
             out,
             writer,
+        ))
+    }
+
+    /// Fits the model (correlation `corr`) to `count` ≤
+    /// [`LAMINAR_FIT_MAX_MEASUREMENTS`] measurements: `data[k]` measured at
+    /// `geometries[k]` (un-normalised; divided by their max), by the
+    /// library's exhaustive grid search over `grid` (the `onepass-f32`
+    /// path: the same best point, bit for bit, as `laminar fit --path
+    /// onepass-f32` at geometries built by [`laminar_geometry_from_angles`]).
+    /// Allocation-free: `scratch` is the working memory. Writes `out`.
+    #[no_mangle]
+    pub extern "C" fn laminar_fit(
+        corr: u32,
+        geometries: *const LaminarGeometry,
+        data: *const f64,
+        count: usize,
+        grid: LaminarGrid,
+        scratch: *mut LaminarFitScratch,
+        out: *mut LaminarFitResult,
+    ) -> Status {
+        status(fit::fit(
+            corr,
+            (geometries, data, count),
+            &grid,
+            scratch,
+            out,
         ))
     }
 

@@ -124,3 +124,68 @@ pub fn geometry_values(g: u32) -> [u32; 16] {
     }
     out
 }
+
+/// The paper's grid (σ/T, n, a, β), each value computed as the library's
+/// `Grid::paper` computes it.
+pub fn paper_axes() -> ([f64; 50], [f64; 11], [f64; 101], [f64; 100]) {
+    (
+        core::array::from_fn(|i| 0.12 + 0.08 * i as f64),
+        core::array::from_fn(|i| 1.30 + 0.02 * i as f64),
+        core::array::from_fn(|i| 0.0 + 0.01 * i as f64),
+        core::array::from_fn(|i| 0.01 + 0.01 * i as f64),
+    )
+}
+
+/// The fit probe with `k` ≤ 64 measurements: the spread probe geometries
+/// (from index 8 on), and data from the exponential model at σ/T = 0.9,
+/// β = 0.4, n = 1.42, a = 0.3 with a fixed ±1% ripple (a stand-in for
+/// noise that every target computes alike).
+pub fn fit_case(k: usize) -> ([LaminarGeometry; 64], [f64; 64]) {
+    let mut geometry = [LaminarGeometry::default(); 64];
+    let mut data = [0.0f64; 64];
+    let p = LaminarParams {
+        slope: 0.9,
+        beta: 0.4,
+        n: 1.42,
+        a: 0.3,
+    };
+    for i in 0..k.min(64) {
+        let a = angles(8 + i as u32);
+        let mut total = 0.0f64;
+        crate::laminar_geometry_from_angles(&a, 1, &mut geometry[i]);
+        crate::laminar_total_radiance_f64(0, p, &a, 1, &mut total);
+        data[i] = total * (1.0 + 0.01 * (((i * 7) % 5) as f64 - 2.0) / 2.0);
+    }
+    (geometry, data)
+}
+
+/// [`crate::laminar_fit`] of [`fit_case`] `k` on the paper grid: the
+/// status, and the result's index and Δ_RMS bits.
+pub fn fit_values(k: usize) -> (Status, usize, u64) {
+    let (slope, n, a, beta) = paper_axes();
+    let grid = crate::LaminarGrid {
+        slope: slope.as_ptr(),
+        slope_count: slope.len(),
+        n: n.as_ptr(),
+        n_count: n.len(),
+        a: a.as_ptr(),
+        a_count: a.len(),
+        beta: beta.as_ptr(),
+        beta_count: beta.len(),
+    };
+    let (geometry, data) = fit_case(k);
+    let mut scratch = crate::LaminarFitScratch {
+        words: [0; crate::LAMINAR_FIT_SCRATCH_WORDS],
+    };
+    let mut out = crate::LaminarFitResult::default();
+    let s = crate::laminar_fit(
+        0,
+        geometry.as_ptr(),
+        data.as_ptr(),
+        k,
+        grid,
+        &mut scratch,
+        &mut out,
+    );
+    (s, out.index, out.rms.to_bits())
+}

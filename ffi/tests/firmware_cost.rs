@@ -36,6 +36,7 @@ fn the_f32_path_meets_its_targets_on_the_cortex_m4() {
         "| function | instructions (O3) | stack B (O3) | instructions (s) | stack B (s) |\n|---|---|---|---|---|\n",
     );
     let mut measured = Vec::new();
+    let mut fits = String::new();
     for level in ["3", "s"] {
         let Some(images) = common::build("firmware cost test", level) else {
             return;
@@ -86,6 +87,9 @@ fn the_f32_path_meets_its_targets_on_the_cortex_m4() {
             );
         }
         measured.push((costs, flash));
+        if level == "3" {
+            fits = fit_lines(&images);
+        }
     }
     let (o3, s) = (&measured[0].0, &measured[1].0);
     for (name, (count, stack)) in o3 {
@@ -98,6 +102,30 @@ fn the_f32_path_meets_its_targets_on_the_cortex_m4() {
     );
     let _ = writeln!(
         std::io::stderr(),
-        "Cortex-M4F (QEMU mps2-an386, icount):\n{table}"
+        "Cortex-M4F (QEMU mps2-an386, icount):\n{table}\n{fits}"
     );
+}
+
+/// Runs the paper-grid fits on the device (O3 only: two minutes of QEMU),
+/// checks each against the same call on the host, and reports their cost.
+fn fit_lines(images: &std::path::Path) -> String {
+    let text = common::run(&images.join("fit_bench"), true);
+    let mut out = String::new();
+    for line in text.lines().filter(|l| l.starts_with("FIT ")) {
+        let f: Vec<&str> = line.split_whitespace().collect();
+        let k: usize = f[1].parse().unwrap();
+        let (status, index, rms) = laminar_ffi::probe::fit_values(k);
+        let host = format!("{} {} {:x}", status as u32, index, rms);
+        assert_eq!(
+            f[3..].join(" "),
+            host,
+            "paper-grid fit at K = {k}: device vs host"
+        );
+        out += &format!(
+            "paper-grid fit, K = {k}: {} instructions, same result as the host (index {index})\n",
+            f[2]
+        );
+    }
+    assert_eq!(out.lines().count(), 2, "{text}");
+    out
 }

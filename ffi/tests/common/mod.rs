@@ -5,6 +5,8 @@
 //! one is missing a test prints `SKIPPED` and passes, unless
 //! `LAMINAR_REQUIRE_QEMU=1` (set by `.ci/run`), when it fails.
 
+#![allow(dead_code)] // each test binary uses part of it
+
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;

@@ -194,18 +194,18 @@ impl<L: Lane> Prepared<L> {
                 let widened = sums::SurfaceSums::new(packed, &surface);
                 let mut d = vec![0.0; packed.k];
                 packed.widen(&packed.data, &mut d);
-                let wide = one_pass::Widened {
-                    data: sums::DataSums::new(&widened, &d),
-                    surface: &widened,
+                let wide = laminar_core::onepass::Widened {
+                    s: &widened.s,
+                    ss: widened.ss,
+                    data: sums::DataSums::new(&widened.s, &d),
                     d: &d,
                 };
                 let mut scratch = one_pass::Scratch::default();
                 tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
                     one_pass::sweep(
                         packed,
-                        &surface,
+                        (&surface, u),
                         &wide,
-                        u,
                         &grid.beta.values,
                         &mut scratch,
                         |i_b, r| visit(grid.flat(i_s, i_n, i_a, i_b), i_a, r),

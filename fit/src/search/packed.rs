@@ -5,14 +5,12 @@
 
 use crate::grid::Grid;
 use crate::scene::Scene;
+use laminar_core::onepass::Layout;
+pub use laminar_core::onepass::{lane_max, lane_sum, max_of, normalise, WIDTH};
 use laminar_core::{
     absorption_factor, inverse_slope_squared, subsurface_base, surface_radiance, Correlation,
-    Geometry, Interface, Lane, Real,
+    Geometry, Interface, Lane,
 };
-
-/// Global lanes: the lanes of the widest path, and the number of partial
-/// sums every path keeps, so that a scalar twin adds in the SIMD order.
-pub const WIDTH: usize = 8;
 
 /// Measurement `k` sits in chunk `k / WIDTH`, at global lane `k % WIDTH` =
 /// `stream · L::LANES + lane`. Chunks are stream-major: flat chunk index
@@ -84,67 +82,33 @@ impl<L: Lane> Packed<L> {
         out
     }
 
+    /// Where each measurement sits.
+    pub fn layout(&self) -> Layout {
+        Layout {
+            k: self.k,
+            per_stream: self.per_stream,
+        }
+    }
+
     /// Number of streams (`WIDTH / L::LANES`).
     pub fn streams(&self) -> usize {
-        WIDTH / L::LANES
+        self.layout().streams::<L>()
     }
 
     /// The flat chunk indices of stream `stream`.
     pub fn stream(&self, stream: usize) -> std::ops::Range<usize> {
-        stream * self.per_stream..(stream + 1) * self.per_stream
+        self.layout().stream(stream)
     }
 
     /// The lane values of `values` widened to `f64`, in measurement order.
     pub fn widen(&self, values: &[L], out: &mut [f64]) {
-        for (s, stream) in values.chunks_exact(self.per_stream).enumerate() {
-            for (c, v) in stream.iter().enumerate() {
-                let first = c * WIDTH + s * L::LANES;
-                for lane in 0..L::LANES.min(self.k.saturating_sub(first)) {
-                    out[first + lane] = v.lane(lane).to_f64();
-                }
-            }
-        }
+        self.layout().widen(values, out)
     }
 
     /// The sum of squared residuals `e` clamped at 0 and widened to `f64`:
     /// what every method hands to the search.
     pub fn objective(e: L::Scalar) -> f64 {
-        e.max(L::Scalar::c(0.0)).to_f64()
-    }
-}
-
-/// Largest lane value of `values` (exact, so order does not matter); 0 when
-/// every value is ≤ 0.
-pub fn max_of<L: Lane>(values: &[L]) -> L::Scalar {
-    let mut m = L::c(0.0);
-    for v in values {
-        m = m.max(*v);
-    }
-    lane_max(m)
-}
-
-/// Largest lane of one vector, at least 0.
-pub fn lane_max<L: Lane>(v: L) -> L::Scalar {
-    (0..L::LANES).fold(L::Scalar::c(0.0), |m, lane| m.max(v.lane(lane)))
-}
-
-/// `Σ` over the eight global lanes of per-stream partial sums, in a fixed order.
-pub fn lane_sum<L: Lane>(partial: &[L]) -> L::Scalar {
-    (0..WIDTH).fold(L::Scalar::c(0.0), |sum, g| {
-        sum + partial[g / L::LANES].lane(g % L::LANES)
-    })
-}
-
-/// `values / max(values)`, or zeros when the max is ≤ 0 (docs/conventions.md §4).
-pub fn normalise<L: Lane>(values: &mut [L]) {
-    let m = max_of(values);
-    let zero = L::Scalar::c(0.0);
-    for v in values.iter_mut() {
-        *v = if m > zero {
-            *v / L::splat(m)
-        } else {
-            L::c(0.0)
-        };
+        laminar_core::onepass::objective(e)
     }
 }
 

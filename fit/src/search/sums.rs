@@ -7,6 +7,7 @@
 //! an `f32x8` path and its scalar twin get the same bits.
 
 use super::packed::Packed;
+pub use laminar_core::onepass::{dot, DataSums, DeltaSums};
 use laminar_core::Lane;
 
 /// Per-σ/T model quantities: the widened normalised surface term `S`, the
@@ -27,33 +28,9 @@ impl SurfaceSums {
         packed.widen(surface, &mut s);
         let mut order: Vec<usize> = (0..packed.k).collect();
         order.sort_by(|&a, &b| s[b].total_cmp(&s[a]).then(a.cmp(&b)));
-        let ss = s.iter().map(|v| v * v).sum();
+        let ss = dot(&s, &s);
         Self { s, order, ss }
     }
-}
-
-/// The data side of one scene at one σ/T: `Σ S D` and `Σ D²`.
-#[derive(Clone, Copy)]
-pub struct DataSums {
-    /// `Σ S D`.
-    pub sd: f64,
-    /// `Σ D²`.
-    pub dd: f64,
-}
-
-impl DataSums {
-    /// The sums of the widened data `d` (measurement order) against `surface`.
-    pub fn new(surface: &SurfaceSums, d: &[f64]) -> Self {
-        Self {
-            sd: dot(&surface.s, d),
-            dd: dot(d, d),
-        }
-    }
-}
-
-/// `Σ x_k y_k` in measurement order.
-pub fn dot(x: &[f64], y: &[f64]) -> f64 {
-    x.iter().zip(y).map(|(a, b)| a * b).sum()
 }
 
 /// `Σ x_k y_k` as four partial sums over `k mod 4`, added as
@@ -75,35 +52,4 @@ pub fn dot4(x: &[f64], y: &[f64]) -> f64 {
         sum += x * y;
     }
     sum
-}
-
-/// The per-(σ/T, n, a) sums over `Δ = U − S` of the one-pass method.
-#[derive(Clone, Copy)]
-pub struct DeltaSums {
-    /// `Σ Δ²`.
-    pub del_del: f64,
-    /// `Σ S Δ`.
-    pub s_del: f64,
-    /// `Σ D Δ`.
-    pub d_del: f64,
-}
-
-impl DeltaSums {
-    /// The sums for the widened `Δ` and data `d`, in measurement order.
-    pub fn new(surface: &SurfaceSums, d: &[f64], delta: &[f64]) -> Self {
-        Self {
-            del_del: dot(delta, delta),
-            s_del: dot(&surface.s, delta),
-            d_del: dot(d, delta),
-        }
-    }
-
-    /// `(Σ X D, Σ X²)` of the mix `X = S + β Δ`.
-    #[inline]
-    pub fn mix(&self, surface: &SurfaceSums, data: &DataSums, beta: f64) -> (f64, f64) {
-        (
-            data.sd + beta * self.d_del,
-            surface.ss + beta * (2.0 * self.s_del + beta * self.del_del),
-        )
-    }
 }

@@ -20,6 +20,7 @@ use laminar_core::{
 use laminar_ffi::{laminar_evaluate_f32, LaminarGeometry, LaminarParamsF32};
 
 const REPEATS: u32 = 1000;
+
 /// Instructions per timer tick: 40 ns at 25 MHz, one instruction per ns.
 const INSTRUCTIONS_PER_TICK: u64 = 40;
 
@@ -162,5 +163,7 @@ fn main() -> ! {
     });
     hprintln!("done");
     debug::exit(debug::EXIT_SUCCESS);
-    loop {}
+    loop {
+        cortex_m::asm::wfi(); // not reached: the exit above ends QEMU
+    }
 }

@@ -1,0 +1,259 @@
+//! The grid search of the fitting library for small measurement sets
+//! (K ≤ [`MAX_MEASUREMENTS`]), allocation-free in caller-provided
+//! [`Scratch`]: what a device with a few LEDs and photodiodes runs to fit
+//! its own measurements.
+//!
+//! It is the library's `onepass-f32` path (docs/conventions.md §4–§6): the
+//! same hoisting (the normalised surface term once per σ/T, refraction per
+//! (σ/T, n), absorption per (σ/T, n, a)), the same kernel
+//! ([`crate::onepass::sweep`]), the same packing and order of sums, so the
+//! same objective at every grid point, bit for bit, and the same
+//! tie-break: the smallest flat index (loop order σ/T, n, a, β) among
+//! equal minima. Only the memory differs: the library keeps per-(scene, n)
+//! and per-(scene, a) tables; this recomputes them per σ/T, which costs a
+//! few percent more and needs no more than `Scratch` (5 KB).
+
+use crate::error::InputError;
+use crate::geometry::Geometry;
+use crate::onepass::{self, normalise, DataSums, Layout, Terms, Widened};
+use crate::radiance::Params;
+use crate::subsurface::{absorption_factor, subsurface_base, Interface};
+use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
+
+/// Most measurements a small fit takes.
+pub const MAX_MEASUREMENTS: usize = 64;
+
+/// Working memory of a small fit, owned by the caller (a `static` or the
+/// stack); its contents between calls do not matter.
+#[derive(Clone, Debug)]
+pub struct Scratch {
+    geometry: [Geometry<f32>; MAX_MEASUREMENTS],
+    data: [f32; MAX_MEASUREMENTS],
+    valid: [f32; MAX_MEASUREMENTS],
+    surface: [f32; MAX_MEASUREMENTS],
+    base: [f32; MAX_MEASUREMENTS],
+    subsurface: [f32; MAX_MEASUREMENTS],
+    delta: [f32; MAX_MEASUREMENTS],
+    s: [f64; MAX_MEASUREMENTS],
+    d: [f64; MAX_MEASUREMENTS],
+    delta_f64: [f64; MAX_MEASUREMENTS],
+}
+
+impl Scratch {
+    /// Zeroed scratch (`const`, so it can be a `static`).
+    pub const fn new() -> Self {
+        let g = Geometry {
+            cos_i: 0.0,
+            cos_s: 0.0,
+            sin2_i: 0.0,
+            sin2_s: 0.0,
+            vxy2: 0.0,
+            vz2: 0.0,
+            lead: 0.0,
+            ratio: 0.0,
+        };
+        Self {
+            geometry: [g; MAX_MEASUREMENTS],
+            data: [0.0; MAX_MEASUREMENTS],
+            valid: [0.0; MAX_MEASUREMENTS],
+            surface: [0.0; MAX_MEASUREMENTS],
+            base: [0.0; MAX_MEASUREMENTS],
+            subsurface: [0.0; MAX_MEASUREMENTS],
+            delta: [0.0; MAX_MEASUREMENTS],
+            s: [0.0; MAX_MEASUREMENTS],
+            d: [0.0; MAX_MEASUREMENTS],
+            delta_f64: [0.0; MAX_MEASUREMENTS],
+        }
+    }
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The grid: each axis's values, searched in loop order σ/T, n, a, β.
+/// The paper's grid (docs/conventions.md §6) is σ/T = 0.12 + 0.08 i
+/// (i < 50), n = 1.30 + 0.02 m (m < 11), a = 0.01 l (l < 101),
+/// β = 0.01 + 0.01 j (j < 100), each value computed in `f64` as written.
+#[derive(Clone, Copy, Debug)]
+pub struct Axes<'a> {
+    /// σ/T values.
+    pub slope: &'a [f64],
+    /// n values.
+    pub n: &'a [f64],
+    /// a values.
+    pub a: &'a [f64],
+    /// β values.
+    pub beta: &'a [f64],
+}
+
+impl Axes<'_> {
+    /// Flattened index of a grid point in loop order.
+    #[must_use]
+    pub fn flat(&self, s: usize, n: usize, a: usize, b: usize) -> usize {
+        ((s * self.n.len() + n) * self.a.len() + a) * self.beta.len() + b
+    }
+
+    /// The point of flattened index `flat` as (σ/T, β, n, a).
+    #[must_use]
+    pub fn point(&self, flat: usize) -> (f64, f64, f64, f64) {
+        let b = flat % self.beta.len();
+        let a = flat / self.beta.len() % self.a.len();
+        let n = flat / (self.beta.len() * self.a.len()) % self.n.len();
+        let s = flat / (self.beta.len() * self.a.len() * self.n.len());
+        (self.slope[s], self.beta[b], self.n[n], self.a[a])
+    }
+
+    /// Checks every value against the model's domain and that no axis is empty.
+    fn validate(&self) -> Result<(), SmallFitError> {
+        let axes = [self.slope, self.beta, self.n, self.a];
+        if axes.iter().any(|axis| axis.is_empty()) {
+            return Err(SmallFitError::EmptyAxis);
+        }
+        // Every value varied on its own around a point inside the domain.
+        for (i, axis) in axes.iter().enumerate() {
+            for &v in *axis {
+                let mut p = [1.0, 0.5, 1.5, 0.5];
+                p[i] = v;
+                Params::new(p[0], p[1], p[2], p[3]).map_err(SmallFitError::Input)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What a small fit found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SmallFit {
+    /// Flattened index of the best grid point (smallest on ties).
+    pub best: usize,
+    /// Its sum of squared residuals `Σ (D − P)²`.
+    pub objective: f64,
+    /// Its `Δ_RMS` (eq. 15).
+    pub rms: f64,
+    /// The best grid point with a = 0 (Ragheb–Hancock) and its objective,
+    /// when the a axis holds 0.
+    pub rh_best: Option<(usize, f64)>,
+}
+
+/// Why a small fit did not run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SmallFitError {
+    /// No measurement, more than [`MAX_MEASUREMENTS`], or data and
+    /// geometry of different lengths.
+    Count {
+        /// Geometries given.
+        geometries: usize,
+        /// Data values given.
+        data: usize,
+    },
+    /// A datum that is not finite, or no positive datum.
+    Data {
+        /// Index of the bad datum (the first one, or 0 when none is positive).
+        index: usize,
+    },
+    /// An axis with no value.
+    EmptyAxis,
+    /// A grid value outside the model's domain.
+    Input(InputError),
+}
+
+/// Fits the `f32` geometries `geometry` (built as the library builds them,
+/// e.g. [`Geometry::splat`]) to the un-normalised data `data` over `axes`
+/// with correlation `corr`. The data are divided by their max in `f64`,
+/// as the library does (docs/conventions.md §4).
+///
+/// # Errors
+/// [`SmallFitError`] for a bad count, datum or grid.
+pub fn fit(
+    corr: Correlation,
+    geometry: &[Geometry<f32>],
+    data: &[f64],
+    axes: &Axes<'_>,
+    scratch: &mut Scratch,
+) -> Result<SmallFit, SmallFitError> {
+    let k = geometry.len();
+    if k == 0 || k > MAX_MEASUREMENTS || data.len() != k {
+        return Err(SmallFitError::Count {
+            geometries: k,
+            data: data.len(),
+        });
+    }
+    if let Some(index) = data.iter().position(|d| !d.is_finite()) {
+        return Err(SmallFitError::Data { index });
+    }
+    let max = data.iter().fold(0.0f64, |m, &d| m.max(d));
+    if max <= 0.0 {
+        return Err(SmallFitError::Data { index: 0 });
+    }
+    axes.validate()?;
+    let layout = Layout::new(k);
+    let chunks = layout.chunks::<f32>();
+    // Pack: padding lanes repeat the last geometry with weight and datum 0.
+    for c in 0..chunks {
+        let m = layout.measurement::<f32>(c, 0);
+        let real = m < k;
+        scratch.geometry[c] = geometry[m.min(k - 1)];
+        scratch.data[c] = if real { (data[m] / max) as f32 } else { 0.0 };
+        scratch.valid[c] = if real { 1.0 } else { 0.0 };
+    }
+    layout.widen(&scratch.data[..chunks], &mut scratch.d[..k]);
+    let zero_a = axes.a.iter().position(|&a| a == 0.0);
+    // The best (flat index, objective) overall and on the a = 0 slice.
+    let mut best: Option<(usize, f64)> = None;
+    let mut rh: Option<(usize, f64)> = None;
+    for (i_s, &slope) in axes.slope.iter().enumerate() {
+        let inv_s2 = inverse_slope_squared(slope as f32);
+        for c in 0..chunks {
+            let g = &scratch.geometry[c];
+            scratch.surface[c] = surface_radiance(g, corr, inv_s2) * scratch.valid[c];
+        }
+        normalise(&mut scratch.surface[..chunks]);
+        layout.widen(&scratch.surface[..chunks], &mut scratch.s[..k]);
+        let (s, d) = (&scratch.s[..k], &scratch.d[..k]);
+        let wide = Widened {
+            s,
+            ss: onepass::dot(s, s),
+            d,
+            data: DataSums::new(s, d),
+        };
+        for (i_n, &n) in axes.n.iter().enumerate() {
+            for c in 0..chunks {
+                let iface = Interface::new(&scratch.geometry[c], n as f32);
+                scratch.base[c] = subsurface_base(&iface, corr, inv_s2) * scratch.valid[c];
+            }
+            for (i_a, &a) in axes.a.iter().enumerate() {
+                for c in 0..chunks {
+                    let att = absorption_factor(&scratch.geometry[c], a as f32);
+                    scratch.subsurface[c] = scratch.base[c] * att;
+                }
+                normalise(&mut scratch.subsurface[..chunks]);
+                let terms = Terms {
+                    layout: &layout,
+                    data: &scratch.data[..chunks],
+                    surface: &scratch.surface[..chunks],
+                    subsurface: &scratch.subsurface[..chunks],
+                };
+                let scratch_delta = (&mut scratch.delta[..chunks], &mut scratch.delta_f64[..k]);
+                onepass::sweep(terms, &wide, axes.beta, scratch_delta, |i_b, e| {
+                    let flat = axes.flat(i_s, i_n, i_a, i_b);
+                    if best.is_none_or(|(_, b)| e < b) {
+                        best = Some((flat, e));
+                    }
+                    if zero_a == Some(i_a) && rh.is_none_or(|(_, b)| e < b) {
+                        rh = Some((flat, e));
+                    }
+                });
+            }
+        }
+    }
+    let (best, objective) = best.unwrap_or((0, f64::INFINITY));
+    Ok(SmallFit {
+        best,
+        objective,
+        rms: 100.0 * libm::sqrt(objective) / k as f64,
+        rh_best: rh,
+    })
+}

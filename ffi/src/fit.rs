@@ -1,0 +1,126 @@
+//! The on-device fit of the C ABI: the core's allocation-free small fit
+//! (`laminar_core::small_fit`, the library's `onepass-f32` search) over a
+//! grid the caller gives, in scratch memory the caller owns.
+
+use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
+use laminar_core::small_fit::{self, Axes, Scratch, SmallFitError, MAX_MEASUREMENTS};
+use laminar_core::Geometry;
+
+/// Most measurements [`crate::laminar_fit`] takes.
+pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = MAX_MEASUREMENTS;
+
+/// 64-bit words of [`LaminarFitScratch`].
+pub const LAMINAR_FIT_SCRATCH_WORDS: usize = 640;
+
+/// Working memory of a fit (5 KB), owned by the caller: a `static` or a
+/// local. Its contents between calls do not matter.
+#[repr(C)]
+pub struct LaminarFitScratch {
+    /// Opaque.
+    pub words: [u64; LAMINAR_FIT_SCRATCH_WORDS],
+}
+
+const _: () = assert!(core::mem::size_of::<Scratch>() <= 8 * LAMINAR_FIT_SCRATCH_WORDS);
+// `u64` words are aligned as `f64` is, on every target.
+const _: () =
+    assert!(core::mem::align_of::<Scratch>() <= core::mem::align_of::<LaminarFitScratch>());
+
+/// The grid: each axis's values (`f64`) and count, searched in loop order
+/// σ/T, n, a, β (ties go to the first). The paper's grid: σ/T = 0.12 +
+/// 0.08 i (50 values), n = 1.30 + 0.02 m (11), a = 0.01 l (101), β = 0.01 +
+/// 0.01 j (100), each computed in `double` as written.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct LaminarGrid {
+    /// σ/T values.
+    pub slope: *const f64,
+    /// Number of σ/T values.
+    pub slope_count: usize,
+    /// n values.
+    pub n: *const f64,
+    /// Number of n values.
+    pub n_count: usize,
+    /// a values.
+    pub a: *const f64,
+    /// Number of a values.
+    pub a_count: usize,
+    /// β values.
+    pub beta: *const f64,
+    /// Number of β values.
+    pub beta_count: usize,
+}
+
+/// What a fit found: the best grid point's parameters, its Δ_RMS (eq. 15)
+/// and flat index, and the same for the best point with a = 0 (the
+/// Ragheb–Hancock model; `rh_found` is false when the a axis lacks 0).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LaminarFitResult {
+    /// σ/T.
+    pub slope: f64,
+    /// β.
+    pub beta: f64,
+    /// n.
+    pub n: f64,
+    /// a.
+    pub a: f64,
+    /// Δ_RMS (eq. 15) at the best point.
+    pub rms: f64,
+    /// Flat index of the best point (loop order σ/T, n, a, β).
+    pub index: usize,
+    /// Whether the a axis holds 0.
+    pub rh_found: bool,
+    /// Flat index of the best point with a = 0.
+    pub rh_index: usize,
+    /// Its Δ_RMS.
+    pub rh_rms: f64,
+}
+
+/// The fit behind [`crate::laminar_fit`].
+pub fn fit(
+    corr: u32,
+    (geometries, data, count): (*const LaminarGeometry, *const f64, usize),
+    grid: &LaminarGrid,
+    scratch: *mut LaminarFitScratch,
+    out: *mut LaminarFitResult,
+) -> Result<(), Status> {
+    let corr = correlation(corr)?;
+    if count == 0 || count > MAX_MEASUREMENTS {
+        return Err(Status::BadCount);
+    }
+    let g = buffers::input(geometries, count)?;
+    let data = buffers::input(data, count)?;
+    let axes = Axes {
+        slope: buffers::input(grid.slope, grid.slope_count)?,
+        n: buffers::input(grid.n, grid.n_count)?,
+        a: buffers::input(grid.a, grid.a_count)?,
+        beta: buffers::input(grid.beta, grid.beta_count)?,
+    };
+    let scratch = buffers::scratch(scratch)?;
+    let out = buffers::output(out, 1)?;
+    let mut geometry = [Geometry::<f32>::from(&LaminarGeometry::default()); MAX_MEASUREMENTS];
+    for (slot, g) in geometry.iter_mut().zip(g) {
+        *slot = g.into();
+    }
+    let found =
+        small_fit::fit(corr, &geometry[..count], data, &axes, scratch).map_err(|e| match e {
+            SmallFitError::Count { .. } => Status::BadCount,
+            SmallFitError::Data { .. } => Status::BadData,
+            SmallFitError::EmptyAxis => Status::EmptyAxis,
+            SmallFitError::Input(e) => status_of(e),
+        })?;
+    let (slope, beta, n, a) = axes.point(found.best);
+    let (rh_index, rh_objective) = found.rh_best.unwrap_or((0, 0.0));
+    out[0] = LaminarFitResult {
+        slope,
+        beta,
+        n,
+        a,
+        rms: found.rms,
+        index: found.best,
+        rh_found: found.rh_best.is_some(),
+        rh_index,
+        rh_rms: 100.0 * libm::sqrt(rh_objective) / count as f64,
+    };
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! The allocation-free small fit of the core (`laminar_core::small_fit`,
+//! the on-device fit) against the library's search on the paper grid: the
+//! same best grid point and the same objective bits as the `onepass-f32`
+//! path; against the default path (envelope, `f32x8`), the same Δ_RMS to
+//! `f32` rounding (on near-ties the two may pick different points).
+
+use laminar_core::small_fit::{self, Axes, Scratch, SmallFitError};
+use laminar_core::{Correlation, Geometry};
+use laminar_fit::search::{self, Arith, Method};
+use laminar_fit::{synthetic, Grid, Path};
+
+#[test]
+fn small_fit_is_the_library_search() {
+    let grid = Grid::paper();
+    let axes = Axes {
+        slope: &grid.slope.values,
+        n: &grid.n.values,
+        a: &grid.a.values,
+        beta: &grid.beta.values,
+    };
+    let mut scratch = Scratch::new();
+    let onepass = Path::new(Method::OnePass, Arith::F32);
+    let (mut checked, mut same_as_default) = (0, 0);
+    for (k, seed) in [(7, 11), (32, 12), (64, 13)] {
+        let angles = synthetic::spread(k);
+        let geometry: Vec<Geometry<f32>> = angles.iter().map(Geometry::splat).collect();
+        for corr in [Correlation::Exponential, Correlation::Gaussian] {
+            for scene in synthetic::sets(corr, &angles, 2, 0.01, seed) {
+                let small = small_fit::fit(corr, &geometry, scene.data(), &axes, &mut scratch)
+                    .expect("a valid fit");
+                let want = search::search(&scene, &grid, corr, onepass, &|| {}).unwrap();
+                assert_eq!(small.best, want.best, "K = {k}, {corr:?}");
+                assert_eq!(small.rms.to_bits(), want.best_rms.to_bits(), "K = {k}");
+                let rh = small
+                    .rh_best
+                    .map(|(flat, e)| (flat, search::rms_of_sum(e, k)));
+                assert_eq!(rh, want.rh_best, "K = {k}");
+                // The default path (envelope, f32x8) sums in another order,
+                // so on near-ties it may pick another point: its Δ_RMS then
+                // equals this one's to f32 rounding.
+                let default = search::search(&scene, &grid, corr, Path::DEFAULT, &|| {}).unwrap();
+                if default.best == small.best {
+                    same_as_default += 1;
+                } else {
+                    let gap = (default.best_rms - small.rms).abs() / small.rms;
+                    println!("K = {k} {corr:?}: default path picks {} (Δ_RMS {:.7}), small fit {} ({:.7}), relative gap {gap:.1e}", default.best, default.best_rms, small.best, small.rms);
+                    assert!(gap < 1e-5, "K = {k}: default path Δ_RMS differs by {gap:e}");
+                }
+                checked += 1;
+            }
+        }
+    }
+    println!("small fit = default path's grid point in {same_as_default} of {checked} fits");
+    assert_eq!(checked, 12);
+}
+
+#[test]
+fn small_fit_refuses_bad_input_by_kind() {
+    let grid = Grid::paper();
+    let axes = Axes {
+        slope: &grid.slope.values,
+        n: &grid.n.values,
+        a: &grid.a.values,
+        beta: &grid.beta.values,
+    };
+    let mut scratch = Scratch::new();
+    let angles = synthetic::spread(65);
+    let g: Vec<Geometry<f32>> = angles.iter().map(Geometry::splat).collect();
+    let corr = Correlation::Exponential;
+    let ones = vec![1.0; 65];
+    let e = small_fit::fit(corr, &g, &ones, &axes, &mut scratch).unwrap_err();
+    assert_eq!(
+        e,
+        SmallFitError::Count {
+            geometries: 65,
+            data: 65
+        }
+    );
+    let mut data = vec![0.5; 8];
+    data[3] = f64::NAN;
+    let e = small_fit::fit(corr, &g[..8], &data, &axes, &mut scratch).unwrap_err();
+    assert_eq!(e, SmallFitError::Data { index: 3 });
+    let e = small_fit::fit(corr, &g[..8], &[0.0; 8], &axes, &mut scratch).unwrap_err();
+    assert_eq!(e, SmallFitError::Data { index: 0 });
+    let bad = Axes { n: &[0.9], ..axes };
+    let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &bad, &mut scratch).unwrap_err();
+    assert!(matches!(e, SmallFitError::Input(_)), "{e:?}");
+    let empty = Axes { beta: &[], ..axes };
+    let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &empty, &mut scratch).unwrap_err();
+    assert_eq!(e, SmallFitError::EmptyAxis);
+}
