@@ -9,15 +9,20 @@ use laminar_core::{Correlation, Geometry};
 use laminar_fit::search::{self, Arith, Method};
 use laminar_fit::{synthetic, Grid, Path};
 
-#[test]
-fn small_fit_is_the_library_search() {
-    let grid = Grid::paper();
-    let axes = Axes {
+/// The small fit's view of a library grid.
+fn axes_of(grid: &Grid) -> Axes<'_> {
+    Axes {
         slope: &grid.slope.values,
         n: &grid.n.values,
         a: &grid.a.values,
         beta: &grid.beta.values,
-    };
+    }
+}
+
+#[test]
+fn small_fit_is_the_library_search() {
+    let grid = Grid::paper();
+    let axes = axes_of(&grid);
     let mut scratch = Scratch::new();
     let onepass = Path::new(Method::OnePass, Arith::F32);
     let (mut checked, mut same_as_default) = (0, 0);
@@ -57,12 +62,7 @@ fn small_fit_is_the_library_search() {
 #[test]
 fn small_fit_refuses_bad_input_by_kind() {
     let grid = Grid::paper();
-    let axes = Axes {
-        slope: &grid.slope.values,
-        n: &grid.n.values,
-        a: &grid.a.values,
-        beta: &grid.beta.values,
-    };
+    let axes = axes_of(&grid);
     let mut scratch = Scratch::new();
     let angles = synthetic::spread(65);
     let g: Vec<Geometry<f32>> = angles.iter().map(Geometry::splat).collect();

@@ -32,16 +32,7 @@ fn main() -> ! {
         n: 1.44,
         a: 0.17,
     });
-    let mut g = LaminarGeometry {
-        cos_i: 0.0,
-        cos_s: 0.0,
-        sin2_i: 0.0,
-        sin2_s: 0.0,
-        vxy2: 0.0,
-        vz2: 0.0,
-        lead: 0.0,
-        ratio: 0.0,
-    };
+    let mut g = LaminarGeometry::default();
     let mut out = [0.0f32; 2];
     let ok = laminar_geometry_from_directions(&d, 1, &mut g) == Status::Ok
         && laminar_evaluate_f32(0, p, &g, 1, &mut out[0]) == Status::Ok
