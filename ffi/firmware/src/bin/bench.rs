@@ -1,8 +1,8 @@
 //! Instruction counts and stack depths of the f32 path on the emulated
 //! Cortex-M4F. Run by `ffi/tests/firmware_cost.rs` under QEMU with
-//! `-icount shift=0` (one instruction per virtual nanosecond): the CMSDK
-//! APB timer at 0x4000_0000 counts down at 25 MHz, so one tick is 40
-//! instructions, and each function runs `REPEATS` times between two reads.
+//! `-icount shift=0` (one instruction per virtual nanosecond), read from
+//! the board's timer ([`laminar_firmware::timer`]); each function runs
+//! `REPEATS` times between two reads.
 //! These are instructions, not cycles (QEMU does not model the pipeline).
 //!
 //! Prints `name instructions stack_bytes`, one line per function.
@@ -12,39 +12,12 @@
 
 use core::hint::black_box;
 use cortex_m_rt::entry;
-use laminar_firmware as _; // the interrupt table
 use cortex_m_semihosting::{debug, hprintln};
-use laminar_core::{
-    total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams,
-};
+use laminar_core::{total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams};
 use laminar_ffi::{laminar_evaluate_f32, LaminarGeometry, LaminarParamsF32};
+use laminar_firmware::{timer, timer_start, INSTRUCTIONS_PER_TICK};
 
 const REPEATS: u32 = 1000;
-
-/// Instructions per timer tick: 40 ns at 25 MHz, one instruction per ns.
-const INSTRUCTIONS_PER_TICK: u64 = 40;
-
-/// The APB timer 0 of the MPS2 (CMSDK): control, current value, reload.
-const TIMER_CTRL: *mut u32 = 0x4000_0000 as *mut u32;
-const TIMER_VALUE: *mut u32 = 0x4000_0004 as *mut u32;
-const TIMER_RELOAD: *mut u32 = 0x4000_0008 as *mut u32;
-
-#[allow(unsafe_code)]
-fn timer_start() {
-    // SAFETY: memory-mapped registers of the MPS2's APB timer 0, which
-    // nothing else uses in this image.
-    unsafe {
-        TIMER_RELOAD.write_volatile(u32::MAX);
-        TIMER_VALUE.write_volatile(u32::MAX);
-        TIMER_CTRL.write_volatile(1);
-    }
-}
-
-#[allow(unsafe_code)]
-fn timer() -> u32 {
-    // SAFETY: as in `timer_start`.
-    unsafe { TIMER_VALUE.read_volatile() }
-}
 
 /// Instructions of `REPEATS` calls of `f`, in tenths per call.
 fn instructions(mut f: impl FnMut()) -> u64 {
@@ -137,7 +110,13 @@ fn main() -> ! {
     };
     bench("laminar_evaluate_f32_1", empty, || {
         let mut out = 0.0f32;
-        black_box(laminar_evaluate_f32(0, black_box(lp), black_box(&lg), 1, &mut out));
+        black_box(laminar_evaluate_f32(
+            0,
+            black_box(lp),
+            black_box(&lg),
+            1,
+            &mut out,
+        ));
     });
     bench("geometry_from_angles_f32", empty, || {
         black_box(Geometry::from_angles_f32(

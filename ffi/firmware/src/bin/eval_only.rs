@@ -8,12 +8,12 @@
 
 use core::hint::black_box;
 use cortex_m_rt::entry;
-use laminar_firmware as _; // the interrupt table
 use cortex_m_semihosting::debug;
 use laminar_ffi::{
     laminar_evaluate_f32, laminar_geometry_from_directions, LaminarDirections, LaminarGeometry,
     LaminarParamsF32, Status,
 };
+use laminar_firmware as _; // the interrupt table
 
 #[entry]
 fn main() -> ! {
