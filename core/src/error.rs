@@ -1,6 +1,7 @@
 //! Errors returned by the validating constructors. The hot path trusts
 //! validated values and never checks again.
 
+use crate::lane::Real;
 use core::fmt;
 
 /// An input value outside the model's domain.
@@ -62,20 +63,23 @@ impl fmt::Display for InputError {
 
 impl core::error::Error for InputError {}
 
-/// Checks `lo ≤ v ≤ hi` (false for NaN).
-pub(crate) fn check_range(
+/// Checks `lo ≤ v ≤ hi` (false for NaN) in `v`'s precision, the ends
+/// rounded to it. Inlined always, so that a caller that maps the error to
+/// a code (the C ABI) drops its strings and the widening of `v`.
+#[inline(always)]
+pub(crate) fn check_range<S: Real>(
     name: &'static str,
-    v: f64,
+    v: S,
     lo: f64,
     hi: f64,
     allowed: &'static str,
-) -> Result<f64, InputError> {
-    if v >= lo && v <= hi {
+) -> Result<S, InputError> {
+    if v >= S::from_f64(lo) && v <= S::from_f64(hi) {
         Ok(v)
     } else {
         Err(InputError::OutOfRange {
             name,
-            value: v,
+            value: v.to_f64(),
             allowed,
         })
     }

@@ -33,11 +33,12 @@ impl Params {
     /// # Errors
     /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
     pub fn new(slope: f64, beta: f64, n: f64, a: f64) -> Result<Self, InputError> {
+        let p = LaneParams::<f64>::new(slope, beta, n, a)?;
         Ok(Self {
-            slope: check_range("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,
-            beta: check_range("beta", beta, 0.0, 1.0, "[0, 1]")?,
-            n: check_range("n", n, 1.0, INDEX_MAX, "[1, 10]")?,
-            a: check_range("a", a, 0.0, 1.0, "[0, 1]")?,
+            slope: p.slope,
+            beta: p.beta,
+            n: p.n,
+            a: p.a,
         })
     }
     /// RMS slope σ/T (also σ′/T′).
@@ -88,30 +89,20 @@ pub struct LaneParams<S> {
 }
 
 impl<S: Real> LaneParams<S> {
-    /// Validates in `S` and builds a parameter set, with the domains of
-    /// [`Params::new`] (whose ends are `f32` values or round up to one, so
-    /// an `f32` value passes here exactly when it passes there).
+    /// Validates in `S` and builds a parameter set: the domains of
+    /// [`Params`] (whose ends are `f32` values or round up to one, so an
+    /// `f32` value passes here exactly when its widened value passes in
+    /// `f64`).
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
     #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn new(slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
-        let check = |name, v: S, lo: f64, hi: f64, allowed| {
-            if v >= S::from_f64(lo) && v <= S::from_f64(hi) {
-                Ok(v)
-            } else {
-                Err(InputError::OutOfRange {
-                    name,
-                    value: v.to_f64(),
-                    allowed,
-                })
-            }
-        };
         Ok(Self::rounded(
-            check("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,
-            check("beta", beta, 0.0, 1.0, "[0, 1]")?,
-            check("n", n, 1.0, INDEX_MAX, "[1, 10]")?,
-            check("a", a, 0.0, 1.0, "[0, 1]")?,
+            check_range("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,
+            check_range("beta", beta, 0.0, 1.0, "[0, 1]")?,
+            check_range("n", n, 1.0, INDEX_MAX, "[1, 10]")?,
+            check_range("a", a, 0.0, 1.0, "[0, 1]")?,
         ))
     }
 
