@@ -93,6 +93,12 @@ impl Layout {
     }
 }
 
+/// `Δ_RMS` (eq. 15) from the sum of squared residuals `e` over `k` measurements.
+#[must_use]
+pub fn rms_of_sum(e: f64, k: usize) -> f64 {
+    100.0 * libm::sqrt(e) / k as f64
+}
+
 /// The sum of squared residuals `e` clamped at 0 and widened to `f64`:
 /// what every method hands to the search.
 #[must_use]

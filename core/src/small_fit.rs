@@ -73,10 +73,41 @@ impl Default for Scratch {
     }
 }
 
-/// The grid: each axis's values, searched in loop order σ/T, n, a, β.
-/// The paper's grid (docs/conventions.md §6) is σ/T = 0.12 + 0.08 i
-/// (i < 50), n = 1.30 + 0.02 m (m < 11), a = 0.01 l (l < 101),
-/// β = 0.01 + 0.01 j (j < 100), each value computed in `f64` as written.
+/// The paper's grid (docs/conventions.md §6) as `(start, step, count)`
+/// per axis in the order of [`Axes`] (σ/T, n, a, β); value `i` of an axis
+/// is [`stepped`]`(start, step, i)`.
+pub const PAPER: [(f64, f64, usize); 4] = [
+    (0.12, 0.08, 50),
+    (1.30, 0.02, 11),
+    (0.0, 0.01, 101),
+    (0.01, 0.01, 100),
+];
+
+/// `start + step·i`, the paper's construction of an axis value.
+#[must_use]
+pub fn stepped(start: f64, step: f64, i: usize) -> f64 {
+    start + step * i as f64
+}
+
+/// A grid axis outside what a search takes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AxisError {
+    /// The axis (`"slope"`, `"n"`, `"a"` or `"beta"`) has no value.
+    Empty {
+        /// The axis.
+        axis: &'static str,
+    },
+    /// A value of the axis is outside the model's domain.
+    OutOfDomain {
+        /// The axis.
+        axis: &'static str,
+        /// The value and its domain.
+        error: InputError,
+    },
+}
+
+/// The grid: each axis's values, searched in loop order σ/T, n, a, β
+/// (the paper's: [`PAPER`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Axes<'a> {
     /// σ/T values.
@@ -96,28 +127,49 @@ impl Axes<'_> {
         ((s * self.n.len() + n) * self.a.len() + a) * self.beta.len() + b
     }
 
+    /// The axis indices (σ/T, n, a, β) of a flattened index ([`Axes::flat`]).
+    #[must_use]
+    pub fn indices(&self, flat: usize) -> (usize, usize, usize, usize) {
+        let b = flat % self.beta.len();
+        let rest = flat / self.beta.len();
+        let a = rest % self.a.len();
+        let rest = rest / self.a.len();
+        (rest / self.n.len(), rest % self.n.len(), a, b)
+    }
+
     /// The point of flattened index `flat` as (σ/T, β, n, a).
     #[must_use]
     pub fn point(&self, flat: usize) -> (f64, f64, f64, f64) {
-        let b = flat % self.beta.len();
-        let a = flat / self.beta.len() % self.a.len();
-        let n = flat / (self.beta.len() * self.a.len()) % self.n.len();
-        let s = flat / (self.beta.len() * self.a.len() * self.n.len());
+        let (s, n, a, b) = self.indices(flat);
         (self.slope[s], self.beta[b], self.n[n], self.a[a])
     }
 
-    /// Checks every value against the model's domain and that no axis is empty.
-    fn validate(&self) -> Result<(), SmallFitError> {
-        let axes = [self.slope, self.beta, self.n, self.a];
-        if axes.iter().any(|axis| axis.is_empty()) {
-            return Err(SmallFitError::EmptyAxis);
-        }
-        // Every value varied on its own around a point inside the domain.
-        for (i, axis) in axes.iter().enumerate() {
-            for &v in *axis {
-                let mut p = [1.0, 0.5, 1.5, 0.5];
-                p[i] = v;
-                Params::new(p[0], p[1], p[2], p[3]).map_err(SmallFitError::Input)?;
+    /// Checks that no axis is empty and every value lies in the model's
+    /// domain ([`Params::new`]; the domain is a box, so each axis is
+    /// checked on its own, around a point inside it), axis by axis in
+    /// loop order.
+    ///
+    /// # Errors
+    /// The first [`AxisError`].
+    pub fn validate(&self) -> Result<(), AxisError> {
+        // A point inside the domain as (σ/T, β, n, a), to vary one axis at a time.
+        let inside = [1.0, 0.5, 1.5, 0.5];
+        // Each axis with its place in that point.
+        let axes = [
+            ("slope", self.slope, 0),
+            ("n", self.n, 2),
+            ("a", self.a, 3),
+            ("beta", self.beta, 1),
+        ];
+        for (axis, values, place) in axes {
+            if values.is_empty() {
+                return Err(AxisError::Empty { axis });
+            }
+            for &v in values {
+                let mut p = inside;
+                p[place] = v;
+                Params::new(p[0], p[1], p[2], p[3])
+                    .map_err(|error| AxisError::OutOfDomain { axis, error })?;
             }
         }
         Ok(())
@@ -154,10 +206,8 @@ pub enum SmallFitError {
         /// Index of the bad datum (the first one, or 0 when none is positive).
         index: usize,
     },
-    /// An axis with no value.
-    EmptyAxis,
-    /// A grid value outside the model's domain.
-    Input(InputError),
+    /// An empty axis, or a value outside the model's domain.
+    Axis(AxisError),
 }
 
 /// Fits the `f32` geometries `geometry` (built as the library builds them,
@@ -188,7 +238,7 @@ pub fn fit(
     if max <= 0.0 {
         return Err(SmallFitError::Data { index: 0 });
     }
-    axes.validate()?;
+    axes.validate().map_err(SmallFitError::Axis)?;
     let layout = Layout::new(k);
     let chunks = layout.chunks::<f32>();
     // Pack: padding lanes repeat the last geometry with weight and datum 0.
@@ -253,7 +303,7 @@ pub fn fit(
     Ok(SmallFit {
         best,
         objective,
-        rms: 100.0 * libm::sqrt(objective) / k as f64,
+        rms: onepass::rms_of_sum(objective, k),
         rh_best: rh,
     })
 }

@@ -3,7 +3,8 @@
 //! grid the caller gives, in scratch memory the caller owns.
 
 use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
-use laminar_core::small_fit::{self, Axes, Scratch, SmallFitError, MAX_MEASUREMENTS};
+use laminar_core::onepass::rms_of_sum;
+use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError, MAX_MEASUREMENTS};
 use laminar_core::Geometry;
 
 /// Most measurements [`crate::laminar_fit`] takes.
@@ -106,8 +107,8 @@ pub fn fit(
         small_fit::fit(corr, &geometry[..count], data, &axes, scratch).map_err(|e| match e {
             SmallFitError::Count { .. } => Status::BadCount,
             SmallFitError::Data { .. } => Status::BadData,
-            SmallFitError::EmptyAxis => Status::EmptyAxis,
-            SmallFitError::Input(e) => status_of(e),
+            SmallFitError::Axis(AxisError::Empty { .. }) => Status::EmptyAxis,
+            SmallFitError::Axis(AxisError::OutOfDomain { error, .. }) => status_of(error),
         })?;
     let (slope, beta, n, a) = axes.point(found.best);
     let (rh_index, rh_objective) = found.rh_best.unwrap_or((0, 0.0));
@@ -120,7 +121,7 @@ pub fn fit(
         index: found.best,
         rh_found: found.rh_best.is_some(),
         rh_index,
-        rh_rms: 100.0 * libm::sqrt(rh_objective) / count as f64,
+        rh_rms: rms_of_sum(rh_objective, count),
     };
     Ok(())
 }

@@ -125,14 +125,15 @@ pub fn geometry_values(g: u32) -> [u32; 16] {
     out
 }
 
-/// The paper's grid (σ/T, n, a, β), each value computed as the library's
-/// `Grid::paper` computes it.
+/// The paper's grid (σ/T, n, a, β): [`laminar_core::small_fit::PAPER`].
 pub fn paper_axes() -> ([f64; 50], [f64; 11], [f64; 101], [f64; 100]) {
+    use laminar_core::small_fit::{stepped, PAPER};
+    let axis = |(start, step, _): (f64, f64, usize)| move |i| stepped(start, step, i);
     (
-        core::array::from_fn(|i| 0.12 + 0.08 * i as f64),
-        core::array::from_fn(|i| 1.30 + 0.02 * i as f64),
-        core::array::from_fn(|i| 0.0 + 0.01 * i as f64),
-        core::array::from_fn(|i| 0.01 + 0.01 * i as f64),
+        core::array::from_fn(axis(PAPER[0])),
+        core::array::from_fn(axis(PAPER[1])),
+        core::array::from_fn(axis(PAPER[2])),
+        core::array::from_fn(axis(PAPER[3])),
     )
 }
 

@@ -3,7 +3,7 @@
 //! limit before anything is allocated.
 
 use crate::error::GridError;
-use laminar_core::Params;
+use laminar_core::small_fit::{stepped, Axes, AxisError, PAPER};
 use std::fmt;
 
 /// Most values one axis may hold. [`Axis::parse`] refuses longer axes before
@@ -47,7 +47,7 @@ impl Axis {
     /// `start + step·i` for `i = 0..count`, the paper's construction.
     pub fn stepped(start: f64, step: f64, count: usize) -> Self {
         Self {
-            values: (0..count).map(|i| start + step * i as f64).collect(),
+            values: (0..count).map(|i| stepped(start, step, i)).collect(),
         }
     }
 
@@ -129,11 +129,18 @@ impl Grid {
     /// The paper preset (docs/conventions.md §6): σ/T = 0.12 + 0.08 i (50), β = 0.01 j
     /// (j = 1..100), n = 1.30 + 0.02 m (11), a = 0.01 l (101): 5,555,000 sets.
     pub fn paper() -> Self {
-        Self {
-            slope: Axis::stepped(0.12, 0.08, 50),
-            n: Axis::stepped(1.30, 0.02, 11),
-            a: Axis::stepped(0.0, 0.01, 101),
-            beta: Axis::stepped(0.01, 0.01, 100),
+        let [slope, n, a, beta] =
+            PAPER.map(|(start, step, count)| Axis::stepped(start, step, count));
+        Self { slope, n, a, beta }
+    }
+
+    /// The grid's axes as the core's search sees them.
+    pub fn axes(&self) -> Axes<'_> {
+        Axes {
+            slope: &self.slope.values,
+            n: &self.n.values,
+            a: &self.a.values,
+            beta: &self.beta.values,
         }
     }
 
@@ -152,16 +159,12 @@ impl Grid {
 
     /// Flattened index in loop order σ/T, n, a, β (docs/conventions.md §6 tie-break).
     pub fn flat(&self, s: usize, n: usize, a: usize, b: usize) -> usize {
-        ((s * self.n.len() + n) * self.a.len() + a) * self.beta.len() + b
+        self.axes().flat(s, n, a, b)
     }
 
     /// The axis indices (σ/T, n, a, β) of a flattened index ([`Grid::flat`]).
     pub fn indices(&self, flat: usize) -> (usize, usize, usize, usize) {
-        let b = flat % self.beta.len();
-        let rest = flat / self.beta.len();
-        let a = rest % self.a.len();
-        let rest = rest / self.a.len();
-        (rest / self.n.len(), rest % self.n.len(), a, b)
+        self.axes().indices(flat)
     }
 
     /// Checks every value against the model's domain ([`Params::new`]; the
@@ -179,24 +182,10 @@ impl Grid {
     /// [`GridError::Empty`], [`GridError::OutOfDomain`] naming the axis and value,
     /// or [`GridError::TooLarge`] with the size.
     pub fn validate(&self) -> Result<(), GridError> {
-        // A point inside the domain, to vary one axis at a time.
-        let (s0, b0, n0, a0) = (1.0, 0.5, 1.5, 0.5);
-        type Check = fn(f64, (f64, f64, f64, f64)) -> (f64, f64, f64, f64);
-        let axes: [(&'static str, &Axis, Check); 4] = [
-            ("slope", &self.slope, |v, p| (v, p.1, p.2, p.3)),
-            ("n", &self.n, |v, p| (p.0, p.1, v, p.3)),
-            ("a", &self.a, |v, p| (p.0, p.1, p.2, v)),
-            ("beta", &self.beta, |v, p| (p.0, v, p.2, p.3)),
-        ];
-        for (axis, values, place) in axes {
-            if values.is_empty() {
-                return Err(GridError::Empty { axis });
-            }
-            for &v in &values.values {
-                let (s, b, n, a) = place(v, (s0, b0, n0, a0));
-                Params::new(s, b, n, a).map_err(|error| GridError::OutOfDomain { axis, error })?;
-            }
-        }
+        self.axes().validate().map_err(|e| match e {
+            AxisError::Empty { axis } => GridError::Empty { axis },
+            AxisError::OutOfDomain { axis, error } => GridError::OutOfDomain { axis, error },
+        })?;
         let size = [&self.slope, &self.n, &self.a, &self.beta]
             .iter()
             .map(|a| a.len() as u128)

@@ -4,25 +4,15 @@
 //! path; against the default path (envelope, `f32x8`), the same Δ_RMS to
 //! `f32` rounding (on near-ties the two may pick different points).
 
-use laminar_core::small_fit::{self, Axes, Scratch, SmallFitError};
+use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
 use laminar_core::{Correlation, Geometry};
 use laminar_fit::search::{self, Arith, Method};
 use laminar_fit::{synthetic, Grid, Path};
 
-/// The small fit's view of a library grid.
-fn axes_of(grid: &Grid) -> Axes<'_> {
-    Axes {
-        slope: &grid.slope.values,
-        n: &grid.n.values,
-        a: &grid.a.values,
-        beta: &grid.beta.values,
-    }
-}
-
 #[test]
 fn small_fit_is_the_library_search() {
     let grid = Grid::paper();
-    let axes = axes_of(&grid);
+    let axes = grid.axes();
     let mut scratch = Scratch::new();
     let onepass = Path::new(Method::OnePass, Arith::F32);
     let (mut checked, mut same_as_default) = (0, 0);
@@ -62,7 +52,7 @@ fn small_fit_is_the_library_search() {
 #[test]
 fn small_fit_refuses_bad_input_by_kind() {
     let grid = Grid::paper();
-    let axes = axes_of(&grid);
+    let axes = grid.axes();
     let mut scratch = Scratch::new();
     let angles = synthetic::spread(65);
     let g: Vec<Geometry<f32>> = angles.iter().map(Geometry::splat).collect();
@@ -84,8 +74,14 @@ fn small_fit_refuses_bad_input_by_kind() {
     assert_eq!(e, SmallFitError::Data { index: 0 });
     let bad = Axes { n: &[0.9], ..axes };
     let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &bad, &mut scratch).unwrap_err();
-    assert!(matches!(e, SmallFitError::Input(_)), "{e:?}");
+    assert!(
+        matches!(
+            e,
+            SmallFitError::Axis(AxisError::OutOfDomain { axis: "n", .. })
+        ),
+        "{e:?}"
+    );
     let empty = Axes { beta: &[], ..axes };
     let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &empty, &mut scratch).unwrap_err();
-    assert_eq!(e, SmallFitError::EmptyAxis);
+    assert_eq!(e, SmallFitError::Axis(AxisError::Empty { axis: "beta" }));
 }

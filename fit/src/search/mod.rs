@@ -346,10 +346,7 @@ pub struct SearchResult {
     pub pruned: Option<f64>,
 }
 
-/// `Δ_RMS` (eq. 15) from the sum of squared residuals `e` over `k` measurements.
-pub fn rms_of_sum(e: f64, k: usize) -> f64 {
-    100.0 * e.sqrt() / k as f64
-}
+pub use laminar_core::onepass::rms_of_sum;
 
 /// A grid point's flat index and objective (sum of squared residuals).
 type Candidate = Option<(usize, f64)>;
