@@ -2,7 +2,7 @@
 //! the terms derived from them, computed once per scene and reused for every
 //! parameter set.
 
-use crate::error::InputError;
+use crate::error::{check_range, InputError};
 use crate::fresnel::refract_cos;
 use crate::lane::Lane;
 use crate::trig::{sin_cos, P1, P2};
@@ -24,17 +24,7 @@ impl Angles {
     /// # Errors
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
     pub fn new(theta_i: f64, theta_s: f64, phi_s: f64) -> Result<Self, InputError> {
-        let zenith = |name, v: f64| {
-            if (0.0..=FRAC_PI_2).contains(&v) {
-                Ok(v)
-            } else {
-                Err(InputError::OutOfRange {
-                    name,
-                    value: v,
-                    allowed: "[0, π/2]",
-                })
-            }
-        };
+        let zenith = |name, v| check_range(name, v, 0.0, FRAC_PI_2, "[0, π/2]");
         if !phi_s.is_finite() {
             return Err(InputError::OutOfRange {
                 name: "phi_s",
@@ -166,6 +156,35 @@ pub struct Directions {
     pub sin_phi: f32,
 }
 
+impl Directions {
+    /// Checks the ranges and that each pair is on the unit circle (within
+    /// [`UNIT_TOLERANCE`]), as [`Geometry::from_directions`] does.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`
+    /// (a sine or cosine out of range, or a pair off the unit circle).
+    #[inline(always)] // as `Geometry::from_directions`
+    pub fn check(&self) -> Result<(), InputError> {
+        let pair = |name, c: f32, s: f32, lo: f32| {
+            let unit = c * c + s * s - 1.0;
+            if c >= lo && s >= lo && c <= 1.0 && s <= 1.0 && unit.abs() <= UNIT_TOLERANCE {
+                Ok(())
+            } else if unit.abs() <= UNIT_TOLERANCE {
+                Err(out_of_range(
+                    name,
+                    if c < lo || c > 1.0 { c } else { s },
+                    "cosine and sine in range",
+                ))
+            } else {
+                Err(out_of_range(name, unit, "cos² + sin² − 1 within 1e-4"))
+            }
+        };
+        pair("theta_i", self.cos_i, self.sin_i, 0.0)?;
+        pair("theta_s", self.cos_s, self.sin_s, 0.0)?;
+        pair("phi_s", self.cos_phi, self.sin_phi, -1.0)
+    }
+}
+
 /// How far `cos² + sin²` of a [`Directions`] pair may be from 1.
 pub const UNIT_TOLERANCE: f32 = 1e-4;
 
@@ -189,6 +208,20 @@ fn out_of_range(name: &'static str, value: f32, allowed: &'static str) -> InputE
 /// ([`Geometry::from_lanes`]), measured by `core/tests/geometry_f32.rs`:
 /// the table in docs/conventions.md §2.
 impl Geometry<f32> {
+    /// Checks angles for [`Geometry::from_angles_f32`] (a caller that must
+    /// check a batch before building any of it need not build twice).
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
+    #[inline(always)] // as `from_angles_f32`
+    pub fn check_angles_f32(theta_i: f32, theta_s: f32, phi_s: f32) -> Result<(), InputError> {
+        let zenith = |name, v| check_range(name, v, 0.0, F32_FRAC_PI_2 as f64, "[0, π/2]");
+        zenith("theta_i", theta_i)?;
+        zenith("theta_s", theta_s)?;
+        check_range("phi_s", phi_s, -F32_PI as f64, F32_PI as f64, "[−π, π]")?;
+        Ok(())
+    }
+
     /// From the angles in `f32` radians: `θi, θs ∈ [0, π/2]`, `φs ∈ [−π, π]`.
     /// `v_xy²` by the same cancellation-free form as the `f64` constructor,
     /// with five [`crate::trig::sin_cos`] calls.
@@ -197,17 +230,8 @@ impl Geometry<f32> {
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
     #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn from_angles_f32(theta_i: f32, theta_s: f32, phi_s: f32) -> Result<Self, InputError> {
-        let zenith = |name, v: f32| {
-            if (0.0..=F32_FRAC_PI_2).contains(&v) {
-                Ok(v)
-            } else {
-                Err(out_of_range(name, v, "[0, π/2]"))
-            }
-        };
-        let (ti, ts) = (zenith("theta_i", theta_i)?, zenith("theta_s", theta_s)?);
-        if !(-F32_PI..=F32_PI).contains(&phi_s) {
-            return Err(out_of_range("phi_s", phi_s, "[−π, π]"));
-        }
+        Self::check_angles_f32(theta_i, theta_s, phi_s)?;
+        let (ti, ts) = (theta_i, theta_s);
         let (sin_i, cos_i) = sin_cos(ti);
         let (sin_s, cos_s) = sin_cos(ts);
         let (sin_half_phi, cos_half_phi) = sin_cos(0.5 * phi_s);
@@ -237,23 +261,7 @@ impl Geometry<f32> {
     /// (a sine or cosine out of range, or a pair off the unit circle).
     #[inline(always)] // as `from_angles_f32`
     pub fn from_directions(d: &Directions) -> Result<Self, InputError> {
-        let pair = |name, c: f32, s: f32, lo: f32| {
-            let unit = c * c + s * s - 1.0;
-            if c >= lo && s >= lo && c <= 1.0 && s <= 1.0 && unit.abs() <= UNIT_TOLERANCE {
-                Ok(())
-            } else if unit.abs() <= UNIT_TOLERANCE {
-                Err(out_of_range(
-                    name,
-                    if c < lo || c > 1.0 { c } else { s },
-                    "cosine and sine in range",
-                ))
-            } else {
-                Err(out_of_range(name, unit, "cos² + sin² − 1 within 1e-4"))
-            }
-        };
-        pair("theta_i", d.cos_i, d.sin_i, 0.0)?;
-        pair("theta_s", d.cos_s, d.sin_s, 0.0)?;
-        pair("phi_s", d.cos_phi, d.sin_phi, -1.0)?;
+        d.check()?;
         let one_minus_cos_phi = if d.cos_phi > 0.0 {
             d.sin_phi * d.sin_phi / (1.0 + d.cos_phi)
         } else {

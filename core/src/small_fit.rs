@@ -10,8 +10,10 @@
 //! same objective at every grid point, bit for bit, and the same
 //! tie-break: the smallest flat index (loop order σ/T, n, a, β) among
 //! equal minima. Only the memory differs: the library keeps per-(scene, n)
-//! and per-(scene, a) tables; this recomputes them per σ/T, which costs a
-//! few percent more and needs no more than `Scratch` (5 KB).
+//! and per-(scene, a) tables; this recomputes them per σ/T and per
+//! (σ/T, n) (per grid point, a few tens of instructions against the
+//! sweep's thousands on a Cortex-M4F) and needs no more than `Scratch`
+//! (5 KB).
 
 use crate::error::InputError;
 use crate::geometry::Geometry;
@@ -211,15 +213,16 @@ pub enum SmallFitError {
 }
 
 /// Fits the `f32` geometries `geometry` (built as the library builds them,
-/// e.g. [`Geometry::splat`]) to the un-normalised data `data` over `axes`
+/// e.g. [`Geometry::splat`], or anything that converts into one, such as
+/// the C ABI's mirror of it: no copy is made) to the un-normalised data `data` over `axes`
 /// with correlation `corr`. The data are divided by their max in `f64`,
 /// as the library does (docs/conventions.md §4).
 ///
 /// # Errors
 /// [`SmallFitError`] for a bad count, datum or grid.
-pub fn fit(
+pub fn fit<G: Copy + Into<Geometry<f32>>>(
     corr: Correlation,
-    geometry: &[Geometry<f32>],
+    geometry: &[G],
     data: &[f64],
     axes: &Axes<'_>,
     scratch: &mut Scratch,
@@ -245,7 +248,7 @@ pub fn fit(
     for c in 0..chunks {
         let m = layout.measurement::<f32>(c, 0);
         let real = m < k;
-        scratch.geometry[c] = geometry[m.min(k - 1)];
+        scratch.geometry[c] = geometry[m.min(k - 1)].into();
         scratch.data[c] = if real { (data[m] / max) as f32 } else { 0.0 };
         scratch.valid[c] = if real { 1.0 } else { 0.0 };
     }

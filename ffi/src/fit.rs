@@ -5,7 +5,6 @@
 use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
 use laminar_core::onepass::rms_of_sum;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError, MAX_MEASUREMENTS};
-use laminar_core::Geometry;
 
 /// Most measurements [`crate::laminar_fit`] takes.
 pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = MAX_MEASUREMENTS;
@@ -99,17 +98,12 @@ pub fn fit(
     };
     let scratch = buffers::scratch(scratch)?;
     let out = buffers::output(out, 1)?;
-    let mut geometry = [Geometry::<f32>::from(&LaminarGeometry::default()); MAX_MEASUREMENTS];
-    for (slot, g) in geometry.iter_mut().zip(g) {
-        *slot = g.into();
-    }
-    let found =
-        small_fit::fit(corr, &geometry[..count], data, &axes, scratch).map_err(|e| match e {
-            SmallFitError::Count { .. } => Status::BadCount,
-            SmallFitError::Data { .. } => Status::BadData,
-            SmallFitError::Axis(AxisError::Empty { .. }) => Status::EmptyAxis,
-            SmallFitError::Axis(AxisError::OutOfDomain { error, .. }) => status_of(error),
-        })?;
+    let found = small_fit::fit(corr, g, data, &axes, scratch).map_err(|e| match e {
+        SmallFitError::Count { .. } => Status::BadCount,
+        SmallFitError::Data { .. } => Status::BadData,
+        SmallFitError::Axis(AxisError::Empty { .. }) => Status::EmptyAxis,
+        SmallFitError::Axis(AxisError::OutOfDomain { error, .. }) => status_of(error),
+    })?;
     let (slope, beta, n, a) = axes.point(found.best);
     let (rh_index, rh_objective) = found.rh_best.unwrap_or((0, 0.0));
     out[0] = LaminarFitResult {

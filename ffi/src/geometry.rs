@@ -45,8 +45,8 @@ impl From<Geometry<f32>> for LaminarGeometry {
     }
 }
 
-impl From<&LaminarGeometry> for Geometry<f32> {
-    fn from(g: &LaminarGeometry) -> Self {
+impl From<LaminarGeometry> for Geometry<f32> {
+    fn from(g: LaminarGeometry) -> Self {
         Self {
             cos_i: g.cos_i,
             cos_s: g.cos_s,
@@ -105,17 +105,26 @@ pub fn from_angles_f32(a: &LaminarAnglesF32) -> Result<LaminarGeometry, Status> 
         .map_err(status_of)
 }
 
-/// Geometry from sines and cosines in `f32` arithmetic alone.
-pub fn from_directions(d: &LaminarDirections) -> Result<LaminarGeometry, Status> {
-    let d = Directions {
+/// The core's [`Directions`] of a C one.
+fn directions(d: &LaminarDirections) -> Directions {
+    Directions {
         cos_i: d.cos_i,
         sin_i: d.sin_i,
         cos_s: d.cos_s,
         sin_s: d.sin_s,
         cos_phi: d.cos_phi,
         sin_phi: d.sin_phi,
-    };
-    Geometry::from_directions(&d)
+    }
+}
+
+/// Checks sines and cosines as [`from_directions`] does.
+pub fn check_directions(d: &LaminarDirections) -> Result<(), Status> {
+    directions(d).check().map_err(status_of)
+}
+
+/// Geometry from sines and cosines in `f32` arithmetic alone.
+pub fn from_directions(d: &LaminarDirections) -> Result<LaminarGeometry, Status> {
+    Geometry::from_directions(&directions(d))
         .map(Into::into)
         .map_err(status_of)
 }

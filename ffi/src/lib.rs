@@ -220,21 +220,25 @@ fn evaluate_geometries(
     let input = buffers::input(geometries, count)?;
     let out = buffers::output(out, slots(count, writer.width)?)?;
     for (chunk, g) in out.chunks_exact_mut(writer.width).zip(input) {
-        (writer.each)(&g.into(), corr, &p, chunk);
+        (writer.each)(&(*g).into(), corr, &p, chunk);
     }
     Ok(())
 }
 
-/// Builds `count` geometries from `input` into `out` with `build`, every
-/// input checked before anything is written.
+/// Builds `count` geometries from `input` into `out` with `build`, after
+/// `check` has passed every input (so nothing is written on bad input,
+/// and nothing is built twice).
 fn build_geometries<T>(
     (input, count): (*const T, usize),
     out: *mut LaminarGeometry,
-    build: impl Fn(&T) -> Result<LaminarGeometry, Status>,
+    (check, build): (
+        impl Fn(&T) -> Result<(), Status>,
+        impl Fn(&T) -> Result<LaminarGeometry, Status>,
+    ),
 ) -> Result<(), Status> {
     let input = buffers::input(input, count)?;
     for x in input {
-        build(x)?;
+        check(x)?;
     }
     let out = buffers::output(out, count)?;
     for (slot, x) in out.iter_mut().zip(input) {
@@ -347,10 +351,11 @@ mod exports {
         count: usize,
         out: *mut LaminarGeometry,
     ) -> Status {
+        let check = |a: &LaminarAngles| self::angles(a).map(drop);
         status(build_geometries(
             (angles, count),
             out,
-            geometry::from_angles,
+            (check, geometry::from_angles),
         ))
     }
 
@@ -362,10 +367,13 @@ mod exports {
         count: usize,
         out: *mut LaminarGeometry,
     ) -> Status {
+        let check = |a: &LaminarAnglesF32| {
+            Geometry::check_angles_f32(a.theta_i, a.theta_s, a.phi_s).map_err(status_of)
+        };
         status(build_geometries(
             (angles, count),
             out,
-            geometry::from_angles_f32,
+            (check, geometry::from_angles_f32),
         ))
     }
 
@@ -380,7 +388,7 @@ mod exports {
         status(build_geometries(
             (directions, count),
             out,
-            geometry::from_directions,
+            (geometry::check_directions, geometry::from_directions),
         ))
     }
 
