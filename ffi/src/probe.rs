@@ -41,17 +41,9 @@ pub fn case_values(g: u32, j: u32, corr: u32) -> [u64; CASE_VALUES] {
     let mut parts = [0.0f64; LAMINAR_COMPONENTS];
     let s1 = laminar_total_radiance_f32(corr, p, &a, 1, total.as_mut_ptr());
     let s2 = laminar_components_f64(corr, p, &a, 1, parts.as_mut_ptr());
-    out[0] = if s1 == Status::Ok {
-        total[0].to_bits() as u64
-    } else {
-        s1 as u64
-    };
+    out[0] = or_status(s1, total[0].to_bits() as u64);
     for (slot, v) in out[1..=LAMINAR_COMPONENTS].iter_mut().zip(parts) {
-        *slot = if s2 == Status::Ok {
-            v.to_bits()
-        } else {
-            s2 as u64
-        };
+        *slot = or_status(s2, v.to_bits());
     }
     let p32 = LaminarParamsF32 {
         slope: p.slope as f32,
@@ -64,12 +56,17 @@ pub fn case_values(g: u32, j: u32, corr: u32) -> [u64; CASE_VALUES] {
         Ok(geometry) => laminar_evaluate_f32(corr, p32, &geometry, 1, total.as_mut_ptr()),
         Err(s) => s,
     };
-    out[CASE_VALUES - 1] = if s3 == Status::Ok {
-        total[0].to_bits() as u64
-    } else {
-        s3 as u64
-    };
+    out[CASE_VALUES - 1] = or_status(s3, total[0].to_bits() as u64);
     out
+}
+
+/// `bits` when the call returned OK, else its status code.
+fn or_status(status: Status, bits: u64) -> u64 {
+    if status == Status::Ok {
+        bits
+    } else {
+        status as u64
+    }
 }
 
 /// Geometry `g` built in `f32` arithmetic from its angles rounded to

@@ -32,22 +32,21 @@ pub struct Packed<L> {
 impl<L: Lane> Packed<L> {
     /// Packs `scene`.
     pub fn new(scene: &Scene) -> Self {
-        let per_stream = scene.len().div_ceil(WIDTH);
+        let layout = Layout::new(scene.len());
         let last = scene.len().saturating_sub(1);
-        let mut geom = Vec::new();
-        for s in 0..WIDTH / L::LANES {
-            for c in 0..per_stream {
-                let k = move |lane: usize| c * WIDTH + s * L::LANES + lane;
-                geom.push(Geometry::from_lanes(|lane| scene.angles[k(lane).min(last)]));
-            }
-        }
-        let k = scene.len();
+        let geom = (0..layout.chunks::<L>())
+            .map(|c| {
+                Geometry::from_lanes(|lane| {
+                    scene.angles[layout.measurement::<L>(c, lane).min(last)]
+                })
+            })
+            .collect();
         Self {
             geom,
-            data: Self::pack(k, |i| scene.data[i]),
-            valid: Self::pack(k, |_| 1.0),
-            per_stream,
-            k,
+            data: Self::pack(layout, |i| scene.data[i]),
+            valid: Self::pack(layout, |_| 1.0),
+            per_stream: layout.per_stream,
+            k: layout.k,
         }
     }
 
@@ -56,30 +55,27 @@ impl<L: Lane> Packed<L> {
     pub fn with_data(&self, scene: &Scene) -> Self {
         Self {
             geom: self.geom.clone(),
-            data: Self::pack(self.k, |i| scene.data[i]),
+            data: Self::pack(self.layout(), |i| scene.data[i]),
             valid: self.valid.clone(),
             per_stream: self.per_stream,
             k: self.k,
         }
     }
 
-    /// `value(k)` for the `k` measurements in packing order, 0 in padding lanes.
-    fn pack(k: usize, value: impl Fn(usize) -> f64) -> Vec<L> {
-        let per_stream = k.div_ceil(WIDTH);
-        let mut out = Vec::with_capacity(per_stream * WIDTH / L::LANES);
-        for s in 0..WIDTH / L::LANES {
-            for c in 0..per_stream {
-                out.push(L::from_f64_lanes(|lane| {
-                    let i = c * WIDTH + s * L::LANES + lane;
-                    if i < k {
+    /// `value(k)` for the measurements in packing order, 0 in padding lanes.
+    fn pack(layout: Layout, value: impl Fn(usize) -> f64) -> Vec<L> {
+        (0..layout.chunks::<L>())
+            .map(|c| {
+                L::from_f64_lanes(|lane| {
+                    let i = layout.measurement::<L>(c, lane);
+                    if i < layout.k {
                         value(i)
                     } else {
                         0.0
                     }
-                }));
-            }
-        }
-        out
+                })
+            })
+            .collect()
     }
 
     /// Where each measurement sits.
