@@ -167,7 +167,7 @@ impl Grid {
         self.axes().indices(flat)
     }
 
-    /// Checks every value against the model's domain ([`Params::new`]; the
+    /// Checks every value against the model's domain ([`laminar_core::Params::new`]; the
     /// domain is a box, so each axis is checked on its own) and the size
     /// against [`MAX_GRID_SIZE`].
     ///
