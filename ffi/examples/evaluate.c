@@ -1,7 +1,8 @@
 /* A C program on the laminar C ABI: the absorptive exponential model at a
  * few geometries in f32, printed as bit patterns (so that a test can
  * compare them with the Rust core's, bit for bit), and what bad input
- * returns. Build: cc -I ffi/include ffi/examples/evaluate.c
+ * returns; then the firmware path (geometries built once, evaluated with
+ * f32 parameters) and a fit on a small grid. Build: cc -I ffi/include ffi/examples/evaluate.c
  * target/release/liblaminar_ffi.a -lm -lpthread -ldl */
 
 #include <stdio.h>
@@ -41,5 +42,48 @@ int main(void) {
   angles[3].theta_s = 0.38;
   printf("null output: %d\n", (int)laminar_total_radiance_f32(0, params, angles, COUNT, NULL));
   printf("bad correlation: %d\n", (int)laminar_total_radiance_f32(7, params, angles, 0, NULL));
+
+  /* The firmware path: geometries built once, f32 parameters, no f64. */
+  LaminarGeometry geometry[COUNT];
+  LaminarParamsF32 params32 = {.slope = 1.48f, .beta = 0.39f, .n = 1.44f, .a = 0.17f};
+  float fast[COUNT];
+  if (laminar_geometry_from_angles(angles, COUNT, geometry) != LAMINAR_STATUS_OK ||
+      laminar_evaluate_f32(0, params32, geometry, COUNT, fast) != LAMINAR_STATUS_OK) {
+    fprintf(stderr, "firmware path failed\n");
+    return 1;
+  }
+  laminar_total_radiance_f32(0, params, angles, COUNT, out);
+  printf("f32 path same bits: %s\n", memcmp(fast, out, sizeof out) == 0 ? "yes" : "no");
+
+  /* A fit on a small grid, of data the model made at one of its points. */
+  double slope[20], n[3], a[3], beta[20], data[COUNT];
+  for (int i = 0; i < 20; i++) {
+    slope[i] = 0.12 + 0.08 * i;
+    beta[i] = 0.05 + 0.05 * i;
+  }
+  for (int i = 0; i < 3; i++) {
+    n[i] = 1.30 + 0.1 * i;
+    a[i] = 0.25 * i;
+  }
+  /* The fit's model is the paper's (docs/conventions.md §4): the surface
+   * and subsurface terms each divided by their max, then mixed with β. */
+  LaminarParams truth = {.slope = slope[7], .beta = beta[11], .n = n[2], .a = a[1]};
+  double parts[COUNT * LAMINAR_COMPONENTS], max_surface = 0.0, max_subsurface = 0.0;
+  laminar_components_f64(0, truth, angles, COUNT, parts);
+  for (int k = 0; k < COUNT; k++) {
+    double surface = parts[k * LAMINAR_COMPONENTS + 4], subsurface = parts[k * LAMINAR_COMPONENTS + 5];
+    max_surface = surface > max_surface ? surface : max_surface;
+    max_subsurface = subsurface > max_subsurface ? subsurface : max_subsurface;
+  }
+  for (int k = 0; k < COUNT; k++) {
+    data[k] = truth.beta * parts[k * LAMINAR_COMPONENTS + 5] / max_subsurface +
+              (1.0 - truth.beta) * parts[k * LAMINAR_COMPONENTS + 4] / max_surface;
+  }
+  LaminarGrid grid = {slope, 20, n, 3, a, 3, beta, 20};
+  static LaminarFitScratch scratch;
+  LaminarFitResult fit;
+  LaminarStatus status_fit = laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  printf("fit: status %d slope %.2f beta %.2f n %.2f a %.2f rms %.1e\n", (int)status_fit,
+         fit.slope, fit.beta, fit.n, fit.a, fit.rms);
   return 0;
 }

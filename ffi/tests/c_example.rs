@@ -82,4 +82,16 @@ fn c_example_prints_the_cores_bits() {
     assert_eq!(lines[13], "bad theta_s: 8, out[3] still -1");
     assert_eq!(lines[14], "null output: 1");
     assert_eq!(lines[15], "bad correlation: 2");
+    assert_eq!(lines[16], "f32 path same bits: yes");
+    // The fit finds the grid point the data came from (f32 rounding
+    // leaves a Δ_RMS far below one in a thousand).
+    let fit: Vec<&str> = lines[17].split_whitespace().collect();
+    assert_eq!(
+        fit[..11],
+        ["fit:", "status", "0", "slope", "0.68", "beta", "0.60", "n", "1.50", "a", "0.25"],
+        "{}",
+        lines[17]
+    );
+    let rms: f64 = fit[12].parse().unwrap();
+    assert!(rms < 1e-3, "{}", lines[17]);
 }
