@@ -408,7 +408,15 @@ pub fn json(records: &[Fit]) -> String {
 /// [`ReadError`] when the file cannot be read or is not a fitted-model file of this version.
 pub fn read_fits(file: &Path) -> Result<FitsFile, ReadError> {
     let text = std::fs::read_to_string(file).map_err(|e| ReadError::io(file, "read", e))?;
-    let fits: FitsFile = serde_json::from_str(&text).map_err(|e| {
+    parse_fits(file, &text)
+}
+
+/// [`read_fits`] on contents already in memory (`file` names them in errors).
+///
+/// # Errors
+/// As [`read_fits`].
+pub fn parse_fits(file: &Path, text: &str) -> Result<FitsFile, ReadError> {
+    let fits: FitsFile = serde_json::from_str(text).map_err(|e| {
         ReadError::format(
             file,
             e.line(),

@@ -1,0 +1,61 @@
+//! # laminar-wasm
+//!
+//! laminar for the web and node: the absorptive scattering model for rough
+//! laminar surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016) compiled to
+//! WebAssembly with `wasm-bindgen`. The same library as the `laminar`
+//! command, single-threaded:
+//!
+//! * [`evaluate`]: eq. 8 and its components at arrays of geometries, in f64
+//!   and in f32 (the `f32x8` lanes, bitwise the native scalar f32 path);
+//!   parameter checks whose errors name the parameter.
+//! * [`measurements`]: CSV and CUReT files from bytes, and the built-in
+//!   example (the CLI's synthetic scene).
+//! * [`fitting`]: the fitting library's search (paper grid, default path),
+//!   refinement and uncertainty, returning the fitted-model file of
+//!   `laminar fit --format json`; prediction with a fitted model.
+//!
+//! Angles are in the paper's frame (θi, θs, φs) in radians, passed as one
+//! flat array of triples. Every error is a JavaScript `Error` whose message
+//! names the parameter, the geometry, or the file's line and column.
+//! "§N" refers to the repository's `docs/conventions.md`.
+
+pub mod evaluate;
+pub mod fitting;
+pub mod measurements;
+
+use laminar_core::{Angles, Correlation};
+use wasm_bindgen::JsError;
+
+/// The correlation of a layered model name (`exp` or `gauss`).
+fn correlation(model: &str) -> Result<Correlation, JsError> {
+    match model {
+        "exp" => Ok(Correlation::Exponential),
+        "gauss" => Ok(Correlation::Gaussian),
+        _ => Err(JsError::new(&format!(
+            "model `{model}`: give `exp` or `gauss`"
+        ))),
+    }
+}
+
+/// Geometries from a flat array of (θi, θs, φs) triples, each checked.
+fn geometries(angles: &[f64]) -> Result<Vec<Angles>, JsError> {
+    if angles.len() % 3 != 0 {
+        return Err(JsError::new(&format!(
+            "angles has {} numbers: give (theta_i, theta_s, phi_s) triples, radians",
+            angles.len()
+        )));
+    }
+    angles
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(k, t)| {
+            Angles::new(t[0], t[1], t[2]).map_err(|e| JsError::new(&format!("geometry {k}: {e}")))
+        })
+        .collect()
+}
+
+/// The version of the package (the crate's).
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn version() -> String {
+    env!("CARGO_PKG_VERSION").into()
+}
