@@ -39,7 +39,7 @@ fn correlation(model: &str) -> Result<Correlation, JsError> {
 
 /// Geometries from a flat array of (θi, θs, φs) triples, each checked.
 fn geometries(angles: &[f64]) -> Result<Vec<Angles>, JsError> {
-    if angles.len() % 3 != 0 {
+    if !angles.len().is_multiple_of(3) {
         return Err(JsError::new(&format!(
             "angles has {} numbers: give (theta_i, theta_s, phi_s) triples, radians",
             angles.len()
