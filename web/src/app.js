@@ -1,0 +1,193 @@
+// The page: load measurements, fit them in a worker, show the fit and an
+// interactive lobe. All numbers come from laminar-wasm.
+import { load } from './laminar-wasm/index.js';
+import { lobe, scatter } from './plot.js';
+import { measurementsFrom } from './source.js';
+
+const L = await load();
+const $ = (id) => document.getElementById(id);
+const DEG = Math.PI / 180;
+/** How the page shows a number (the browser test formats the CLI's the same way). */
+export const fmt = (v) => (v === null || v === undefined ? '–' : Number(v).toPrecision(5));
+
+$('build').textContent = `laminar-wasm ${L.version()}, ${L.simd ? 'SIMD (+simd128)' : 'plain'} build`;
+
+let source = null; // see source.js
+const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+
+function status(id, text, error = false) {
+  $(id).textContent = text;
+  $(id).classList.toggle('error', error);
+}
+
+/** Reads the source into a Measurements to list its channels; errors are shown. */
+function useSource(s) {
+  let m;
+  try {
+    m = measurementsFrom(L, s);
+    source = s;
+    const channels = m.channels;
+    $('channel').replaceChildren(...channels.map((c) => new Option(c, c)));
+    const what = s.kind === 'csv' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
+    status('loaded', `${what}: ${m.length} measurements, channels ${channels.join(', ')}.`);
+    $('fit').disabled = false;
+  } catch (e) {
+    source = null;
+    $('fit').disabled = true;
+    status('loaded', String(e.message ?? e), true);
+  } finally {
+    m?.free();
+  }
+}
+
+function csvSource(name, bytes) {
+  return { kind: 'csv', name, bytes, angles: $('angles').value, quantity: $('quantity').value };
+}
+
+async function loadFiles(files) {
+  const byName = new Map([...files].map((f) => [f.name, f]));
+  const csv = [...files].find((f) => f.name.toLowerCase().endsWith('.csv'));
+  const brdf = [...files].find((f) => /brdf\.dat$/i.test(f.name));
+  $('curet-sample').hidden = true;
+  if (csv) return useSource(csvSource(csv.name, new Uint8Array(await csv.arrayBuffer())));
+  if (brdf && byName.has('table.txt')) {
+    const table = new Uint8Array(await byName.get('table.txt').arrayBuffer());
+    const bytes = new Uint8Array(await brdf.arrayBuffer());
+    try {
+      const samples = L.curetSamples(table, brdf.name, bytes);
+      $('sample').replaceChildren(...[...samples].map((s) => new Option(s, s)));
+      $('curet-sample').hidden = false;
+      return useSource({ kind: 'curet', table, brdfName: brdf.name, brdf: bytes, sample: samples[0] });
+    } catch (e) {
+      return status('loaded', String(e.message ?? e), true);
+    }
+  }
+  status('loaded', 'Give a .csv file, or CUReT\'s table.txt together with a BRDF file such as abrdf.dat.', true);
+}
+
+$('files').addEventListener('change', (e) => loadFiles(e.target.files));
+const drop = $('drop');
+drop.addEventListener('dragover', (e) => {
+  e.preventDefault();
+  drop.classList.add('over');
+});
+drop.addEventListener('dragleave', () => drop.classList.remove('over'));
+drop.addEventListener('drop', (e) => {
+  e.preventDefault();
+  drop.classList.remove('over');
+  loadFiles(e.dataTransfer.files);
+});
+$('example').addEventListener('click', () => {
+  $('angles').value = 'rad';
+  $('quantity').value = 'radiance';
+  $('curet-sample').hidden = true;
+  useSource(csvSource('example.csv', new TextEncoder().encode(L.exampleCsv())));
+});
+for (const id of ['angles', 'quantity']) {
+  $(id).addEventListener('change', () => source?.kind === 'csv' && useSource(csvSource(source.name, source.bytes)));
+}
+$('sample').addEventListener('change', () => useSource({ ...source, sample: Number($('sample').value) }));
+
+// Fitting, in the worker.
+let fitting = null;
+$('fit').addEventListener('click', () => {
+  fitting = { channel: $('channel').value, model: $('model').value, source };
+  $('fit').disabled = true;
+  $('progress').removeAttribute('value');
+  status('fit-status', 'searching the grid…');
+  worker.postMessage(fitting);
+});
+worker.onmessage = ({ data }) => {
+  if (data.progress) {
+    const [done, total] = data.progress;
+    $('progress').max = total;
+    $('progress').value = done;
+    status('fit-status', done < total ? `grid: ${done} of ${total} σ/T values` : 'refining, intervals…');
+    return;
+  }
+  $('fit').disabled = false;
+  if (data.error) {
+    $('progress').value = 0;
+    return status('fit-status', data.error, true);
+  }
+  $('progress').value = $('progress').max;
+  status('fit-status', `done in ${(data.ms / 1000).toFixed(2)} s`);
+  showFit(data.json);
+};
+
+/** The searched parameters in the model's order (σ/T, β, n, a). */
+export const parameterOrder = (entry) =>
+  Object.keys(entry.fitted.params).filter((k) => k in entry.parameters).map((k) => [k, entry.parameters[k]]);
+
+function showFit(json) {
+  const entry = JSON.parse(json).fits[0];
+  const rows = parameterOrder(entry).map(([name, p]) => [
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.flags.join(', '),
+  ]);
+  $('params').tBodies[0].replaceChildren(...rows.map((cells) => {
+    const tr = document.createElement('tr');
+    tr.dataset.parameter = cells[0];
+    for (const c of cells) tr.appendChild(Object.assign(document.createElement('td'), { textContent: c }));
+    return tr;
+  }));
+  const refined = entry.rms_refined === null ? '' : `, refined ${fmt(entry.rms_refined)}`;
+  $('measures').textContent = `${entry.sample}/${entry.channel}/${entry.model}: Δ_RMS (eq. 15) ${fmt(entry.rms)} at the grid point${refined}; `
+    + `χ²/ν (eq. 16) ${fmt(entry.chi2_dof)}; ${entry.measurements} measurements. β is the paper normalisation's balance; eq. 8's is ${fmt(entry.fitted.beta_eq8)}.`;
+  $('fit-json').textContent = json;
+  $('download').href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
+  $('results').hidden = false;
+  const m = measurementsFrom(L, fitting.source);
+  try {
+    const scene = m.scene(fitting.channel);
+    scatter($('scatter'), scene.data, L.predict(json, undefined, scene.angles));
+  } finally {
+    m.free();
+  }
+  const layered = entry.fitted.beta_eq8 !== null;
+  if (layered) {
+    const p = entry.fitted.params;
+    setSliders({ model: entry.model.endsWith('gauss') ? 'gauss' : 'exp', slope: p.slope, beta: entry.fitted.beta_eq8, n: p.n, a: p.a ?? 0 });
+  }
+}
+
+// The lobe and its sliders.
+const SLIDERS = [
+  ['theta_i', 'θi (degrees)', 0, 85, 1, 30],
+  ['slope', 'σ/T', 0.05, 6, 0.01, 1.2],
+  ['beta', 'β (eq. 8)', 0, 1, 0.01, 0.4],
+  ['n', 'n', 1, 3, 0.01, 1.5],
+  ['a', 'a', 0, 1, 0.01, 0.3],
+];
+const sliders = $('sliders');
+const modelSelect = Object.assign(document.createElement('select'), { id: 'lobe-model' });
+modelSelect.append(new Option('exp', 'exp'), new Option('gauss', 'gauss'));
+const modelLabel = document.createElement('label');
+modelLabel.append('surface correlation', modelSelect, document.createElement('span'));
+sliders.appendChild(modelLabel);
+for (const [id, label, min, max, step, value] of SLIDERS) {
+  const row = document.createElement('label');
+  const input = Object.assign(document.createElement('input'), { type: 'range', id: `slider-${id}`, min, max, step, value });
+  const out = Object.assign(document.createElement('output'), { id: `value-${id}`, textContent: value });
+  row.append(label, input, out);
+  sliders.appendChild(row);
+  input.addEventListener('input', drawLobe);
+}
+modelSelect.addEventListener('change', drawLobe);
+
+function setSliders(values) {
+  modelSelect.value = values.model;
+  for (const k of ['slope', 'beta', 'n', 'a']) $(`slider-${k}`).value = values[k];
+  drawLobe();
+}
+
+const THETAS = Array.from({ length: 91 }, (_, k) => k * DEG);
+function drawLobe() {
+  const v = Object.fromEntries(SLIDERS.map(([id]) => [id, Number($(`slider-${id}`).value)]));
+  for (const [id] of SLIDERS) $(`value-${id}`).textContent = v[id];
+  const ti = Math.min(v.theta_i * DEG, Math.PI / 2);
+  const at = (phi) => new Float64Array(THETAS.flatMap((t) => [ti, Math.min(t, Math.PI / 2), phi]));
+  const eval8 = (phi) => L.totalRadiance(modelSelect.value, at(phi), v.slope, v.beta, v.n, v.a);
+  lobe($('lobe'), ti, THETAS, eval8(0), eval8(Math.PI));
+}
+drawLobe();
+document.body.dataset.ready = 'true';

@@ -1,0 +1,22 @@
+// Fits off the page's thread, posting the fit's progress.
+import { load } from './laminar-wasm/index.js';
+import { measurementsFrom } from './source.js';
+
+const ready = load();
+
+self.onmessage = async ({ data }) => {
+  const L = await ready;
+  let m;
+  try {
+    m = measurementsFrom(L, data.source);
+    const start = performance.now();
+    const json = L.fit(m, data.channel, data.model, true, 'both', (done, total) =>
+      self.postMessage({ progress: [done, total] }),
+    );
+    self.postMessage({ json, ms: performance.now() - start });
+  } catch (e) {
+    self.postMessage({ error: String(e?.message ?? e) });
+  } finally {
+    m?.free();
+  }
+};

@@ -1,0 +1,126 @@
+// Drives the built page in Debian's Chromium (headless, through
+// playwright-core): loads the built-in example, fits it, checks that the
+// page shows exactly the fit of `laminar fit` on the same data, moves a
+// slider and checks that the lobe is redrawn, saves a screenshot, and
+// measures the package's speed in the browser.
+//
+// node web/tests/browser.mjs DIST EXPECTED_FITS_JSON SCREENSHOT.png
+// prints one JSON line of measurements; exits non-zero on any failure.
+import { createServer } from 'node:http';
+import { readFile } from 'node:fs/promises';
+import { extname, join, normalize } from 'node:path';
+import { chromium } from 'playwright-core';
+
+const [dist, expectedFile, screenshot] = process.argv.slice(2);
+const expected = await readFile(expectedFile, 'utf8');
+const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm' };
+
+const server = createServer(async (req, res) => {
+  const path = normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname)).replace(/^(\.\.[/\\])+/, '');
+  try {
+    const body = await readFile(join(dist, path.endsWith('/') ? `${path}index.html` : path));
+    res.writeHead(200, { 'content-type': TYPES[extname(path)] ?? 'text/html' });
+    res.end(body);
+  } catch {
+    res.writeHead(404);
+    res.end();
+  }
+});
+await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
+const url = `http://127.0.0.1:${server.address().port}/`;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-background-networking', '--disable-component-update', '--no-first-run'],
+});
+const problems = [];
+function check(ok, what) {
+  if (!ok) problems.push(what);
+}
+try {
+  const page = await browser.newPage({ viewport: { width: 1100, height: 1400 } });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => m.type() === 'error' && problems.push(`console error: ${m.text()}`));
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 60_000 });
+  const build = await page.textContent('#build');
+
+  await page.click('#example');
+  await page.waitForSelector('#fit:enabled');
+  check((await page.textContent('#loaded')).includes('200 measurements'), `loaded: ${await page.textContent('#loaded')}`);
+  const lobeBefore = await page.getAttribute('#lobe-path', 'd');
+  await page.click('#fit');
+  await page.waitForSelector('#results:not([hidden])', { timeout: 300_000 });
+  const progress = await page.evaluate(() => [document.getElementById('progress').value, document.getElementById('progress').max]);
+  check(progress[0] === 50 && progress[1] === 50, `progress ended at ${progress}`);
+
+  // The fitted-model file the page made is the CLI's, byte for byte.
+  const shownJson = await page.textContent('#fit-json');
+  check(shownJson === expected, 'the page\'s fitted-model file differs from `laminar fit --format json`');
+  // And the table shows the CLI's numbers.
+  const entry = JSON.parse(expected).fits[0];
+  const fmt = (v) => (v === null || v === undefined ? '–' : Number(v).toPrecision(5));
+  const rows = await page.$$eval('#params tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+  const order = Object.keys(entry.fitted.params).filter((k) => k in entry.parameters);
+  const want = order.map((name) => [name, entry.parameters[name]]).map(([name, p]) => [
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.flags.join(', '),
+  ]);
+  check(JSON.stringify(rows) === JSON.stringify(want), `parameter table ${JSON.stringify(rows)} != ${JSON.stringify(want)}`);
+  check(rows.length === 4, `${rows.length} parameter rows`);
+  const points = await page.$$eval('#scatter circle', (c) => c.length);
+  check(points === entry.measurements, `${points} scatter points for ${entry.measurements} measurements`);
+
+  // The sliders took the fit's values; moving one redraws the lobe.
+  const lobeFitted = await page.getAttribute('#lobe-path', 'd');
+  check(lobeFitted !== lobeBefore, 'the lobe did not change to the fitted model');
+  await page.$eval('#slider-slope', (s) => {
+    s.value = '0.3';
+    s.dispatchEvent(new Event('input', { bubbles: true }));
+  });
+  const lobeMoved = await page.getAttribute('#lobe-path', 'd');
+  check(lobeMoved !== lobeFitted, 'moving the σ/T slider did not redraw the lobe');
+  check((await page.textContent('#value-slope')) === '0.3', 'the σ/T slider\'s value is not shown');
+  await page.screenshot({ path: screenshot, fullPage: true });
+
+  // Speed in this browser: the page's own module (main thread).
+  const speed = await page.evaluate(async () => {
+    const { load } = await import('./laminar-wasm/index.js');
+    const out = {};
+    for (const simd of [false, true]) {
+      const L = await load({ simd });
+      const k = 100_000;
+      const angles = new Float64Array(3 * k);
+      for (let i = 0; i < k; i++) angles.set([((i % 90) * Math.PI) / 180 / 1.01, (((i * 7) % 90) * Math.PI) / 180 / 1.01, ((i % 360) - 180) * (Math.PI / 180)], 3 * i);
+      const rate = (f) => {
+        f();
+        const t = performance.now();
+        for (let r = 0; r < 5; r++) f();
+        return (5 * k) / ((performance.now() - t) / 1000);
+      };
+      const m = L.Measurements.fromCsv('example.csv', new TextEncoder().encode(L.exampleCsv()), 'rad', 'radiance');
+      const time = (refine, uncertainty) => {
+        const t = performance.now();
+        L.fit(m, 'value', 'exp', refine, uncertainty);
+        return performance.now() - t;
+      };
+      time(false, 'off');
+      out[simd ? 'simd' : 'plain'] = {
+        f64_per_s: rate(() => L.totalRadiance('exp', angles, 1.2, 0.4, 1.4, 0.3)),
+        f32_per_s: rate(() => L.totalRadianceF32('exp', angles, 1.2, 0.4, 1.4, 0.3)),
+        search_ms: Math.min(time(false, 'off'), time(false, 'off'), time(false, 'off')),
+        full_fit_ms: Math.min(time(true, 'both'), time(true, 'both')),
+      };
+      m.free();
+    }
+    return out;
+  });
+  console.log(JSON.stringify({ build, progress, rows, points, chromium: browser.version(), speed }));
+} finally {
+  await browser.close();
+  server.close();
+}
+if (problems.length) {
+  console.error(`browser test failed:\n- ${problems.join('\n- ')}`);
+  process.exit(1);
+}
