@@ -8,31 +8,15 @@
 //! missing the test says `SKIPPED` on the terminal and passes, unless
 //! `LAMINAR_REQUIRE_PYTHON=1` (set by `.ci/run`), when it fails.
 
+mod common;
+
+use common::run;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// Says why on the terminal (past the test harness's capture), or fails
-/// when Python is required.
 fn skip_or_fail(why: &str) {
-    if std::env::var_os("LAMINAR_REQUIRE_PYTHON").is_some() {
-        panic!("Python package tests cannot run: {why}");
-    }
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIPPED Python package tests: {why} (set LAMINAR_REQUIRE_PYTHON=1 to make this an error)"
-    );
-}
-
-fn run(cmd: &mut Command) -> Result<String, String> {
-    let out = cmd.output().map_err(|e| format!("{cmd:?}: {e}"))?;
-    let text =
-        String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
-    if out.status.success() {
-        Ok(text)
-    } else {
-        Err(format!("{cmd:?} failed:\n{text}"))
-    }
+    common::skip_or_fail("LAMINAR_REQUIRE_PYTHON", "Python package tests", why);
 }
 
 #[test]

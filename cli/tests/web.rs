@@ -1,0 +1,307 @@
+//! The npm package (`wasm/`) and the web page (`web/`):
+//!
+//! * the package's values are bitwise the native library's (f32 and f64,
+//!   plain and `+simd128` builds, under node);
+//! * `npm pack` makes a package that a TypeScript project imports, type-checks
+//!   (`tsc`, strict) and runs;
+//! * the page, in Debian's Chromium driven by playwright-core: the built-in
+//!   example fitted in the page gives the fitted-model file of `laminar fit`
+//!   on the same data byte for byte, the parameter table shows its numbers,
+//!   a slider redraws the lobe, and a screenshot is saved
+//!   (`target/web-test/page.png`).
+//!
+//! Needs node and npm, the `wasm32-unknown-unknown` target, `wasm-bindgen`
+//! of the version pinned in `wasm/Cargo.toml`, the npm registry once (for
+//! `web/package.json`'s typescript and playwright-core), and for the page
+//! `/usr/bin/chromium` (or `$CHROMIUM`). When one is missing the tests say
+//! `SKIPPED` on the terminal and pass, unless `LAMINAR_REQUIRE_WEB=1` (set
+//! by `.ci/run`), when they fail.
+
+mod common;
+
+use common::{run, stdout};
+use laminar_core::{probe, total_radiance, Angles, Correlation, Geometry, Params};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+fn skip_or_fail(why: &str) {
+    common::skip_or_fail("LAMINAR_REQUIRE_WEB", "web tests", why);
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = root().join("target/web-test").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// The built package (`target/npm`) and its `npm pack` tarball.
+struct Package {
+    dir: PathBuf,
+    tarball: PathBuf,
+}
+
+/// Builds the package once for all the tests: `Err` says why it cannot be
+/// built here (a missing tool); a failing build panics.
+fn package() -> Result<&'static Package, String> {
+    static PACKAGE: OnceLock<Result<Package, String>> = OnceLock::new();
+    PACKAGE
+        .get_or_init(|| {
+            for tool in ["node", "npm", "wasm-bindgen"] {
+                run(Command::new(tool).arg("--version"))
+                    .map_err(|e| format!("`{tool}` is not available ({e})"))?;
+            }
+            let targets = run(Command::new("rustup").args(["target", "list", "--installed"]));
+            if !targets.is_ok_and(|t| t.contains("wasm32-unknown-unknown")) {
+                return Err("the wasm32-unknown-unknown target is not installed".into());
+            }
+            let root = root();
+            let dir = root.join("target/npm");
+            let built = run(Command::new("bash")
+                .arg(root.join("wasm/build.sh"))
+                .arg(&dir)
+                .env_remove("CARGO_TARGET_DIR")
+                .env_remove("CARGO_ENCODED_RUSTFLAGS"));
+            if let Err(e) = built {
+                if e.contains("cargo install --locked wasm-bindgen-cli") {
+                    return Err(e);
+                }
+                panic!("wasm/build.sh: {e}");
+            }
+            let packs = scratch("pack");
+            let name = stdout(
+                Command::new("npm")
+                    .current_dir(&dir)
+                    .args(["pack", "--silent", "--pack-destination"])
+                    .arg(&packs),
+            )
+            .unwrap_or_else(|e| panic!("npm pack: {e}"));
+            Ok(Package {
+                tarball: packs.join(name.trim()),
+                dir,
+            })
+        })
+        .as_ref()
+        .map_err(Clone::clone)
+}
+
+/// `web/node_modules` (typescript, playwright-core), installed by `npm ci`
+/// when missing.
+fn web_tools() -> Result<PathBuf, String> {
+    let web = root().join("web");
+    let modules = web.join("node_modules");
+    if !modules.join("typescript").exists() || !modules.join("playwright-core").exists() {
+        run(Command::new("npm")
+            .current_dir(&web)
+            .args(["ci", "--no-audit", "--no-fund"]))
+        .map_err(|e| format!("cannot install web/package.json's tools: {e}"))?;
+    }
+    Ok(modules)
+}
+
+/// Geometries: the core's probe cases and a lattice over the whole domain
+/// (1,441, not a multiple of 8, so the f32x8 path pads its last chunk).
+fn geometries() -> Vec<Angles> {
+    let mut out: Vec<Angles> = (0..probe::GEOMETRIES)
+        .map(|g| {
+            let (ti, ts, ps) = probe::angles(g);
+            Angles::new(ti, ts, ps).expect("probe angles")
+        })
+        .collect();
+    let half_pi = std::f64::consts::FRAC_PI_2;
+    for i in 0..17 {
+        for j in 0..9 {
+            for k in 0..9 {
+                let (ti, ts) = (half_pi * i as f64 / 16.0, half_pi * j as f64 / 8.0);
+                let ps = std::f64::consts::PI * (k as f64 / 4.0 - 1.0);
+                out.push(Angles::new(ti, ts, ps).expect("lattice angles"));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn npm_package_gives_the_native_bits() {
+    let package = match package() {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let angles = geometries();
+    let params: Vec<(f64, f64, f64, f64)> = (0..probe::PARAMS).map(probe::params).collect();
+    let models = [
+        ("exp", Correlation::Exponential),
+        ("gauss", Correlation::Gaussian),
+    ];
+    let cases = serde_json::json!({
+        "angles": angles.iter().flat_map(|a| [a.theta_i(), a.theta_s(), a.phi_s()]).collect::<Vec<_>>(),
+        "params": params.iter().map(|&(s, b, n, a)| [s, b, n, a]).collect::<Vec<_>>(),
+        "models": models.iter().map(|m| m.0).collect::<Vec<_>>(),
+    });
+    let dir = scratch("bitwise");
+    std::fs::write(dir.join("cases.json"), cases.to_string()).expect("cases");
+    let out = stdout(
+        Command::new("node")
+            .arg(root().join("wasm/tests/bitwise.mjs"))
+            .arg(&package.dir)
+            .arg(dir.join("cases.json")),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let got: serde_json::Value = serde_json::from_str(&out).expect("bitwise.mjs prints JSON");
+
+    let (mut f32_bits, mut f64_bits) = (Vec::new(), Vec::new());
+    for (_, corr) in models {
+        for &(s, b, n, a) in &params {
+            let p = Params::new(s, b, n, a).expect("probe params");
+            for g in &angles {
+                f32_bits.push(total_radiance(&Geometry::<f32>::splat(g), corr, &p).to_bits());
+                let v = total_radiance(&Geometry::<f64>::splat(g), corr, &p).to_bits();
+                f64_bits.extend([(v >> 32) as u32, v as u32]);
+            }
+        }
+    }
+    for build in ["plain", "simd"] {
+        let side = &got[build];
+        assert_eq!(
+            side["build"],
+            build == "simd",
+            "{build}: load() gave the other build"
+        );
+        for (name, native) in [("f32", &f32_bits), ("f64", &f64_bits)] {
+            let wasm: Vec<u32> = serde_json::from_value(side[name].clone()).expect("bits");
+            assert_eq!(wasm.len(), native.len(), "{build} {name}: count");
+            let differ = wasm.iter().zip(native).filter(|(w, n)| w != n).count();
+            assert_eq!(
+                differ, 0,
+                "{build} {name}: {differ} values differ from native"
+            );
+        }
+    }
+    let _ = writeln!(
+        std::io::stderr(),
+        "npm package: {} f32 and {} f64 values per build, plain and +simd128, bitwise native",
+        f32_bits.len(),
+        f64_bits.len() / 2
+    );
+}
+
+#[test]
+fn packed_package_imports_in_typescript() {
+    let package = match package().and_then(|p| web_tools().map(|t| (p, t))) {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let (package, tools) = package;
+    let project = scratch("ts-example");
+    for f in ["example.ts", "tsconfig.json", "package.json"] {
+        std::fs::copy(
+            root().join("wasm/tests/ts-example").join(f),
+            project.join(f),
+        )
+        .expect("copy");
+    }
+    run(Command::new("npm")
+        .current_dir(&project)
+        .args(["install", "--no-audit", "--no-fund", "--offline"])
+        .arg(&package.tarball))
+    .unwrap_or_else(|e| panic!("npm install of the packed tarball: {e}"));
+    run(Command::new("node")
+        .arg(tools.join("typescript/bin/tsc"))
+        .arg("-p")
+        .arg(&project))
+    .unwrap_or_else(|e| panic!("tsc: {e}"));
+    let out = stdout(
+        Command::new("node")
+            .current_dir(&project)
+            .arg("dist/example.js"),
+    )
+    .unwrap_or_else(|e| panic!("the compiled example: {e}"));
+    let v: serde_json::Value = serde_json::from_str(&out).expect("the example prints JSON");
+    assert_eq!(
+        v["simd"], true,
+        "node has WebAssembly SIMD: load() should pick it"
+    );
+    assert_eq!(v["message"], "beta = 1.5 is outside [0, 1]");
+    assert_eq!(v["calls"], 50, "one progress call per σ/T value");
+    assert_eq!(v["predicted"], v["measured"]);
+    let p = Params::new(1.2, 0.4, 1.4, 0.3).expect("params");
+    let a = Angles::new(0.3, 0.2, 0.5).expect("angles");
+    let native = total_radiance(&Geometry::<f64>::splat(&a), Correlation::Exponential, &p);
+    assert_eq!(
+        v["total"][0].as_f64(),
+        Some(native),
+        "f64 total through the package"
+    );
+    let _ = writeln!(std::io::stderr(), "TypeScript example: {out}");
+}
+
+#[test]
+fn page_fits_in_chromium_as_the_cli_does() {
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    if !Path::new(&chromium).exists() {
+        return skip_or_fail(&format!(
+            "no Chromium at {chromium} (apt-get install chromium)"
+        ));
+    }
+    let package = match package().and_then(|p| web_tools().map(|_| p)) {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let root = root();
+    let dir = scratch("page");
+    let site = dir.join("site");
+    run(Command::new("bash")
+        .arg(root.join("web/build.sh"))
+        .arg(&site)
+        .env("NPM_PACKAGE", &package.dir))
+    .unwrap_or_else(|e| panic!("web/build.sh: {e}"));
+    // The page's built-in example, fitted by the CLI.
+    let example = dir.join("example.csv");
+    let csv = stdout(
+        Command::new("node")
+            .arg("--input-type=module")
+            .arg("-e")
+            .arg(format!(
+        "const {{ load }} = await import({:?}); process.stdout.write((await load()).exampleCsv());",
+        format!("file://{}", package.dir.join("index.js").display())
+    )),
+    )
+    .unwrap_or_else(|e| panic!("exampleCsv: {e}"));
+    std::fs::write(&example, csv).expect("example.csv");
+    let expected = dir.join("expected.json");
+    run(Command::new(env!("CARGO_BIN_EXE_laminar"))
+        .args(["fit", "--measurements"])
+        .arg(&example)
+        .args([
+            "--quantity",
+            "radiance",
+            "--models",
+            "exp",
+            "--format",
+            "json",
+            "--out",
+        ])
+        .arg(&expected))
+    .unwrap_or_else(|e| panic!("laminar fit: {e}"));
+    let screenshot = root.join("target/web-test/page.png");
+    let out = stdout(
+        Command::new("node")
+            .arg(root.join("web/tests/browser.mjs"))
+            .arg(&site)
+            .arg(&expected)
+            .arg(&screenshot)
+            .env("CHROMIUM", &chromium),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let _ = writeln!(
+        std::io::stderr(),
+        "Chromium page test passed; screenshot {}; {out}",
+        screenshot.display()
+    );
+}
