@@ -13,12 +13,15 @@ import { chromium } from 'playwright-core';
 
 const [dist, expectedFile, screenshot] = process.argv.slice(2);
 const expected = await readFile(expectedFile, 'utf8');
+const BENCH = new URL('../../wasm/bench/speed.js', import.meta.url);
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm' };
 
 const server = createServer(async (req, res) => {
   const path = normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname)).replace(/^(\.\.[/\\])+/, '');
+  // The page's files, and the speed measurement (not part of the page).
+  const file = path === '/__bench/speed.js' ? BENCH : join(dist, path.endsWith('/') ? `${path}index.html` : path);
   try {
-    const body = await readFile(join(dist, path.endsWith('/') ? `${path}index.html` : path));
+    const body = await readFile(file);
     res.writeHead(200, { 'content-type': TYPES[extname(path)] ?? 'text/html' });
     res.end(body);
   } catch {
@@ -83,37 +86,10 @@ try {
   check((await page.textContent('#value-slope')) === '0.3', 'the σ/T slider\'s value is not shown');
   await page.screenshot({ path: screenshot, fullPage: true });
 
-  // Speed in this browser: the page's own module (main thread).
+  // Speed in this browser (main thread), as wasm/bench/node.mjs measures it in node.
   const speed = await page.evaluate(async () => {
-    const { load } = await import('./laminar-wasm/index.js');
-    const out = {};
-    for (const simd of [false, true]) {
-      const L = await load({ simd });
-      const k = 100_000;
-      const angles = new Float64Array(3 * k);
-      for (let i = 0; i < k; i++) angles.set([((i % 90) * Math.PI) / 180 / 1.01, (((i * 7) % 90) * Math.PI) / 180 / 1.01, ((i % 360) - 180) * (Math.PI / 180)], 3 * i);
-      const rate = (f) => {
-        f();
-        const t = performance.now();
-        for (let r = 0; r < 5; r++) f();
-        return (5 * k) / ((performance.now() - t) / 1000);
-      };
-      const m = L.Measurements.fromCsv('example.csv', new TextEncoder().encode(L.exampleCsv()), 'rad', 'radiance');
-      const time = (refine, uncertainty) => {
-        const t = performance.now();
-        L.fit(m, 'value', 'exp', refine, uncertainty);
-        return performance.now() - t;
-      };
-      time(false, 'off');
-      out[simd ? 'simd' : 'plain'] = {
-        f64_per_s: rate(() => L.totalRadiance('exp', angles, 1.2, 0.4, 1.4, 0.3)),
-        f32_per_s: rate(() => L.totalRadianceF32('exp', angles, 1.2, 0.4, 1.4, 0.3)),
-        search_ms: Math.min(time(false, 'off'), time(false, 'off'), time(false, 'off')),
-        full_fit_ms: Math.min(time(true, 'both'), time(true, 'both')),
-      };
-      m.free();
-    }
-    return out;
+    const { measure } = await import('/__bench/speed.js');
+    return measure((await import('./laminar-wasm/index.js')).load);
   });
   console.log(JSON.stringify({ build, progress, rows, points, chromium: browser.version(), speed }));
 } finally {
