@@ -86,12 +86,33 @@ try {
   check((await page.textContent('#value-slope')) === '0.3', 'the σ/T slider\'s value is not shown');
   await page.screenshot({ path: screenshot, fullPage: true });
 
+  // A defective file: the page names its line, column and value, and offers no fit.
+  await page.setInputFiles('#files', {
+    name: 'bad.csv',
+    mimeType: 'text/csv',
+    buffer: Buffer.from('theta_i,theta_s,phi_s,v\n0.1,0.2,0.3,1\n0.1,abc,0.3,2\n'),
+  });
+  await page.waitForSelector('#loaded.error');
+  const bad = await page.textContent('#loaded');
+  check(bad === 'bad.csv:3: column 2 (theta_s): `abc` is not a number', `bad file: ${bad}`);
+  check(await page.isDisabled('#fit'), 'the fit button stays enabled after a bad file');
+
+  // CUReT's two files, when the data are here (CURET_DIR).
+  let curet = null;
+  if (process.env.CURET_DIR) {
+    await page.setInputFiles('#files', ['table.txt', 'abrdf.dat'].map((f) => join(process.env.CURET_DIR, f)));
+    await page.waitForSelector('#curet-sample:not([hidden])');
+    curet = await page.textContent('#loaded');
+    check(/^CUReT sample \d+ of abrdf\.dat: \d+ measurements, channels avg\.$/.test(curet), `CUReT: ${curet}`);
+    check(!(await page.isDisabled('#fit')), 'CUReT files loaded but no fit offered');
+  }
+
   // Speed in this browser (main thread), as wasm/bench/node.mjs measures it in node.
   const speed = await page.evaluate(async () => {
     const { measure } = await import('/__bench/speed.js');
     return measure((await import('./laminar-wasm/index.js')).load);
   });
-  console.log(JSON.stringify({ build, progress, rows, points, chromium: browser.version(), speed }));
+  console.log(JSON.stringify({ build, progress, rows, points, bad, curet, chromium: browser.version(), speed }));
 } finally {
   await browser.close();
   server.close();
