@@ -228,6 +228,21 @@ fn packed_package_imports_in_typescript() {
         "node has WebAssembly SIMD: load() should pick it"
     );
     assert_eq!(v["message"], "beta = 1.5 is outside [0, 1]");
+    // Every bad input is a JS Error naming what is wrong.
+    let errors: Vec<String> = serde_json::from_value(v["errors"].clone()).expect("errors");
+    assert_eq!(
+        errors,
+        [
+            "geometry 0: theta_s = 2 is outside [0, π/2]",
+            "angles has 2 numbers: give (theta_i, theta_s, phi_s) triples, radians",
+            "model `lambert`: give `exp` or `gauss`",
+            "slope = 0 is outside [1e-3, 1e3]",
+            "select `example/value/gauss` matches no fit; the file holds example/value/exp",
+            "fitted-model file:1: column 2: not a laminar fitted-model file (missing field `format` \
+             at line 1 column 2); write one with `laminar fit --format json`",
+            "example: no channel `r` (channels: value)",
+        ]
+    );
     assert_eq!(v["calls"], 50, "one progress call per σ/T value");
     assert_eq!(v["predicted"], v["measured"]);
     let p = Params::new(1.2, 0.4, 1.4, 0.3).expect("params");

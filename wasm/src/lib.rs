@@ -18,6 +18,21 @@
 //! flat array of triples. Every error is a JavaScript `Error` whose message
 //! names the parameter, the geometry, or the file's line and column.
 //! "§N" refers to the repository's `docs/conventions.md`.
+//!
+//! The exports are plain Rust functions too (JavaScript names in the
+//! generated glue are camelCase: `fromCsv`, `totalRadianceF32`, …):
+//!
+//! ```
+//! use laminar_wasm::{fitting, measurements::{example_csv, Measurements}};
+//! let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")?;
+//! // The grid search alone (no refinement, no intervals), as `laminar fit --refine off --uncertainty off`.
+//! let json = fitting::fit(&m, "value", "exp", Some(false), Some("off".into()), None)?;
+//! assert!(json.contains(r#""slope": 1.48"#), "{json}");
+//! let scene = m.scene("value")?;
+//! let p = fitting::predict(&json, None, &scene.angles())?;
+//! assert_eq!(p.len(), scene.data().len());
+//! # Ok::<(), wasm_bindgen::JsError>(())
+//! ```
 
 pub mod evaluate;
 pub mod fitting;
