@@ -241,8 +241,18 @@ fn packed_package_imports_in_typescript() {
             "fitted-model file:1: column 2: not a laminar fitted-model file (missing field `format` \
              at line 1 column 2); write one with `laminar fit --format json`",
             "example: no channel `r` (channels: value)",
+            "options.n: count `x` in axis `1.5:1.3:x` is not a positive integer",
+            "options.refine: give true or false",
         ]
     );
+    // The options reach the fitter: a one-point σ/T, n, a grid, one shard.
+    let custom = &v["custom"];
+    assert_eq!(
+        (&custom["slope"], &custom["n"], &custom["a"]),
+        (&1.48.into(), &1.44.into(), &0.17.into()),
+        "{custom}"
+    );
+    assert_eq!(v["customCalls"], 1);
     assert_eq!(v["calls"], 50, "one progress call per σ/T value");
     assert_eq!(v["predicted"], v["measured"]);
     let p = Params::new(1.2, 0.4, 1.4, 0.3).expect("params");

@@ -36,8 +36,8 @@ export async function measure(load) {
     out[simd ? 'simd' : 'plain'] = {
       f64_per_s: rate(() => L.totalRadiance('exp', angles, 1.2, 0.4, 1.4, 0.3)),
       f32_per_s: rate(() => L.totalRadianceF32('exp', angles, 1.2, 0.4, 1.4, 0.3)),
-      search_ms: best(5, () => L.fit(m, 'value', 'exp', false, 'off')),
-      full_fit_ms: best(3, () => L.fit(m, 'value', 'exp', true, 'both')),
+      search_ms: best(5, () => L.fit(m, 'value', 'exp', { refine: false, uncertainty: 'off' })),
+      full_fit_ms: best(3, () => L.fit(m, 'value', 'exp')),
     };
     m.free();
   }

@@ -6,8 +6,9 @@
 //! `RAYON_NUM_THREADS=1 cargo run --release -p laminar-wasm --example speed`
 //! (one thread, as in the browser).
 
+use laminar_fit::Analysis;
 use laminar_wasm::evaluate::{total_radiance_f32, total_radiance_f64};
-use laminar_wasm::fitting::fit;
+use laminar_wasm::fitting::{fit, Settings};
 use laminar_wasm::measurements::{example_csv, Measurements};
 use std::time::Instant;
 
@@ -43,11 +44,15 @@ fn main() {
     });
     let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")
         .expect(ok);
+    let search = Settings {
+        analysis: Analysis::NONE,
+        ..Settings::default()
+    };
     let search_ms = best(5, || {
-        fit(&m, "value", "exp", Some(false), Some("off".into()), None).expect(ok);
+        fit(&m, "value", "exp", &search, None).expect(ok);
     });
     let full_fit_ms = best(3, || {
-        fit(&m, "value", "exp", Some(true), Some("both".into()), None).expect(ok);
+        fit(&m, "value", "exp", &Settings::default(), None).expect(ok);
     });
     println!(
         "{{\"threads\": {}, \"f64_per_s\": {f64_per_s:.0}, \"f32_per_s\": {f32_per_s:.0}, \"search_ms\": {search_ms:.2}, \"full_fit_ms\": {full_fit_ms:.2}}}",

@@ -3,7 +3,7 @@
 // fitted-model file that `fit` returns is typed here.
 import type * as Build from './plain/laminar_wasm.js';
 
-export type { Components, Measurements, SceneData } from './plain/laminar_wasm.js';
+export type { Components, FitOptions, Measurements, SceneData } from './plain/laminar_wasm.js';
 
 /** Everything one build exports, initialised. */
 export type Laminar = Omit<typeof Build, 'default' | 'initSync'> & {

@@ -3,11 +3,13 @@
 
 use crate::geometries;
 use crate::measurements::Measurements;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Uncertainty};
+use laminar_fit::search::Path as SearchPath;
+use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Uncertainty};
 use laminar_io::fits;
 use std::cell::RefCell;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
 
 thread_local! {
     /// The progress callback of the fit under way. The fitter wants a
@@ -35,46 +37,159 @@ fn error(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
+#[wasm_bindgen(typescript_custom_section)]
+const FIT_OPTIONS: &str = r#"
+/** Options of `fit`, each as the `laminar fit` flag of the same name. */
+export interface FitOptions {
+  /** Refine the best grid point by Nelder–Mead (default true). */
+  refine?: boolean;
+  /** Intervals and standard deviations (default 'both'). */
+  uncertainty?: 'off' | 'profile' | 'jacobian' | 'both';
+  /** Grid axes as `start:stop:count` or one value (default: the paper grid's). */
+  slope?: string;
+  beta?: string;
+  n?: string;
+  a?: string;
+  /** Search path, e.g. 'envelope-f32x8' (the default), 'direct-f64'. */
+  path?: string;
+  /** Called after each grid shard (one σ/T value) with (done, total). */
+  onProgress?: (done: number, total: number) => void;
+}
+"#;
+
+#[wasm_bindgen]
+extern "C" {
+    /// The options object of [`fit`] (TypeScript `FitOptions`).
+    #[wasm_bindgen(typescript_type = "FitOptions")]
+    pub type FitOptions;
+}
+
+/// What a fit does: `laminar fit`'s grid, path and analysis flags.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// The search grid (paper grid by default).
+    pub grid: Grid,
+    /// The search path of the layered models.
+    pub path: SearchPath,
+    /// Refinement and uncertainty after the search.
+    pub analysis: Analysis,
+}
+
+impl Default for Settings {
+    /// `laminar fit`'s defaults: the paper grid, the default path, refinement
+    /// and both uncertainties.
+    fn default() -> Self {
+        Self {
+            grid: Grid::paper(),
+            path: SearchPath::DEFAULT,
+            analysis: Analysis::FULL,
+        }
+    }
+}
+
+impl Settings {
+    /// Settings and progress callback from a JavaScript options object;
+    /// each wrong field is an error naming it.
+    fn from_js(options: &JsValue) -> Result<(Self, Option<js_sys::Function>), JsError> {
+        let mut s = Self::default();
+        if options.is_undefined() || options.is_null() {
+            return Ok((s, None));
+        }
+        let field = |name: &str| {
+            js_sys::Reflect::get(options, &JsValue::from_str(name))
+                .map_err(|_| error(format_args!("options: cannot read `{name}`")))
+                .map(|v| (!v.is_undefined()).then_some(v))
+        };
+        let text = |name: &str| -> Result<Option<String>, JsError> {
+            field(name)?
+                .map(|v| {
+                    v.as_string()
+                        .ok_or_else(|| error(format_args!("options.{name}: give a string")))
+                })
+                .transpose()
+        };
+        if let Some(v) = field("refine")? {
+            s.analysis.refine = v
+                .as_bool()
+                .ok_or_else(|| error("options.refine: give true or false"))?;
+        }
+        if let Some(u) = text("uncertainty")? {
+            s.analysis.uncertainty = u
+                .parse::<Uncertainty>()
+                .map_err(|e| error(format_args!("options.uncertainty: {e}")))?;
+        }
+        for (name, axis) in [
+            ("slope", &mut s.grid.slope),
+            ("beta", &mut s.grid.beta),
+            ("n", &mut s.grid.n),
+            ("a", &mut s.grid.a),
+        ] {
+            if let Some(t) = text(name)? {
+                *axis = Axis::parse(&t).map_err(|e| error(format_args!("options.{name}: {e}")))?;
+            }
+        }
+        if let Some(p) = text("path")? {
+            s.path = p
+                .parse()
+                .map_err(|e| error(format_args!("options.path: {e}")))?;
+        }
+        let progress = field("onProgress")?
+            .map(|f| {
+                f.dyn_into::<js_sys::Function>()
+                    .map_err(|_| error("options.onProgress: give a function"))
+            })
+            .transpose()?;
+        Ok((s, progress))
+    }
+}
+
 /// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
-/// `oren-nayar`) to `channel` of `measurements` on the paper grid with the
-/// default search path, as `laminar fit` does, and returns the fitted-model
-/// file (`laminar fit --format json`) of that one fit: parameters, Δ_RMS,
-/// χ²/ν, the refined parameters with their 68%/95% intervals, and the
-/// fitted model that [`predict`] uses.
-///
-/// `refine` and `uncertainty` (`off`, `profile`, `jacobian`, `both`) are
-/// `--refine` and `--uncertainty` (defaults on, both). `onProgress(done,
-/// total)` is called after each grid shard (one σ/T value; 50 for a layered
-/// model on the paper grid); refinement and uncertainty follow the last one.
+/// `oren-nayar`) to `channel` of `measurements` as `laminar fit` does (the
+/// paper grid, the default search path, refinement and both uncertainties,
+/// unless `options` says otherwise) and returns the fitted-model file
+/// (`laminar fit --format json`) of that one fit: parameters, Δ_RMS, χ²/ν,
+/// the refined parameters with their 68%/95% intervals, and the fitted
+/// model that [`predict`] uses. `options.onProgress(done, total)` is called
+/// after each grid shard (one σ/T value; 50 for a layered model on the paper
+/// grid); refinement and uncertainty follow the last one.
 ///
 /// # Errors
-/// For an unknown model or uncertainty, or a channel the set lacks or that
-/// cannot be fitted.
-#[wasm_bindgen]
+/// For an unknown model, a wrong option (named), or a channel the set
+/// lacks or that cannot be fitted.
+#[wasm_bindgen(js_name = fit)]
+pub fn fit_js(
+    measurements: &Measurements,
+    channel: &str,
+    model: &str,
+    options: Option<FitOptions>,
+) -> Result<String, JsError> {
+    let (settings, progress) = match options {
+        Some(o) => Settings::from_js(&o)?,
+        None => (Settings::default(), None),
+    };
+    fit(measurements, channel, model, &settings, progress)
+}
+
+/// [`fit_js`] from Rust: [`Settings`], and an optional progress callback.
+///
+/// # Errors
+/// As [`fit_js`].
 pub fn fit(
     measurements: &Measurements,
     channel: &str,
     model: &str,
-    refine: Option<bool>,
-    uncertainty: Option<String>,
-    #[wasm_bindgen(js_name = onProgress)] on_progress: Option<js_sys::Function>,
+    settings: &Settings,
+    progress: Option<js_sys::Function>,
 ) -> Result<String, JsError> {
     let model: Model = model.parse().map_err(error)?;
-    let uncertainty: Uncertainty = uncertainty
-        .as_deref()
-        .unwrap_or("both")
-        .parse()
-        .map_err(|e: String| error(e))?;
     let scene = measurements.set.scene(channel).map_err(error)?;
-    let fitter = Fitter::new(Grid::paper())
+    let fitter = Fitter::new(settings.grid.clone())
         .map_err(error)?
-        .analysis(Analysis {
-            refine: refine.unwrap_or(true),
-            uncertainty,
-        })
+        .path(settings.path)
+        .analysis(settings.analysis)
         .on_progress(tick);
     let total = fitter.shards(model);
-    PROGRESS.with(|slot| *slot.borrow_mut() = on_progress.map(|f| (f, 0, total)));
+    PROGRESS.with(|slot| *slot.borrow_mut() = progress.map(|f| (f, 0, total)));
     let fit = fitter.fit(&scene, model);
     PROGRESS.with(|slot| *slot.borrow_mut() = None);
     Ok(fits::json(&[fit]))
@@ -83,7 +198,7 @@ pub fn fit(
 /// The normalised prediction of a fitted model at each geometry of
 /// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
 /// predicted at its own geometries (`laminar predict`). `fitsJson` is a
-/// fitted-model file (from [`fit`] or `laminar fit --format json`);
+/// fitted-model file (from [`fit_js`] or `laminar fit --format json`);
 /// `select` (`sample/channel/model`) picks a fit when it holds several.
 ///
 /// # Errors

@@ -26,7 +26,8 @@
 //! use laminar_wasm::{fitting, measurements::{example_csv, Measurements}};
 //! let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")?;
 //! // The grid search alone (no refinement, no intervals), as `laminar fit --refine off --uncertainty off`.
-//! let json = fitting::fit(&m, "value", "exp", Some(false), Some("off".into()), None)?;
+//! let settings = fitting::Settings { analysis: laminar_fit::Analysis::NONE, ..Default::default() };
+//! let json = fitting::fit(&m, "value", "exp", &settings, None)?;
 //! assert!(json.contains(r#""slope": 1.48"#), "{json}");
 //! let scene = m.scene("value")?;
 //! let p = fitting::predict(&json, None, &scene.angles())?;

@@ -10,9 +10,9 @@ self.onmessage = async ({ data }) => {
   try {
     m = measurementsFrom(L, data.source);
     const start = performance.now();
-    const json = L.fit(m, data.channel, data.model, true, 'both', (done, total) =>
-      self.postMessage({ progress: [done, total] }),
-    );
+    const json = L.fit(m, data.channel, data.model, {
+      onProgress: (done, total) => self.postMessage({ progress: [done, total] }),
+    });
     self.postMessage({ json, ms: performance.now() - start });
   } catch (e) {
     self.postMessage({ error: String(e?.message ?? e) });

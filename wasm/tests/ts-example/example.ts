@@ -1,6 +1,6 @@
 // A TypeScript project using the packed npm package: type-checked by
 // `tsc` (cli/tests/web.rs), then run by node.
-import { load, simdSupported, type FitsFile, type Laminar } from 'laminar-wasm';
+import { load, simdSupported, type FitOptions, type FitsFile, type Laminar } from 'laminar-wasm';
 
 const L: Laminar = await load();
 const angles = new Float64Array([0.3, 0.2, 0.5, 0.6, 0.4, 1.0]);
@@ -26,14 +26,22 @@ const errors = [
 
 const m = L.Measurements.fromCsv('example.csv', new TextEncoder().encode(L.exampleCsv()), 'rad', 'radiance');
 let calls = 0;
-const json: string = L.fit(m, 'value', 'exp', false, 'off', () => calls++);
+const options: FitOptions = { refine: false, uncertainty: 'off', onProgress: () => calls++ };
+const json: string = L.fit(m, 'value', 'exp', options);
 const file: FitsFile = JSON.parse(json);
+// A grid of one σ/T, n and a value: one progress call, those values fitted.
+let customCalls = 0;
+const custom: FitsFile = JSON.parse(L.fit(m, 'value', 'exp', {
+  refine: false, uncertainty: 'off', slope: '1.48', n: '1.44', a: '0.17', path: 'direct-f64', onProgress: () => customCalls++,
+}));
 const scene = m.scene('value');
 const prediction: Float64Array = L.predict(json, undefined, scene.angles);
 errors.push(
   thrown(() => L.predict(json, 'example/value/gauss', scene.angles)),
   thrown(() => L.predict('{}', undefined, scene.angles)),
   thrown(() => L.fit(m, 'r', 'exp')),
+  thrown(() => L.fit(m, 'value', 'exp', { n: '1.5:1.3:x' })),
+  thrown(() => L.fit(m, 'value', 'exp', { refine: 'yes' } as unknown as FitOptions)),
 );
 console.log(JSON.stringify({
   simd: L.simd,
@@ -44,6 +52,8 @@ console.log(JSON.stringify({
   errors,
   calls,
   params: file.fits[0].params,
+  custom: custom.fits[0].params,
+  customCalls,
   rms: file.fits[0].rms,
   predicted: prediction.length,
   measured: scene.data.length,
