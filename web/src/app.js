@@ -13,6 +13,8 @@ export const fmt = (v) => (v === null || v === undefined ? '–' : Number(v).toP
 $('build').textContent = `laminar-wasm ${L.version()}, ${L.simd ? 'SIMD (+simd128)' : 'plain'} build`;
 
 let source = null; // see source.js
+let fitting = null; // { channel, model, source } of the last fit asked for
+let busy = false; // a fit is under way
 const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
 
 function status(id, text, error = false) {
@@ -30,7 +32,7 @@ function useSource(s) {
     $('channel').replaceChildren(...channels.map((c) => new Option(c, c)));
     const what = s.kind === 'csv' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
     status('loaded', `${what}: ${m.length} measurements, channels ${channels.join(', ')}.`);
-    $('fit').disabled = false;
+    $('fit').disabled = busy;
   } catch (e) {
     source = null;
     $('fit').disabled = true;
@@ -88,10 +90,10 @@ for (const id of ['angles', 'quantity']) {
 }
 $('sample').addEventListener('change', () => useSource({ ...source, sample: Number($('sample').value) }));
 
-// Fitting, in the worker.
-let fitting = null;
+// Fitting, in the worker: one fit at a time.
 $('fit').addEventListener('click', () => {
   fitting = { channel: $('channel').value, model: $('model').value, source };
+  busy = true;
   $('fit').disabled = true;
   $('progress').removeAttribute('value');
   status('fit-status', 'searching the grid…');
@@ -105,7 +107,8 @@ worker.onmessage = ({ data }) => {
     status('fit-status', done < total ? `grid: ${done} of ${total} σ/T values` : 'refining, intervals…');
     return;
   }
-  $('fit').disabled = false;
+  busy = false;
+  $('fit').disabled = source === null;
   if (data.error) {
     $('progress').value = 0;
     return status('fit-status', data.error, true);
