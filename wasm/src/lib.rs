@@ -10,9 +10,10 @@
 //!   parameter checks whose errors name the parameter.
 //! * [`measurements`]: CSV and CUReT files from bytes, and the built-in
 //!   example (the CLI's synthetic scene).
-//! * [`fitting`]: the fitting library's search (paper grid, default path),
-//!   refinement and uncertainty, returning the fitted-model file of
-//!   `laminar fit --format json`; prediction with a fitted model.
+//! * [`fitting`]: the fitting library's search (paper grid and default
+//!   path unless told), refinement and uncertainty, returning the
+//!   fitted-model file of `laminar fit --format json`; prediction with a
+//!   fitted model.
 //!
 //! Angles are in the paper's frame (θi, θs, φs) in radians, passed as one
 //! flat array of triples. Every error is a JavaScript `Error` whose message
