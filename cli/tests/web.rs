@@ -241,6 +241,7 @@ fn packed_package_imports_in_typescript() {
             "fitted-model file:1: column 2: not a laminar fitted-model file (missing field `format` \
              at line 1 column 2); write one with `laminar fit --format json`",
             "example: no channel `r` (channels: value)",
+            "angles: unknown angle unit `grad` (expected rad or deg)",
             "options.n: count `x` in axis `1.5:1.3:x` is not a positive integer",
             "options.refine: give true or false",
         ]

@@ -1,6 +1,6 @@
 //! The model at arrays of geometries (eqs. 1–14, total eq. 8).
 
-use crate::{correlation, geometries};
+use crate::{correlation, error, geometries};
 use laminar_core::{
     components as components_of, f32x8, total_radiance, total_radiance_in, Angles, Geometry, Lane,
     Params,
@@ -18,7 +18,7 @@ pub fn validate_params(slope: f64, beta: f64, n: f64, a: f64) -> Result<(), JsEr
 }
 
 fn params(slope: f64, beta: f64, n: f64, a: f64) -> Result<Params, JsError> {
-    Params::new(slope, beta, n, a).map_err(|e| JsError::new(&e.to_string()))
+    Params::new(slope, beta, n, a).map_err(error)
 }
 
 /// Eq. 8's total radiance in f64 at each geometry of `angles` (flat

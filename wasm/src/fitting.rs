@@ -1,8 +1,8 @@
 //! Fitting a measurement set in the browser, and predicting with the
 //! fitted model: the fitting library's own code, single-threaded.
 
-use crate::geometries;
 use crate::measurements::Measurements;
+use crate::{error, geometries};
 use laminar_fit::search::Path as SearchPath;
 use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Uncertainty};
 use laminar_io::fits;
@@ -31,10 +31,6 @@ fn tick() {
             );
         }
     });
-}
-
-fn error(e: impl std::fmt::Display) -> JsError {
-    JsError::new(&e.to_string())
 }
 
 #[wasm_bindgen(typescript_custom_section)]

@@ -43,12 +43,17 @@ pub mod measurements;
 use laminar_core::{Angles, Correlation};
 use wasm_bindgen::JsError;
 
+/// A JavaScript `Error` with `e`'s message.
+fn error(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
 /// The correlation of a layered model name (`exp` or `gauss`).
 fn correlation(model: &str) -> Result<Correlation, JsError> {
     match model {
         "exp" => Ok(Correlation::Exponential),
         "gauss" => Ok(Correlation::Gaussian),
-        _ => Err(JsError::new(&format!(
+        _ => Err(error(format_args!(
             "model `{model}`: give `exp` or `gauss`"
         ))),
     }
@@ -57,7 +62,7 @@ fn correlation(model: &str) -> Result<Correlation, JsError> {
 /// Geometries from a flat array of (θi, θs, φs) triples, each checked.
 fn geometries(angles: &[f64]) -> Result<Vec<Angles>, JsError> {
     if !angles.len().is_multiple_of(3) {
-        return Err(JsError::new(&format!(
+        return Err(error(format_args!(
             "angles has {} numbers: give (theta_i, theta_s, phi_s) triples, radians",
             angles.len()
         )));
@@ -66,7 +71,7 @@ fn geometries(angles: &[f64]) -> Result<Vec<Angles>, JsError> {
         .chunks_exact(3)
         .enumerate()
         .map(|(k, t)| {
-            Angles::new(t[0], t[1], t[2]).map_err(|e| JsError::new(&format!("geometry {k}: {e}")))
+            Angles::new(t[0], t[1], t[2]).map_err(|e| error(format_args!("geometry {k}: {e}")))
         })
         .collect()
 }

@@ -1,6 +1,7 @@
 //! Measurement sets from CSV and CUReT files given as bytes, and the
 //! built-in example.
 
+use crate::error;
 use laminar_fit::{synthetic, MeasurementSet, Quantity};
 use laminar_io::{csv_file::parse_csv, curet, AngleUnit};
 use std::fmt::Write;
@@ -13,28 +14,9 @@ pub struct Measurements {
     pub(crate) set: MeasurementSet,
 }
 
-fn error(e: impl std::fmt::Display) -> JsError {
-    JsError::new(&e.to_string())
-}
-
-fn angle_unit(angles: &str) -> Result<AngleUnit, JsError> {
-    match angles {
-        "rad" => Ok(AngleUnit::Radians),
-        "deg" => Ok(AngleUnit::Degrees),
-        _ => Err(error(format_args!(
-            "angles `{angles}`: give `rad` or `deg`"
-        ))),
-    }
-}
-
-fn quantity(quantity: &str) -> Result<Quantity, JsError> {
-    match quantity {
-        "brdf" => Ok(Quantity::Brdf),
-        "radiance" => Ok(Quantity::Radiance),
-        _ => Err(error(format_args!(
-            "quantity `{quantity}`: give `brdf` or `radiance`"
-        ))),
-    }
+/// The library's own parser of an option's text, its error naming the option.
+fn option<T: std::str::FromStr<Err = String>>(name: &str, text: &str) -> Result<T, JsError> {
+    text.parse().map_err(|e| error(format_args!("{name}: {e}")))
 }
 
 /// The CUReT geometry table and BRDF rows of two files' bytes.
@@ -82,8 +64,8 @@ impl Measurements {
         let set = parse_csv(
             Path::new(name),
             bytes,
-            angle_unit(angles)?,
-            self::quantity(quantity)?,
+            option::<AngleUnit>("angles", angles)?,
+            option::<Quantity>("quantity", quantity)?,
         )
         .map_err(error)?;
         Ok(Self { set })

@@ -40,6 +40,7 @@ errors.push(
   thrown(() => L.predict(json, 'example/value/gauss', scene.angles)),
   thrown(() => L.predict('{}', undefined, scene.angles)),
   thrown(() => L.fit(m, 'r', 'exp')),
+  thrown(() => L.Measurements.fromCsv('x.csv', new Uint8Array(), 'grad', 'brdf')),
   thrown(() => L.fit(m, 'value', 'exp', { n: '1.5:1.3:x' })),
   thrown(() => L.fit(m, 'value', 'exp', { refine: 'yes' } as unknown as FitOptions)),
 );
