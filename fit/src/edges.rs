@@ -28,6 +28,10 @@ pub enum Edge {
     OpenBelow,
     /// As [`Edge::OpenBelow`], above the estimate.
     OpenAbove,
+    /// The free-amplitude objective's 95% profile interval spans the whole
+    /// box: the data do not determine this parameter (e.g. Jensen's σa and
+    /// σs′ alone, whose ratio is all the model sees).
+    NotIdentified,
 }
 
 impl fmt::Display for Edge {
@@ -37,6 +41,7 @@ impl fmt::Display for Edge {
             Self::DomainBound => "domain_bound",
             Self::OpenBelow => "open_below",
             Self::OpenAbove => "open_above",
+            Self::NotIdentified => "not_identified",
         })
     }
 }

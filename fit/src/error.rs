@@ -22,6 +22,12 @@ pub enum GridError {
         /// The offending field.
         field: String,
     },
+    /// A log-spaced axis with an end that is not positive.
+    #[error("axis `{text}` is log-spaced, so both ends must be positive")]
+    LogNotPositive {
+        /// The axis text.
+        text: String,
+    },
     /// The count is not a positive integer.
     #[error("count `{field}` in axis `{text}` is not a positive integer")]
     BadCount {

@@ -6,6 +6,7 @@ use crate::error::{FitError, ModelError};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::{Axis, Grid};
 use crate::model::Model;
+use crate::objective::Objective;
 use crate::scene::Scene;
 use crate::search::batch::{search_batch, share_geometry};
 use crate::search::{grid_profile, point, search, GridProfile, Method, Path, SearchResult};
@@ -44,6 +45,20 @@ impl Estimate {
             fitted,
             rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
             chi2: chi_square_per_dof(&scene.data, &prediction, model.parameter_count()).ok(),
+        })
+    }
+
+    /// The error measures of `fitted` on `scene`, `p` fitted parameters
+    /// counted in χ²/ν.
+    ///
+    /// # Errors
+    /// [`ModelError`] when the parameters are outside their domain or not the model's.
+    pub fn of_fitted(scene: &Scene, fitted: FittedModel, p: usize) -> Result<Self, ModelError> {
+        let prediction = fitted.predict(&scene.angles)?;
+        Ok(Self {
+            fitted,
+            rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
+            chi2: chi_square_per_dof(&scene.data, &prediction, p).ok(),
         })
     }
 
@@ -94,6 +109,15 @@ pub struct Fit {
     /// The Jacobian's covariance and correlations at the refined optimum
     /// (when asked for and no parameter is at a bound of its domain).
     pub covariance: Option<Covariance>,
+    /// The objective minimised.
+    pub objective: Objective,
+    /// Free-amplitude fits: the fitted amplitude `c` of the estimate
+    /// (prediction `c · M` on the data divided by their max).
+    pub amplitude: Option<f64>,
+    /// Free-amplitude fits: the weighted `χ²/ν = Σ w (D − P)²/(K − p)` of
+    /// the estimate, `w = 1/σ²` (1 without uncertainties), p counting the
+    /// amplitude.
+    pub chi2_weighted: Option<f64>,
 }
 
 impl Fit {
@@ -231,6 +255,7 @@ pub struct Fitter {
     pool: Option<Arc<rayon::ThreadPool>>,
     progress: Option<Progress>,
     analysis: Analysis,
+    objective: Objective,
 }
 
 impl Fitter {
@@ -248,7 +273,21 @@ impl Fitter {
             pool: None,
             progress: None,
             analysis: Analysis::FULL,
+            objective: Objective::Paper,
         })
+    }
+
+    /// The objective every fit minimises (default [`Objective::Paper`] for
+    /// [`Fitter::new`]; front ends choose [`Objective::Free`] for a user's
+    /// data, on [`Grid::user`]).
+    pub fn objective(mut self, objective: Objective) -> Self {
+        self.objective = objective;
+        self
+    }
+
+    /// The objective of the fits.
+    pub fn objective_of_fits(&self) -> Objective {
+        self.objective
     }
 
     /// What each fit does after its grid search (default [`Analysis::FULL`]).
@@ -309,7 +348,7 @@ impl Fitter {
     /// Progress calls per fit of `model`: one per σ/T value for the layered
     /// models, one for a baseline.
     pub fn shards(&self, model: Model) -> u64 {
-        if model.correlation().is_some() {
+        if model.correlation().is_some() && self.objective == Objective::Paper {
             self.grid.slope.len() as u64
         } else {
             1
@@ -385,6 +424,9 @@ impl Fitter {
             refined: None,
             parameters: Vec::new(),
             covariance: None,
+            objective: Objective::Paper,
+            amplitude: None,
+            chi2_weighted: None,
         }
     }
 
@@ -483,6 +525,9 @@ impl Fitter {
     /// grid's profile and the continuous one at `points` values
     /// ([`ProfileCurve`]). Empty for the baselines, or without intervals.
     pub fn profiles(&self, scene: &Scene, fit: &Fit, points: usize) -> Vec<ProfileCurve> {
+        if fit.objective != Objective::Paper {
+            return Vec::new();
+        }
         let Some(corr) = fit.model.correlation() else {
             return Vec::new();
         };
@@ -512,7 +557,8 @@ impl Fitter {
 
     /// True when [`Fitter::fit_batch`] runs one batch search.
     fn batches(&self, scenes: &[Scene], model: Model) -> bool {
-        model.correlation().is_some()
+        self.objective == Objective::Paper
+            && model.correlation().is_some()
             && self.path.method == Method::Envelope
             && share_geometry(scenes)
     }
@@ -557,11 +603,19 @@ impl Fitter {
                         .collect()
                 })
             }
+            _ if self.objective == Objective::Free => {
+                self.run(|| scenes.par_iter().map(|s| self.fit_here(s, model)).collect())
+            }
             _ => scenes.iter().map(|s| self.fit(s, model)).collect(),
         }
     }
 
     fn fit_here(&self, scene: &Scene, model: Model) -> Fit {
+        if self.objective == Objective::Free {
+            let fit = crate::free::fit(scene, model, &self.grid, self.analysis);
+            self.tick();
+            return fit;
+        }
         let tick = || self.tick();
         match model.correlation() {
             Some(corr) => {

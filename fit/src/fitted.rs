@@ -128,6 +128,13 @@ pub enum NormalisationConstants {
         /// `max_k L_k`.
         radiance_max: f64,
     },
+    /// The free-amplitude objective (docs/conventions.md §4b): the
+    /// prediction is `amplitude · (β L^sb + (1 − β) L^sf)` (eq. 8's raw mix,
+    /// β eq. 8's own), or `amplitude · L` for a baseline; no maximum enters.
+    Amplitude {
+        /// The fitted amplitude `c ≥ 0`.
+        amplitude: f64,
+    },
 }
 
 /// A fitted model: what is needed to predict anywhere.
@@ -296,6 +303,29 @@ impl FittedModel {
         ))
     }
 
+    /// The model `model` at `params` with the free amplitude `amplitude`
+    /// (docs/conventions.md §4b): β is eq. 8's, so `beta_eq8 = β` and
+    /// `eq8_scale = amplitude`.
+    pub fn with_amplitude(
+        model: Model,
+        params: ModelParams,
+        amplitude: f64,
+        data_scale: f64,
+    ) -> Self {
+        let (beta_eq8, eq8_scale) = match params {
+            ModelParams::Layered { beta, .. } => (Some(beta), Some(amplitude)),
+            _ => (None, None),
+        };
+        Self {
+            model,
+            params,
+            normalisation: NormalisationConstants::Amplitude { amplitude },
+            beta_eq8,
+            eq8_scale,
+            data_scale,
+        }
+    }
+
     /// [`FittedModel::normalised_on`] from the raw terms at the geometries
     /// ([`Geometries::raw`]), with parameters already checked.
     pub(crate) fn from_raw(
@@ -387,6 +417,14 @@ impl FittedModel {
             (NormalisationConstants::Baseline { radiance_max }, _) => {
                 raw.iter().map(|r| scaled(r[0], radiance_max)).collect()
             }
+            (NormalisationConstants::Amplitude { amplitude }, ModelParams::Layered { beta, .. }) => {
+                raw.iter()
+                    .map(|r| amplitude * mix(beta, r[1], r[0]))
+                    .collect()
+            }
+            (NormalisationConstants::Amplitude { amplitude }, _) => {
+                raw.iter().map(|r| amplitude * r[0]).collect()
+            }
             _ => {
                 return Err(ModelError::WrongParameters {
                     model: self.model.name().into(),
@@ -422,6 +460,7 @@ impl FittedModel {
             NormalisationConstants::Baseline { radiance_max } => {
                 vec![("radiance_max", radiance_max)]
             }
+            NormalisationConstants::Amplitude { amplitude } => vec![("amplitude", amplitude)],
         };
         for (name, value) in constants
             .into_iter()

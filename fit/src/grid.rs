@@ -44,6 +44,42 @@ impl Axis {
         Self { values }
     }
 
+    /// `count` values spaced evenly in the logarithm from `start` to `stop`
+    /// (both positive), the ends exact.
+    ///
+    /// ```
+    /// use laminar_fit::Axis;
+    /// let a = Axis::logspace(0.02, 20.0, 4);
+    /// assert_eq!(a.values[0], 0.02);
+    /// assert_eq!(a.values[3], 20.0);
+    /// assert!((a.values[1] - 0.2).abs() < 1e-12);
+    /// ```
+    pub fn logspace(start: f64, stop: f64, count: usize) -> Self {
+        if count <= 1 {
+            return Self {
+                values: vec![start],
+            };
+        }
+        let (l0, l1) = (start.ln(), stop.ln());
+        let values = (0..count)
+            .map(|i| match i {
+                0 => start,
+                i if i + 1 == count => stop,
+                i => (l0 + (l1 - l0) * i as f64 / (count - 1) as f64).exp(),
+            })
+            .collect();
+        Self { values }
+    }
+
+    /// The smallest and largest value: the range the axis searches.
+    pub fn range(&self) -> (f64, f64) {
+        self.values
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            })
+    }
+
     /// `start + step·i` for `i = 0..count`, the paper's construction.
     pub fn stepped(start: f64, step: f64, count: usize) -> Self {
         Self {
@@ -51,7 +87,8 @@ impl Axis {
         }
     }
 
-    /// Parses `start:stop:count` or a single value. A count above
+    /// Parses `start:stop:count`, `start:stop:count:log` (log-spaced, both
+    /// ends positive) or a single value. A count above
     /// [`MAX_AXIS_LEN`] is refused before anything is allocated.
     ///
     /// ```
@@ -75,7 +112,9 @@ impl Axis {
                     field: s.to_string(),
                 })
         };
-        match parts.as_slice() {
+        let log = parts.len() == 4 && parts[3].trim() == "log";
+        let parts = if log { &parts[..3] } else { &parts[..] };
+        match parts {
             [v] => Ok(Self {
                 values: vec![num(v)?],
             }),
@@ -93,7 +132,16 @@ impl Axis {
                         limit: MAX_AXIS_LEN,
                     });
                 }
-                Ok(Self::linspace(num(a)?, num(b)?, count as usize))
+                let (start, stop) = (num(a)?, num(b)?);
+                if log {
+                    if !(start > 0.0 && stop > 0.0) {
+                        return Err(GridError::LogNotPositive {
+                            text: text.to_string(),
+                        });
+                    }
+                    return Ok(Self::logspace(start, stop, count as usize));
+                }
+                Ok(Self::linspace(start, stop, count as usize))
             }
             _ => Err(GridError::Syntax {
                 text: text.to_string(),
@@ -131,6 +179,15 @@ impl Grid {
     pub fn paper() -> Self {
         let [slope, n, a, beta] =
             PAPER.map(|(start, step, count)| Axis::stepped(start, step, count));
+        Self { slope, n, a, beta }
+    }
+
+    /// The default box for a user's own data under the free-amplitude
+    /// objective (docs/conventions.md §4b): σ/T log-spaced over [0.02, 20]
+    /// (60 values), n over [1, 2.5] (16), a over [0, 1] (51), β over [0, 1]
+    /// (β is solved in closed form: its axis gives only the range).
+    pub fn user() -> Self {
+        let [slope, n, a, beta] = crate::objective::user_axes();
         Self { slope, n, a, beta }
     }
 

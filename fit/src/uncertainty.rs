@@ -135,6 +135,24 @@ pub struct Parameter {
     pub sd: Option<f64>,
     /// Edge flags (empty for an interior value).
     pub flags: Vec<Edge>,
+    /// The box the parameter was searched, refined and bounded in
+    /// (free-amplitude fits; `None` for the paper objective, whose grid
+    /// range is not a bound of the refinement).
+    pub bounds: Option<(f64, f64)>,
+    /// For an estimate on an edge of the box that is not a bound of the
+    /// model's domain: where one local fit with that bound released goes.
+    pub released: Option<Released>,
+}
+
+/// What releasing a bound of the box gives: a diagnostic, not an estimate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Released {
+    /// The parameter's value with its bound released (within the model's domain).
+    pub value: f64,
+    /// Δ_RMS (eq. 15) there.
+    pub rms: f64,
+    /// Δ_RMS of the fit in the box, to compare.
+    pub rms_in_box: f64,
 }
 
 impl Parameter {
@@ -149,6 +167,8 @@ impl Parameter {
             source: None,
             sd: None,
             flags: Vec::new(),
+            bounds: None,
+            released: None,
         }
     }
 

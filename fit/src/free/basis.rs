@@ -1,0 +1,355 @@
+//! The basis functions of each model under the free amplitude
+//! (docs/conventions.md §4b): the columns that the linear coefficients
+//! multiply, at given nonlinear parameters, and their derivatives.
+//!
+//! * Layered models (eqs. 1–2, 12–13): two columns, the raw surface term
+//!   `S_k = L^sf_k` and the raw subsurface term `U_k = L^sb_k(a)`; eq. 8's mix
+//!   is `(1 − β) S + β U`, times the amplitude. The nonlinear parameters are
+//!   `(ln σ/T, n, a)` (a fixed at 0 for Ragheb–Hancock); σ/T enters through
+//!   its logarithm so that steps are relative, as its box is log-spaced.
+//!   `U` is a quadratic in a: `U = B (1 − a cos²θi)(1 − a cos²θs)` with `B`
+//!   the Ragheb–Hancock base (eqs. 3–4), which the grid search uses.
+//! * Baselines (§7): one column, the raw radiance `L_k` (Jensen's at
+//!   (σa, σs′), Oren–Nayar's at (σ, ρ)).
+
+use crate::model::Model;
+use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
+use laminar_core::baselines::oren_nayar::{
+    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
+};
+use laminar_core::{
+    inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
+    Interface,
+};
+
+/// The columns of a model at one point: `s` always, `u` for the layered
+/// models (empty for a baseline).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Columns {
+    /// `S_k` (layered) or `L_k` (baseline).
+    pub s: Vec<f64>,
+    /// `U_k` (layered), empty for a baseline.
+    pub u: Vec<f64>,
+}
+
+/// Central difference step of the parameters without an analytic derivative
+/// (n, and the baselines' parameters): relative error about `h²` from the
+/// truncation and `ε/h` from rounding, both near 10⁻¹⁰.
+const STEP: f64 = 1e-5;
+
+/// The measurements' geometry in the form each model evaluates it.
+#[derive(Debug, Clone)]
+pub enum Basis {
+    /// A layered model.
+    Layered {
+        /// The correlation function (eqs. 1–2).
+        corr: Correlation,
+        /// Geometry of each measurement.
+        geometry: Vec<Geometry<f64>>,
+        /// `cos²θi` of each measurement.
+        cos2_i: Vec<f64>,
+        /// `cos²θs` of each measurement.
+        cos2_s: Vec<f64>,
+        /// True for Ragheb–Hancock (a = 0, two nonlinear parameters).
+        rh: bool,
+    },
+    /// Jensen (σa, σs′).
+    Jensen(Vec<JensenGeometry<f64>>),
+    /// Oren–Nayar (σ, ρ).
+    OrenNayar(Vec<OrenNayarGeometry<f64>>),
+}
+
+/// The Ragheb–Hancock base `B_k` and the surface term of a layered model
+/// at one (σ/T, n), with what their σ/T derivatives need.
+struct LayeredTerms {
+    s: Vec<f64>,
+    base: Vec<f64>,
+    /// `x = (T/σ)² v_xy²/v_z²` at each measurement (surface, refracted).
+    x: Vec<f64>,
+    x_refracted: Vec<f64>,
+}
+
+/// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
+/// `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes (`x = ∞`).
+fn log_slope_derivative(corr: Correlation, x: f64) -> f64 {
+    if !x.is_finite() {
+        return 0.0;
+    }
+    match corr {
+        Correlation::Exponential => 3.0 * x / (1.0 + x),
+        Correlation::Gaussian => 0.5 * x,
+    }
+}
+
+impl Basis {
+    /// The basis of `model` at the measurements `angles`.
+    pub fn new(model: Model, angles: &[Angles]) -> Self {
+        match model.correlation() {
+            Some(corr) => {
+                let geometry: Vec<Geometry<f64>> =
+                    angles.iter().map(Geometry::<f64>::splat).collect();
+                Self::Layered {
+                    corr,
+                    cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
+                    cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
+                    geometry,
+                    rh: model.is_ragheb_hancock(),
+                }
+            }
+            None if model == Model::Jensen => Self::Jensen(
+                angles
+                    .iter()
+                    .map(|a| JensenGeometry::from_lanes(|_| *a))
+                    .collect(),
+            ),
+            None => Self::OrenNayar(
+                angles
+                    .iter()
+                    .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// Number of nonlinear parameters.
+    pub fn dim(&self) -> usize {
+        match self {
+            Self::Layered { rh: true, .. } => 2,
+            Self::Layered { .. } => 3,
+            _ => 2,
+        }
+    }
+
+    /// True when the model has the second column `U` (and so β).
+    pub fn has_balance(&self) -> bool {
+        matches!(self, Self::Layered { .. })
+    }
+
+    /// Number of measurements.
+    pub fn len(&self) -> usize {
+        match self {
+            Self::Layered { geometry, .. } => geometry.len(),
+            Self::Jensen(g) => g.len(),
+            Self::OrenNayar(g) => g.len(),
+        }
+    }
+
+    /// True without measurements.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The interfaces at refractive index `n` (layered models only).
+    pub fn interfaces(&self, n: f64) -> Vec<Interface<f64>> {
+        match self {
+            Self::Layered { geometry, .. } => {
+                geometry.iter().map(|g| Interface::new(g, n)).collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The raw surface term at σ/T (layered models only).
+    pub fn surface(&self, slope: f64) -> Vec<f64> {
+        match self {
+            Self::Layered { corr, geometry, .. } => {
+                let t = inverse_slope_squared(slope);
+                geometry
+                    .iter()
+                    .map(|g| surface_radiance(g, *corr, t))
+                    .collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on `interfaces`.
+    pub fn base(&self, slope: f64, interfaces: &[Interface<f64>]) -> Vec<f64> {
+        match self {
+            Self::Layered { corr, .. } => {
+                let t = inverse_slope_squared(slope);
+                interfaces
+                    .iter()
+                    .map(|i| subsurface_base(i, *corr, t))
+                    .collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// `cos²θi` and `cos²θs` of each measurement (layered models).
+    pub fn cosines(&self) -> (&[f64], &[f64]) {
+        match self {
+            Self::Layered { cos2_i, cos2_s, .. } => (cos2_i, cos2_s),
+            _ => (&[], &[]),
+        }
+    }
+
+    /// The absorption factor `(1 − a cos²θi)(1 − a cos²θs)` of measurement `k`
+    /// (eqs. 10–14).
+    fn attenuation(&self, k: usize, a: f64) -> f64 {
+        let (ci, cs) = self.cosines();
+        (1.0 - a * ci[k]) * (1.0 - a * cs[k])
+    }
+
+    fn layered_terms(&self, slope: f64, n: f64) -> LayeredTerms {
+        let Self::Layered { geometry, .. } = self else {
+            unreachable!("layered models only")
+        };
+        let interfaces = self.interfaces(n);
+        let t = inverse_slope_squared(slope);
+        LayeredTerms {
+            s: self.surface(slope),
+            base: self.base(slope, &interfaces),
+            x: geometry.iter().map(|g| g.ratio * t).collect(),
+            x_refracted: interfaces.iter().map(|i| i.refracted.ratio * t).collect(),
+        }
+    }
+
+    /// The model's parameters from the nonlinear values `theta` (internal
+    /// coordinates: `ln σ/T` first for the layered models).
+    pub fn slope_n_a(&self, theta: &[f64]) -> (f64, f64, f64) {
+        let a = if self.dim() == 3 { theta[2] } else { 0.0 };
+        (theta[0].exp(), theta[1], a)
+    }
+
+    /// The columns at `theta`.
+    pub fn columns(&self, theta: &[f64]) -> Columns {
+        match self {
+            Self::Layered { .. } => {
+                let (slope, n, a) = self.slope_n_a(theta);
+                let terms = self.layered_terms(slope, n);
+                let u = (0..terms.base.len())
+                    .map(|k| terms.base[k] * self.attenuation(k, a))
+                    .collect();
+                Columns { s: terms.s, u }
+            }
+            Self::Jensen(geometry) => {
+                let k = JensenCoefficients::<f64>::new(theta[0], theta[1])
+                    .expect("inside the box, which is inside the domain");
+                Columns {
+                    s: geometry.iter().map(|g| jensen_radiance(g, &k)).collect(),
+                    u: Vec::new(),
+                }
+            }
+            Self::OrenNayar(geometry) => {
+                let k = OrenNayarCoefficients::<f64>::new(theta[0], theta[1])
+                    .expect("inside the box, which is inside the domain");
+                Columns {
+                    s: geometry
+                        .iter()
+                        .map(|g| oren_nayar_radiance(g, &k))
+                        .collect(),
+                    u: Vec::new(),
+                }
+            }
+        }
+    }
+
+    /// The columns at `theta` and their derivatives with respect to each
+    /// nonlinear parameter: analytic in `ln σ/T` and a, central differences
+    /// (one-sided at an end of `domain`) in the others.
+    pub fn derivatives(&self, theta: &[f64], domain: &[(f64, f64)]) -> (Columns, Vec<Columns>) {
+        match self {
+            Self::Layered { corr, .. } => {
+                let (slope, n, a) = self.slope_n_a(theta);
+                let terms = self.layered_terms(slope, n);
+                let len = terms.base.len();
+                let att: Vec<f64> = (0..len).map(|k| self.attenuation(k, a)).collect();
+                let u: Vec<f64> = (0..len).map(|k| terms.base[k] * att[k]).collect();
+                let d_slope = Columns {
+                    s: (0..len)
+                        .map(|k| terms.s[k] * log_slope_derivative(*corr, terms.x[k]))
+                        .collect(),
+                    u: (0..len)
+                        .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
+                        .collect(),
+                };
+                let (h, lo, hi) = difference(n, domain[1]);
+                let base_at = |v: f64| self.base(slope, &self.interfaces(v));
+                let (up, down) = (base_at(hi), base_at(lo));
+                let d_n = Columns {
+                    s: vec![0.0; len],
+                    u: (0..len)
+                        .map(|k| (up[k] - down[k]) / h * att[k])
+                        .collect(),
+                };
+                let mut out = vec![d_slope, d_n];
+                if self.dim() == 3 {
+                    let (ci, cs) = self.cosines();
+                    out.push(Columns {
+                        s: vec![0.0; len],
+                        u: (0..len)
+                            .map(|k| terms.base[k] * (2.0 * a * ci[k] * cs[k] - ci[k] - cs[k]))
+                            .collect(),
+                    });
+                }
+                (Columns { s: terms.s, u }, out)
+            }
+            _ => {
+                let at = self.columns(theta);
+                let out = (0..theta.len())
+                    .map(|j| {
+                        let (h, lo, hi) = difference(theta[j], domain[j]);
+                        let moved = |v: f64| {
+                            let mut t = theta.to_vec();
+                            t[j] = v;
+                            self.columns(&t).s
+                        };
+                        let (up, down) = (moved(hi), moved(lo));
+                        Columns {
+                            s: up.iter().zip(&down).map(|(u, d)| (u - d) / h).collect(),
+                            u: Vec::new(),
+                        }
+                    })
+                    .collect();
+                (at, out)
+            }
+        }
+    }
+}
+
+/// The points `(width, lower, upper)` of a difference quotient at `v`
+/// inside `[lo, hi]`: central where both fit, else one-sided.
+fn difference(v: f64, (lo, hi): (f64, f64)) -> (f64, f64, f64) {
+    let h = STEP * v.abs().max(1e-2);
+    let (down, up) = match (v - h >= lo, v + h <= hi) {
+        (true, true) => (v - h, v + h),
+        (false, _) => (v, v + h),
+        (true, false) => (v - h, v),
+    };
+    (up - down, down, up)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synthetic;
+
+    #[test]
+    fn derivatives_agree_with_differences() {
+        let angles = synthetic::geometries();
+        for model in [Model::Exp, Model::Gauss] {
+            let basis = Basis::new(model, &angles);
+            let theta = [0.7f64.ln(), 1.45, 0.3];
+            let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
+            let (at, d) = basis.derivatives(&theta, &domain);
+            assert_eq!(at, basis.columns(&theta));
+            for j in 0..3 {
+                let h = 1e-6;
+                let mut up = theta;
+                up[j] += h;
+                let mut down = theta;
+                down[j] -= h;
+                let (cu, cd) = (basis.columns(&up), basis.columns(&down));
+                for k in 0..angles.len() {
+                    let fd_s = (cu.s[k] - cd.s[k]) / (2.0 * h);
+                    let fd_u = (cu.u[k] - cd.u[k]) / (2.0 * h);
+                    let scale = at.s[k].abs().max(at.u[k].abs()).max(1e-300);
+                    assert!((d[j].s[k] - fd_s).abs() <= 1e-6 * scale, "{model} {j} {k}");
+                    assert!((d[j].u[k] - fd_u).abs() <= 1e-6 * scale, "{model} {j} {k}");
+                }
+            }
+        }
+    }
+}

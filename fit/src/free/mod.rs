@@ -1,0 +1,24 @@
+//! Fits under the free-amplitude objective (docs/conventions.md §4b, §11b),
+//! a one-way pipeline, each module knowing only those before it:
+//!
+//! 1. [`basis`]: the model's columns at given nonlinear parameters;
+//! 2. [`linear`]: β and the amplitude in closed form (variable projection);
+//! 3. [`problem`]: the weighted objective of one (scene, model, box);
+//! 4. [`search`]: the objective on a grid of the nonlinear parameters, and
+//!    the grid's basins;
+//! 5. [`refine`]: Levenberg–Marquardt from the basins, inside the box;
+//! 6. [`intervals`]: Jacobian covariance and profile intervals;
+//! 7. [`report`]: the fit record (estimates, flags, intervals, what
+//!    releasing a bound of the box gives).
+//!
+//! Everything reported lies in the box that was searched.
+
+pub mod basis;
+pub mod intervals;
+pub mod linear;
+pub mod problem;
+pub mod refine;
+pub mod report;
+pub mod search;
+
+pub use report::fit;

@@ -1,0 +1,221 @@
+//! The weighted free-amplitude objective of one (scene, model, box)
+//! (docs/conventions.md §4b):
+//!
+//! `F(θ) = min over c ≥ 0, β ∈ box of Σ_k w_k (D_k − c M_k(θ, β))²`,
+//!
+//! `M = (1 − β) S + β U` (eq. 8's raw mix) for the layered models and
+//! `M = L` for the baselines, `w_k = 1/σ_k²` when the scene has
+//! uncertainties and 1 otherwise. `θ` are the nonlinear parameters in the
+//! internal coordinates of [`Basis`]; the linear part is solved in closed
+//! form ([`crate::free::linear`]).
+
+use super::basis::{Basis, Columns};
+use super::linear::{Linear, Moments};
+use crate::model::Model;
+use crate::scene::Scene;
+
+/// One evaluated point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Nonlinear parameters (internal coordinates).
+    pub theta: Vec<f64>,
+    /// The linear coefficients.
+    pub linear: Linear,
+    /// `Σ w r²` from the residuals.
+    pub sse: f64,
+}
+
+/// The objective of one fit.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The model.
+    pub model: Model,
+    /// The basis at the scene's measurements.
+    pub basis: Basis,
+    /// `D_k`.
+    pub data: Vec<f64>,
+    /// `√w_k`.
+    pub root_weight: Vec<f64>,
+    /// True when the weights come from the scene's uncertainties.
+    pub weighted: bool,
+    /// The box of each nonlinear parameter, internal coordinates.
+    pub bounds: Vec<(f64, f64)>,
+    /// The domain of each nonlinear parameter (for difference steps).
+    pub domain: Vec<(f64, f64)>,
+    /// The box of β (`(0, 0)` for a baseline).
+    pub beta: (f64, f64),
+}
+
+impl Problem {
+    /// The objective of `model` on `scene` in the box `bounds` (nonlinear
+    /// parameters, internal coordinates) and `beta`.
+    pub fn new(
+        scene: &Scene,
+        model: Model,
+        bounds: Vec<(f64, f64)>,
+        domain: Vec<(f64, f64)>,
+        beta: (f64, f64),
+    ) -> Self {
+        let basis = Basis::new(model, scene.angles());
+        let (root_weight, weighted) = match scene.sigma() {
+            Some(sigma) => (sigma.iter().map(|s| 1.0 / s).collect(), true),
+            None => (vec![1.0; scene.len()], false),
+        };
+        let beta = if basis.has_balance() { beta } else { (0.0, 0.0) };
+        Self {
+            model,
+            basis,
+            data: scene.data().to_vec(),
+            root_weight,
+            weighted,
+            bounds,
+            domain,
+            beta,
+        }
+    }
+
+    /// Number of nonlinear parameters.
+    pub fn dim(&self) -> usize {
+        self.bounds.len()
+    }
+
+    /// Number of fitted parameters: the nonlinear ones, the amplitude and,
+    /// for the layered models, β.
+    pub fn parameter_count(&self) -> usize {
+        self.dim() + 1 + usize::from(self.basis.has_balance())
+    }
+
+    /// The weighted moments of `columns`.
+    pub fn moments(&self, columns: &Columns) -> Moments {
+        let mut m = Moments::default();
+        let has_u = !columns.u.is_empty();
+        for k in 0..self.data.len() {
+            let w = self.root_weight[k] * self.root_weight[k];
+            let (d, s) = (self.data[k], columns.s[k]);
+            let u = if has_u { columns.u[k] } else { 0.0 };
+            m.dd += w * d * d;
+            m.ds += w * d * s;
+            m.du += w * d * u;
+            m.ss += w * s * s;
+            m.su += w * s * u;
+            m.uu += w * u * u;
+        }
+        m
+    }
+
+    /// The weighted residuals `√w (D − p S − q U)`.
+    pub fn residuals(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
+        let has_u = !columns.u.is_empty();
+        (0..self.data.len())
+            .map(|k| {
+                let u = if has_u { columns.u[k] } else { 0.0 };
+                self.root_weight[k] * (self.data[k] - linear.p * columns.s[k] - linear.q * u)
+            })
+            .collect()
+    }
+
+    /// The point at `theta` with β in `beta` (the box's, or one value for a
+    /// profile of β).
+    pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> Point {
+        let columns = self.basis.columns(theta);
+        self.point(theta, &columns, beta)
+    }
+
+    /// The point at `theta` from its columns.
+    pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
+        let linear = self.moments(columns).solve(beta);
+        let sse = self
+            .residuals(columns, &linear)
+            .iter()
+            .map(|r| r * r)
+            .sum();
+        Point {
+            theta: theta.to_vec(),
+            linear,
+            sse,
+        }
+    }
+
+    /// The point at `theta`, its weighted residuals and the Jacobian of the
+    /// variable-projection residual with respect to the nonlinear
+    /// parameters (Kaufman's form: the derivative at the fixed linear
+    /// coefficients, projected off the columns whose coefficient is free),
+    /// as one column per parameter.
+    pub fn jacobian(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
+        let (columns, derivatives) = self.basis.derivatives(theta, &self.domain);
+        let point = self.point(theta, &columns, beta);
+        let residuals = self.residuals(&columns, &point.linear);
+        let Linear { p, q, .. } = point.linear;
+        let has_u = !columns.u.is_empty();
+        let weighted = |v: &[f64]| -> Vec<f64> {
+            v.iter()
+                .zip(&self.root_weight)
+                .map(|(x, w)| x * w)
+                .collect()
+        };
+        // The columns whose coefficient moves freely at this point: both
+        // inside the cone, the active ray's mix on its edge, none at c = 0.
+        let free_columns: Vec<Vec<f64>> = if point.linear.amplitude() <= 0.0 {
+            Vec::new()
+        } else if !has_u {
+            vec![weighted(&columns.s)]
+        } else {
+            let b = point.linear.beta(beta.0);
+            let interior = beta.0 < beta.1 && b > beta.0 && b < beta.1;
+            if interior {
+                vec![weighted(&columns.s), weighted(&columns.u)]
+            } else {
+                let mix: Vec<f64> = columns
+                    .s
+                    .iter()
+                    .zip(&columns.u)
+                    .map(|(s, u)| (1.0 - b) * s + b * u)
+                    .collect();
+                vec![weighted(&mix)]
+            }
+        };
+        let basis = orthonormal(free_columns);
+        let jac = derivatives
+            .iter()
+            .map(|d| {
+                let mut col: Vec<f64> = (0..self.data.len())
+                    .map(|k| {
+                        let du = if has_u { d.u[k] } else { 0.0 };
+                        -self.root_weight[k] * (p * d.s[k] + q * du)
+                    })
+                    .collect();
+                for e in &basis {
+                    let c: f64 = e.iter().zip(&col).map(|(a, b)| a * b).sum();
+                    for (x, y) in col.iter_mut().zip(e) {
+                        *x -= c * y;
+                    }
+                }
+                col
+            })
+            .collect();
+        (point, residuals, jac)
+    }
+}
+
+/// Gram–Schmidt (twice) of a few columns, dropping any that are
+/// dependent on the others.
+fn orthonormal(columns: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for mut v in columns {
+        let norm0: f64 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        for _ in 0..2 {
+            for e in &out {
+                let c: f64 = e.iter().zip(&v).map(|(a, b)| a * b).sum();
+                for (x, y) in v.iter_mut().zip(e) {
+                    *x -= c * y;
+                }
+            }
+        }
+        let norm: f64 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if norm > 1e-10 * norm0 && norm > 0.0 {
+            v.iter_mut().for_each(|x| *x /= norm);
+            out.push(v);
+        }
+    }
+    out
+}

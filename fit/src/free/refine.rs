@@ -1,0 +1,134 @@
+//! Refinement of the free-amplitude objective: Levenberg–Marquardt over the
+//! nonlinear parameters inside the box, on the variable-projection residual
+//! ([`Problem::jacobian`]), the linear part solved in closed form at every
+//! point. The objective is smooth in the nonlinear parameters (no max
+//! enters it), so a derivative-based method converges in a few steps.
+//!
+//! Bounds: a parameter on a face of the box whose gradient points out of
+//! the box is held there for the step (a projected active set), and every
+//! trial point is clamped into the box, so nothing leaves it. A step is
+//! taken only when it lowers the objective, so the result is never worse
+//! than the start.
+
+use super::problem::{Point, Problem};
+use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
+
+/// Most Levenberg–Marquardt iterations per start.
+pub const MAX_ITERATIONS: usize = 100;
+
+/// Iterations stop when a step lowers the objective by less than this
+/// fraction of it.
+pub const TOLERANCE: f64 = 1e-13;
+
+/// A minimisation's result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Minimum {
+    /// The point.
+    pub point: Point,
+    /// Objective evaluations (each one pass over the measurements).
+    pub evaluations: usize,
+}
+
+/// Minimises `problem` from `start` over the parameters marked in `free`
+/// (the others stay at their start values), with β in `beta`.
+pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64)) -> Minimum {
+    let bounds = &problem.bounds;
+    let clamp = |x: &[f64]| -> Vec<f64> {
+        x.iter()
+            .zip(bounds)
+            .map(|(&v, &(lo, hi))| v.clamp(lo, hi))
+            .collect()
+    };
+    let mut x = clamp(start);
+    let (mut point, mut r, mut jac) = problem.jacobian(&x, beta);
+    let mut evaluations = 3;
+    let mut lambda = 1e-3;
+    'outer: for _ in 0..MAX_ITERATIONS {
+        let m = x.len();
+        let gradient: Vec<f64> = jac
+            .iter()
+            .map(|col| col.iter().zip(&r).map(|(a, b)| a * b).sum())
+            .collect();
+        let moving: Vec<usize> = (0..m)
+            .filter(|&j| {
+                let (lo, hi) = bounds[j];
+                free[j] && !(x[j] <= lo && gradient[j] > 0.0) && !(x[j] >= hi && gradient[j] < 0.0)
+            })
+            .collect();
+        if moving.is_empty() {
+            break;
+        }
+        let f = moving.len();
+        let mut h = DMatrix::<f64>::zeros(f, f);
+        for (a, &i) in moving.iter().enumerate() {
+            for (b, &j) in moving.iter().enumerate() {
+                h[(a, b)] = jac[i].iter().zip(&jac[j]).map(|(u, v)| u * v).sum();
+            }
+        }
+        let g = DVector::from_iterator(f, moving.iter().map(|&j| -gradient[j]));
+        if g.norm() == 0.0 {
+            break;
+        }
+        loop {
+            let mut a = h.clone();
+            for i in 0..f {
+                a[(i, i)] += lambda * h[(i, i)].max(1e-30);
+            }
+            let Some(step) = a.cholesky().map(|c| c.solve(&g)) else {
+                lambda *= 10.0;
+                if lambda > 1e12 {
+                    break 'outer;
+                }
+                continue;
+            };
+            let mut trial = x.clone();
+            for (a, &j) in moving.iter().enumerate() {
+                trial[j] += step[a];
+            }
+            let trial = clamp(&trial);
+            let candidate = problem.evaluate(&trial, beta);
+            evaluations += 1;
+            if candidate.sse < point.sse {
+                let gain = (point.sse - candidate.sse) / point.sse.max(1e-300);
+                let moved = trial
+                    .iter()
+                    .zip(&x)
+                    .any(|(a, b)| (a - b).abs() > 1e-14 * b.abs().max(1.0));
+                x = trial;
+                lambda = (lambda / 5.0).max(1e-12);
+                (point, r, jac) = problem.jacobian(&x, beta);
+                evaluations += 3;
+                if gain < TOLERANCE || !moved {
+                    break 'outer;
+                }
+                break;
+            }
+            lambda *= 5.0;
+            if lambda > 1e12 {
+                break 'outer;
+            }
+        }
+    }
+    Minimum { point, evaluations }
+}
+
+/// Minimises from every start (all parameters free, β in the box) and
+/// keeps the lowest objective (the first on ties, so the result does not
+/// depend on the thread count).
+pub fn refine(problem: &Problem, starts: &[Vec<f64>]) -> Minimum {
+    let free = vec![true; problem.dim()];
+    let runs: Vec<Minimum> = starts
+        .par_iter()
+        .map(|s| minimise(problem, s, &free, problem.beta))
+        .collect();
+    let evaluations = runs.iter().map(|r| r.evaluations).sum();
+    let best = runs
+        .into_iter()
+        .reduce(|a, b| if b.point.sse < a.point.sse { b } else { a })
+        .expect("at least one start");
+    Minimum {
+        evaluations,
+        ..best
+    }
+}

@@ -1,0 +1,564 @@
+//! A free-amplitude fit from start to record: the box and the grid from
+//! the [`Grid`], the grid stage, refinement from the grid's basins, the
+//! intervals (re-started from any lower point they find), and the record.
+
+use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
+use super::problem::{Point, Problem};
+use super::refine::{minimise, refine};
+use super::search::{grid_starts, grid_values, GridAxes, GridValues};
+use crate::covariance::Covariance;
+use crate::edges::Edge;
+use crate::fit::{jensen_grid, oren_nayar_grid, Estimate, Fit};
+use crate::fitted::{FittedModel, ModelParams};
+use crate::grid::Grid;
+use crate::model::Model;
+use crate::objective::Objective;
+use crate::profile::Interval;
+use crate::scene::Scene;
+use crate::uncertainty::{Analysis, Parameter, Released, Source, Uncertainty};
+use laminar_core::radiance::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
+use rayon::prelude::*;
+use std::f64::consts::FRAC_PI_2;
+
+/// Most starts of the refinement: the best point of each of the grid's
+/// best basins.
+pub const MOST_STARTS: usize = 8;
+
+/// Most restarts of the refinement from a lower point an interval's walk
+/// found.
+pub const MOST_RESTARTS: usize = 3;
+
+/// A model's reported parameters and how each maps onto the objective.
+struct Layout {
+    names: Vec<&'static str>,
+    coordinates: Vec<Coordinate>,
+    /// Grid axes of the nonlinear parameters (model units).
+    axes: GridAxes,
+    /// Box of the nonlinear parameters (internal coordinates).
+    bounds: Vec<(f64, f64)>,
+    /// Domain of the nonlinear parameters (internal coordinates).
+    domain: Vec<(f64, f64)>,
+    /// β's box.
+    beta: (f64, f64),
+}
+
+impl Layout {
+    fn new(model: Model, grid: &Grid) -> Self {
+        let log = |(lo, hi): (f64, f64)| (lo.ln(), hi.ln());
+        match model {
+            Model::Jensen | Model::OrenNayar => {
+                let (x, y) = if model == Model::Jensen {
+                    jensen_grid()
+                } else {
+                    oren_nayar_grid()
+                };
+                let names = if model == Model::Jensen {
+                    vec!["sigma_a", "sigma_s"]
+                } else {
+                    vec!["sigma", "rho"]
+                };
+                let domain = if model == Model::Jensen {
+                    vec![(1e-9, 100.0), (1e-9, 100.0)]
+                } else {
+                    vec![(0.0, FRAC_PI_2), (0.0, 1.0)]
+                };
+                Self {
+                    names,
+                    coordinates: vec![
+                        Coordinate::Nonlinear { j: 0, log: false },
+                        Coordinate::Nonlinear { j: 1, log: false },
+                    ],
+                    bounds: vec![x.range(), y.range()],
+                    axes: GridAxes {
+                        axes: vec![x.values, y.values],
+                    },
+                    domain,
+                    beta: (0.0, 0.0),
+                }
+            }
+            _ => {
+                let rh = model.is_ragheb_hancock();
+                let mut names = vec!["slope", "beta", "n"];
+                let mut coordinates = vec![
+                    Coordinate::Nonlinear { j: 0, log: true },
+                    Coordinate::Beta,
+                    Coordinate::Nonlinear { j: 1, log: false },
+                ];
+                let mut axes = vec![grid.slope.values.clone(), grid.n.values.clone()];
+                let mut bounds = vec![log(grid.slope.range()), grid.n.range()];
+                let mut domain = vec![log((SLOPE_MIN, SLOPE_MAX)), (1.0, INDEX_MAX)];
+                if !rh {
+                    names.push("a");
+                    coordinates.push(Coordinate::Nonlinear { j: 2, log: false });
+                    axes.push(grid.a.values.clone());
+                    bounds.push(grid.a.range());
+                    domain.push((0.0, 1.0));
+                }
+                Self {
+                    names,
+                    coordinates,
+                    axes: GridAxes { axes },
+                    bounds,
+                    domain,
+                    beta: grid.beta.range(),
+                }
+            }
+        }
+    }
+
+    /// The nonlinear parameters (internal coordinates) of grid indices.
+    fn theta(&self, indices: &[usize]) -> Vec<f64> {
+        let logarithmic = |j: usize| {
+            self.coordinates
+                .iter()
+                .any(|c| *c == Coordinate::Nonlinear { j, log: true })
+        };
+        indices
+            .iter()
+            .enumerate()
+            .map(|(j, &i)| {
+                let v = self.axes.axes[j][i];
+                if logarithmic(j) {
+                    v.ln()
+                } else {
+                    v
+                }
+            })
+            .collect()
+    }
+}
+
+/// The model's parameters at `point`.
+fn params_of(problem: &Problem, model: Model, point: &Point) -> ModelParams {
+    match model {
+        Model::Jensen => ModelParams::Jensen {
+            sigma_a: point.theta[0],
+            sigma_s: point.theta[1],
+        },
+        Model::OrenNayar => ModelParams::OrenNayar {
+            sigma: point.theta[0],
+            rho: point.theta[1],
+        },
+        _ => {
+            let (slope, n, a) = problem.basis.slope_n_a(&point.theta);
+            ModelParams::Layered {
+                slope,
+                beta: point.linear.beta(problem.beta.0),
+                n,
+                a,
+            }
+        }
+    }
+}
+
+/// The estimate of `model` at `point`.
+fn estimate(scene: &Scene, problem: &Problem, model: Model, point: &Point) -> Estimate {
+    let fitted = FittedModel::with_amplitude(
+        model,
+        params_of(problem, model, point),
+        point.linear.amplitude(),
+        scene.data_scale(),
+    );
+    Estimate::of_fitted(scene, fitted, problem.parameter_count())
+        .expect("the box lies inside the model's domain")
+}
+
+/// The best grid point (the first on ties).
+fn grid_best(values: &GridValues) -> usize {
+    let mut best = 0;
+    for (i, &e) in values.sse.iter().enumerate() {
+        if e < values.sse[best] {
+            best = i;
+        }
+    }
+    best
+}
+
+/// Intervals, covariance and what releasing a bound gives, at a minimum.
+struct Analysed {
+    minimum: Point,
+    levels: Option<Levels>,
+    covariance: Option<JacobianCovariance>,
+    /// Per reported parameter, `[below, above]` ends of both levels.
+    profile: Option<Vec<[[(f64, bool); 2]; 2]>>,
+}
+
+/// Intervals at `minimum`, refining again from any lower point a walk
+/// finds (at most [`MOST_RESTARTS`] times).
+fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Analysis) -> Analysed {
+    let free = vec![true; problem.dim()];
+    let mut restarts = 0;
+    loop {
+        let Some(levels) = Levels::new(problem, minimum.sse) else {
+            return Analysed {
+                minimum,
+                levels: None,
+                covariance: None,
+                profile: None,
+            };
+        };
+        let covariance =
+            JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
+        let wants_profile = matches!(analysis.uncertainty, Uncertainty::Profile | Uncertainty::Both);
+        if !wants_profile {
+            return Analysed {
+                minimum,
+                levels: Some(levels),
+                covariance,
+                profile: None,
+            };
+        }
+        let sides: Vec<(usize, f64)> = (0..layout.coordinates.len())
+            .flat_map(|i| [(i, -1.0), (i, 1.0)])
+            .collect();
+        let walks: Vec<Walk> = sides
+            .par_iter()
+            .map(|&(index, direction)| {
+                Side {
+                    problem,
+                    minimum: &minimum,
+                    coordinate: layout.coordinates[index],
+                    index,
+                    covariance: covariance.as_ref(),
+                    coordinates: &layout.coordinates,
+                    direction,
+                    levels,
+                }
+                .walk()
+            })
+            .collect();
+        let lower = walks
+            .iter()
+            .filter_map(|w| match w {
+                Walk::NewMinimum(p) => Some(p),
+                Walk::Ends(_) => None,
+            })
+            .min_by(|a, b| a.sse.total_cmp(&b.sse));
+        if let Some(lower) = lower {
+            if restarts < MOST_RESTARTS {
+                restarts += 1;
+                let again = minimise(problem, &lower.theta, &free, problem.beta).point;
+                if again.sse < minimum.sse {
+                    minimum = again;
+                    continue;
+                }
+            }
+        }
+        let mut profile = Vec::new();
+        for pair in walks.chunks(2) {
+            let end = |w: &Walk| match w {
+                Walk::Ends(e) => *e,
+                // A lower point that refinement could not improve on: the
+                // walk's ends are unknown on this side, the face closes it.
+                Walk::NewMinimum(_) => [(f64::NAN, true); 2],
+            };
+            profile.push([end(&pair[0]), end(&pair[1])]);
+        }
+        return Analysed {
+            minimum,
+            levels: Some(levels),
+            covariance,
+            profile: Some(profile),
+        };
+    }
+}
+
+/// A model's domain bound in reported units of coordinate `c`.
+fn domain_of(layout: &Layout, c: Coordinate) -> (f64, f64) {
+    match c {
+        Coordinate::Nonlinear { j, log } => {
+            let (lo, hi) = layout.domain[j];
+            if log {
+                (lo.exp(), hi.exp())
+            } else {
+                (lo, hi)
+            }
+        }
+        Coordinate::Beta => (0.0, 1.0),
+    }
+}
+
+/// One local fit from `minimum` with the box's bound on the side where
+/// `value` sits released to the model's domain.
+fn release(
+    scene: &Scene,
+    problem: &Problem,
+    model: Model,
+    layout: &Layout,
+    (index, at_upper): (usize, bool),
+    minimum: &Point,
+    rms_in_box: f64,
+) -> Option<Released> {
+    let coordinate = layout.coordinates[index];
+    let mut wider = problem.clone();
+    match coordinate {
+        Coordinate::Nonlinear { j, .. } => {
+            let (dlo, dhi) = layout.domain[j];
+            if at_upper {
+                wider.bounds[j].1 = dhi;
+            } else {
+                wider.bounds[j].0 = dlo;
+            }
+        }
+        Coordinate::Beta => {
+            if at_upper {
+                wider.beta.1 = 1.0;
+            } else {
+                wider.beta.0 = 0.0;
+            }
+        }
+    }
+    let free = vec![true; problem.dim()];
+    let point = minimise(&wider, &minimum.theta, &free, wider.beta).point;
+    let e = estimate(scene, &wider, model, &point);
+    Some(Released {
+        value: coordinate.value(&point, wider.beta),
+        rms: e.rms,
+        rms_in_box,
+    })
+}
+
+/// Fits `model` to `scene` under the free-amplitude objective in the box of
+/// `grid` (its axes' ranges; the layered models' grid over σ/T, n and a,
+/// the baselines' their own grids), with `analysis` after the grid stage.
+pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit {
+    let layout = Layout::new(model, grid);
+    let problem = Problem::new(
+        scene,
+        model,
+        layout.bounds.clone(),
+        layout.domain.clone(),
+        layout.beta,
+    );
+    let values = grid_values(&problem, &layout.axes);
+    let grid_flat = grid_best(&values);
+    let grid_point = problem.evaluate(&layout.theta(&values.indices(grid_flat)), problem.beta);
+    let best = estimate(scene, &problem, model, &grid_point);
+
+    // The Ragheb–Hancock best of the same box (a = 0), when 0 is in it.
+    let rh_model = model.ragheb_hancock();
+    let zero_a = layout
+        .axes
+        .axes
+        .get(2)
+        .and_then(|a| a.iter().position(|&v| v == 0.0));
+    let rh = rh_model.zip(zero_a).map(|(rh_model, zero_a)| {
+        let a_len = values.lens[2];
+        let slice = (0..values.sse.len())
+            .filter(|f| f % a_len == zero_a)
+            .fold(None, |b: Option<usize>, f| match b {
+                Some(g) if values.sse[g] <= values.sse[f] => Some(g),
+                _ => Some(f),
+            })
+            .expect("a non-empty grid");
+        let mut point = problem.evaluate(&layout.theta(&values.indices(slice)), problem.beta);
+        if analysis.refine {
+            point = minimise(&problem, &point.theta, &[true, true, false], problem.beta).point;
+        }
+        let fitted = FittedModel::with_amplitude(
+            rh_model,
+            params_of(&problem, model, &point),
+            point.linear.amplitude(),
+            scene.data_scale(),
+        );
+        Estimate::of_fitted(scene, fitted, problem.parameter_count() - 1)
+            .expect("the box lies inside the model's domain")
+    });
+
+    let mut record = Fit {
+        sample: scene.sample().to_string(),
+        channel: scene.channel().to_string(),
+        model,
+        search_rms: best.rms,
+        rh,
+        measurements: scene.len(),
+        nonpositive: scene.nonpositive(),
+        evaluated: values.sse.len(),
+        refined: None,
+        parameters: Vec::new(),
+        covariance: None,
+        objective: Objective::Free,
+        amplitude: Some(grid_point.linear.amplitude()),
+        chi2_weighted: None,
+        best: best.clone(),
+    };
+    let grid_values_of: Vec<f64> = layout
+        .coordinates
+        .iter()
+        .map(|c| c.value(&grid_point, problem.beta))
+        .collect();
+    if !analysis.refine {
+        record.parameters = parameters(&layout, &problem, &grid_values_of, None, &grid_point, None);
+        record.chi2_weighted = chi2_weighted(&problem, &grid_point);
+        return record;
+    }
+    let starts: Vec<Vec<f64>> = grid_starts(&values, MOST_STARTS)
+        .into_iter()
+        .map(|(indices, _)| layout.theta(&indices))
+        .collect();
+    let refined = refine(&problem, &starts).point;
+    let analysed = if analysis.uncertainty == Uncertainty::Off {
+        Analysed {
+            minimum: refined,
+            levels: None,
+            covariance: None,
+            profile: None,
+        }
+    } else {
+        analyse(&problem, &layout, refined, analysis)
+    };
+    let minimum = &analysed.minimum;
+    let refined_estimate = estimate(scene, &problem, model, minimum);
+    let mut parameters = parameters(
+        &layout,
+        &problem,
+        &grid_values_of,
+        Some(&analysed),
+        minimum,
+        Some(analysis.uncertainty),
+    );
+    // Estimates on a face of the box that is not a bound of the domain: the
+    // fit with that bound released, as a diagnostic.
+    for (i, p) in parameters.iter_mut().enumerate() {
+        let (lo, hi) = p.bounds.expect("free fits state their box");
+        let v = p.value();
+        let (dlo, dhi) = domain_of(&layout, layout.coordinates[i]);
+        let side = if v <= lo && lo > dlo {
+            Some(false)
+        } else if v >= hi && hi < dhi {
+            Some(true)
+        } else {
+            None
+        };
+        if let Some(at_upper) = side {
+            p.released = release(
+                scene,
+                &problem,
+                model,
+                &layout,
+                (i, at_upper),
+                minimum,
+                refined_estimate.rms,
+            );
+        }
+    }
+    record.covariance = analysed
+        .covariance
+        .as_ref()
+        .filter(|_| matches!(analysis.uncertainty, Uncertainty::Jacobian | Uncertainty::Both))
+        .and_then(|c| correlations(&layout, c));
+    record.amplitude = Some(minimum.linear.amplitude());
+    record.chi2_weighted = chi2_weighted(&problem, minimum);
+    record.parameters = parameters;
+    record.refined = Some(refined_estimate);
+    record
+}
+
+/// `Σ w r² / (K − p)`, when there are degrees of freedom.
+fn chi2_weighted(problem: &Problem, point: &Point) -> Option<f64> {
+    let nu = problem.data.len().checked_sub(problem.parameter_count())?;
+    (nu > 0).then(|| point.sse / nu as f64)
+}
+
+/// The covariance of the parameters that have one (the amplitude left out).
+fn correlations(layout: &Layout, c: &JacobianCovariance) -> Option<Covariance> {
+    let kept: Vec<usize> = (0..layout.names.len())
+        .filter(|&i| c.matrix[i][i].is_some())
+        .collect();
+    if kept.len() < 2 {
+        return None;
+    }
+    Some(Covariance {
+        names: kept.iter().map(|&i| layout.names[i].to_string()).collect(),
+        matrix: kept
+            .iter()
+            .map(|&i| kept.iter().map(|&j| c.matrix[i][j].unwrap_or(0.0)).collect())
+            .collect(),
+    })
+}
+
+/// The reported parameters.
+fn parameters(
+    layout: &Layout,
+    problem: &Problem,
+    grid: &[f64],
+    analysed: Option<&Analysed>,
+    at: &Point,
+    uncertainty: Option<Uncertainty>,
+) -> Vec<Parameter> {
+    layout
+        .coordinates
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            let (lo, hi) = c.bounds(problem);
+            let (dlo, dhi) = domain_of(layout, c);
+            let value = c.value(at, problem.beta);
+            let mut p = Parameter::new(layout.names[i], grid[i]);
+            p.bounds = Some((lo, hi));
+            if analysed.is_some() {
+                p.refined = Some(value);
+            }
+            if value <= lo || value >= hi {
+                p.flags.push(Edge::RangeEdge);
+            }
+            if value <= dlo || value >= dhi {
+                p.flags.push(Edge::DomainBound);
+            }
+            let Some(analysed) = analysed else {
+                return p;
+            };
+            let sd = analysed.covariance.as_ref().and_then(|cov| cov.sd(i));
+            if matches!(uncertainty, Some(Uncertainty::Jacobian | Uncertainty::Both)) {
+                p.sd = sd;
+            }
+            if let Some(profile) = &analysed.profile {
+                let [below, above] = profile[i];
+                let closed = |(end, at_face): (f64, bool), face: f64| {
+                    if end.is_nan() {
+                        (face, true)
+                    } else {
+                        (end, at_face)
+                    }
+                };
+                let interval = |level: usize| {
+                    let (l, l_face) = closed(below[level], lo);
+                    let (h, h_face) = closed(above[level], hi);
+                    Interval {
+                        lo: l.clamp(lo, value),
+                        hi: h.clamp(value, hi),
+                        open_below: l_face && lo > dlo,
+                        open_above: h_face && hi < dhi,
+                    }
+                };
+                let (i68, i95) = (interval(0), interval(1));
+                if i95.open_below {
+                    p.flags.push(Edge::OpenBelow);
+                }
+                if i95.open_above {
+                    p.flags.push(Edge::OpenAbove);
+                }
+                if below[1].1 && above[1].1 && hi > lo {
+                    p.flags.push(Edge::NotIdentified);
+                }
+                p.interval68 = Some(i68);
+                p.interval95 = Some(i95);
+                p.source = Some(Source::Profile);
+            } else if let (Some(sd), Some(levels)) = (sd, analysed.levels) {
+                let around = |level: usize| {
+                    let d = (levels.heights[level] / levels.s2).sqrt() * sd;
+                    Interval {
+                        lo: (value - d).max(lo),
+                        hi: (value + d).min(hi),
+                        open_below: false,
+                        open_above: false,
+                    }
+                };
+                p.interval68 = Some(around(0));
+                p.interval95 = Some(around(1));
+                p.source = Some(Source::Jacobian);
+            }
+            p
+        })
+        .collect()
+}

@@ -1,0 +1,72 @@
+//! Which objective a fit minimises (docs/conventions.md §4, §4b).
+
+use crate::grid::{Axis, Grid};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::str::FromStr;
+
+/// The objective of a fit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Objective {
+    /// Weighted least squares with a free amplitude (docs/conventions.md
+    /// §4b): `Σ w (D − c M(θ))²`, `M` eq. 8's raw mix, `c ≥ 0` and β in
+    /// closed form, `w = 1/σ²` when the input gives uncertainties. The
+    /// default for a user's own data.
+    #[default]
+    Free,
+    /// The paper's: data and model each divided by their max over the
+    /// measurements, unweighted (docs/conventions.md §4). What `reproduce`
+    /// uses to reproduce the paper's tables.
+    Paper,
+}
+
+impl Objective {
+    /// Both, default first.
+    pub const ALL: [Objective; 2] = [Objective::Free, Objective::Paper];
+
+    /// The name in every interface.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Free => "free",
+            Self::Paper => "paper",
+        }
+    }
+
+    /// The grid (and so the box) a fit of this objective searches unless
+    /// told otherwise: [`Grid::user`] for `free`, [`Grid::paper`] for `paper`.
+    pub fn default_grid(self) -> Grid {
+        match self {
+            Self::Free => Grid::user(),
+            Self::Paper => Grid::paper(),
+        }
+    }
+}
+
+impl fmt::Display for Objective {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Objective {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|o| o.name() == s)
+            .ok_or_else(|| format!("unknown objective `{s}` (expected free or paper)"))
+    }
+}
+
+/// The default box for user data (docs/conventions.md §4b), as grid axes:
+/// σ/T log-spaced over [0.02, 20] (60 values), n over [1, 2.5] (16), a over
+/// [0, 1] (51), β over [0, 1] (closed form: only the range is used).
+pub(crate) fn user_axes() -> [Axis; 4] {
+    [
+        Axis::logspace(0.02, 20.0, 60),
+        Axis::linspace(1.0, 2.5, 16),
+        Axis::linspace(0.0, 1.0, 51),
+        Axis::linspace(0.0, 1.0, 101),
+    ]
+}
