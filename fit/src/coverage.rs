@@ -212,7 +212,8 @@ pub fn coverage(
                 }
             };
             let c = &mut parameters[slot];
-            let holds = |i: Option<crate::profile::Interval>| i.is_some_and(|i| i.lo <= t && t <= i.hi);
+            let holds =
+                |i: Option<crate::profile::Interval>| i.is_some_and(|i| i.lo <= t && t <= i.hi);
             c.in68 += usize::from(holds(p.interval68));
             c.in95 += usize::from(holds(p.interval95));
             if let Some(sd) = p.sd {

@@ -417,11 +417,13 @@ impl FittedModel {
             (NormalisationConstants::Baseline { radiance_max }, _) => {
                 raw.iter().map(|r| scaled(r[0], radiance_max)).collect()
             }
-            (NormalisationConstants::Amplitude { amplitude }, ModelParams::Layered { beta, .. }) => {
-                raw.iter()
-                    .map(|r| amplitude * mix(beta, r[1], r[0]))
-                    .collect()
-            }
+            (
+                NormalisationConstants::Amplitude { amplitude },
+                ModelParams::Layered { beta, .. },
+            ) => raw
+                .iter()
+                .map(|r| amplitude * mix(beta, r[1], r[0]))
+                .collect(),
             (NormalisationConstants::Amplitude { amplitude }, _) => {
                 raw.iter().map(|r| amplitude * r[0]).collect()
             }

@@ -184,7 +184,7 @@ impl Grid {
 
     /// The default box for a user's own data under the free-amplitude
     /// objective (docs/conventions.md §4b): σ/T log-spaced over [0.02, 20]
-    /// (60 values), n over [1, 2.5] (16), a over [0, 1] (51), β over [0, 1]
+    /// (40 values), n over [1, 2.5] (11), a over [0, 1] (21), β over [0, 1]
     /// (β is solved in closed form: its axis gives only the range).
     pub fn user() -> Self {
         let [slope, n, a, beta] = crate::objective::user_axes();

@@ -60,13 +60,15 @@ impl FromStr for Objective {
 }
 
 /// The default box for user data (docs/conventions.md §4b), as grid axes:
-/// σ/T log-spaced over [0.02, 20] (60 values), n over [1, 2.5] (16), a over
-/// [0, 1] (51), β over [0, 1] (closed form: only the range is used).
+/// σ/T log-spaced over [0.02, 20] (40 values, a factor 1.19 apart), n over
+/// [1, 2.5] (11), a over [0, 1] (21), β over [0, 1] (closed form: only the
+/// range is used). The grid only has to place a start in the optimum's
+/// basin: refinement is continuous.
 pub(crate) fn user_axes() -> [Axis; 4] {
     [
-        Axis::logspace(0.02, 20.0, 60),
-        Axis::linspace(1.0, 2.5, 16),
-        Axis::linspace(0.0, 1.0, 51),
+        Axis::logspace(0.02, 20.0, 40),
+        Axis::linspace(1.0, 2.5, 11),
+        Axis::linspace(0.0, 1.0, 21),
         Axis::linspace(0.0, 1.0, 101),
     ]
 }

@@ -247,9 +247,15 @@ impl Basis {
     }
 
     /// The columns at `theta` and their derivatives with respect to each
-    /// nonlinear parameter: analytic in `ln σ/T` and a, central differences
-    /// (one-sided at an end of `domain`) in the others.
-    pub fn derivatives(&self, theta: &[f64], domain: &[(f64, f64)]) -> (Columns, Vec<Columns>) {
+    /// nonlinear parameter: analytic in `ln σ/T` and a, differences in the
+    /// others: central when `central` (one-sided at an end of `domain`),
+    /// else forward (one evaluation less, for the steps of a minimisation).
+    pub fn derivatives(
+        &self,
+        theta: &[f64],
+        domain: &[(f64, f64)],
+        central: bool,
+    ) -> (Columns, Vec<Columns>) {
         match self {
             Self::Layered { corr, .. } => {
                 let (slope, n, a) = self.slope_n_a(theta);
@@ -265,14 +271,18 @@ impl Basis {
                         .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
                         .collect(),
                 };
-                let (h, lo, hi) = difference(n, domain[1]);
-                let base_at = |v: f64| self.base(slope, &self.interfaces(v));
+                let (h, lo, hi) = difference(n, domain[1], central);
+                let base_at = |v: f64| {
+                    if v == n {
+                        terms.base.clone()
+                    } else {
+                        self.base(slope, &self.interfaces(v))
+                    }
+                };
                 let (up, down) = (base_at(hi), base_at(lo));
                 let d_n = Columns {
                     s: vec![0.0; len],
-                    u: (0..len)
-                        .map(|k| (up[k] - down[k]) / h * att[k])
-                        .collect(),
+                    u: (0..len).map(|k| (up[k] - down[k]) / h * att[k]).collect(),
                 };
                 let mut out = vec![d_slope, d_n];
                 if self.dim() == 3 {
@@ -290,8 +300,11 @@ impl Basis {
                 let at = self.columns(theta);
                 let out = (0..theta.len())
                     .map(|j| {
-                        let (h, lo, hi) = difference(theta[j], domain[j]);
+                        let (h, lo, hi) = difference(theta[j], domain[j], central);
                         let moved = |v: f64| {
+                            if v == theta[j] {
+                                return at.s.clone();
+                            }
                             let mut t = theta.to_vec();
                             t[j] = v;
                             self.columns(&t).s
@@ -310,13 +323,15 @@ impl Basis {
 }
 
 /// The points `(width, lower, upper)` of a difference quotient at `v`
-/// inside `[lo, hi]`: central where both fit, else one-sided.
-fn difference(v: f64, (lo, hi): (f64, f64)) -> (f64, f64, f64) {
+/// inside `[lo, hi]`: central where both fit (when `central`), else
+/// one-sided.
+fn difference(v: f64, (lo, hi): (f64, f64), central: bool) -> (f64, f64, f64) {
     let h = STEP * v.abs().max(1e-2);
     let (down, up) = match (v - h >= lo, v + h <= hi) {
-        (true, true) => (v - h, v + h),
-        (false, _) => (v, v + h),
+        (true, true) if central => (v - h, v + h),
+        (_, true) => (v, v + h),
         (true, false) => (v - h, v),
+        (false, false) => (v, v + h),
     };
     (up - down, down, up)
 }
@@ -333,7 +348,7 @@ mod tests {
             let basis = Basis::new(model, &angles);
             let theta = [0.7f64.ln(), 1.45, 0.3];
             let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
-            let (at, d) = basis.derivatives(&theta, &domain);
+            let (at, d) = basis.derivatives(&theta, &domain, true);
             assert_eq!(at, basis.columns(&theta));
             for j in 0..3 {
                 let h = 1e-6;

@@ -117,8 +117,15 @@ pub struct JacobianCovariance {
 impl JacobianCovariance {
     /// The covariance at the minimum `point`, with the noise variance `s2`;
     /// `None` when `JᵀJ` is singular.
-    pub fn new(problem: &Problem, point: &Point, coordinates: &[Coordinate], s2: f64) -> Option<Self> {
-        let (columns, derivatives) = problem.basis.derivatives(&point.theta, &problem.domain);
+    pub fn new(
+        problem: &Problem,
+        point: &Point,
+        coordinates: &[Coordinate],
+        s2: f64,
+    ) -> Option<Self> {
+        let (columns, derivatives) = problem
+            .basis
+            .derivatives(&point.theta, &problem.domain, true);
         let c = point.linear.amplitude();
         let beta = point.linear.beta(problem.beta.0);
         let k = problem.data.len();
@@ -139,7 +146,9 @@ impl JacobianCovariance {
                     (col, point.theta[j] <= lo || point.theta[j] >= hi)
                 }
                 Coordinate::Beta => {
-                    let col = (0..k).map(|i| c * (u(&columns.u, i) - columns.s[i])).collect();
+                    let col = (0..k)
+                        .map(|i| c * (u(&columns.u, i) - columns.s[i]))
+                        .collect();
                     let (lo, hi) = problem.beta;
                     (col, beta <= lo || beta >= hi)
                 }
@@ -167,10 +176,12 @@ impl JacobianCovariance {
         }
         // Scale to unit diagonal before inverting: the parameters' units differ.
         let d: Vec<f64> = (0..kept.len()).map(|i| normal[(i, i)].sqrt()).collect();
-        if d.iter().any(|&v| !(v > 0.0) || !v.is_finite()) {
+        if d.iter().any(|&v| v.is_nan() || v <= 0.0 || v.is_infinite()) {
             return None;
         }
-        let scaled = DMatrix::from_fn(kept.len(), kept.len(), |i, j| normal[(i, j)] / (d[i] * d[j]));
+        let scaled = DMatrix::from_fn(kept.len(), kept.len(), |i, j| {
+            normal[(i, j)] / (d[i] * d[j])
+        });
         let inverse = scaled.cholesky()?.inverse();
         let mut matrix = vec![vec![None; jac.len()]; jac.len()];
         for (a, &i) in kept.iter().enumerate() {
@@ -218,24 +229,33 @@ pub struct Side<'a> {
     pub levels: Levels,
 }
 
+/// The minimisations of a profile stop at this gain: `sqrt(profile − min)`
+/// is then known far better than [`END_TOLERANCE`] of its level.
+pub const PROFILE_TOLERANCE: f64 = 1e-7;
+
 /// Most profile evaluations per end.
 pub const MOST_STEPS: usize = 12;
 
 /// An end is accepted when `sqrt(profile − min)` is within this fraction of
 /// its target.
-pub const END_TOLERANCE: f64 = 2e-3;
+pub const END_TOLERANCE: f64 = 5e-3;
 
 impl Side<'_> {
     /// The profile at `value`: the minimum over every other parameter with
-    /// this one held at `value`, started on the Jacobian's linearised path.
-    fn profile(&self, value: f64) -> Point {
+    /// this one held at `value`, started on the Jacobian's linearised path;
+    /// when that lands more than twice `target` (in `sqrt(profile − min)`)
+    /// above the minimum, also from the minimum's own values (the path can
+    /// start in another valley), keeping the lower.
+    fn profile(&self, value: f64, target: f64) -> Point {
         let problem = self.problem;
         let estimate = self.coordinate.value(self.minimum, problem.beta);
         let mut start = self.minimum.theta.clone();
         if let Some(cov) = self.covariance {
             if let Some(vv) = cov.matrix[self.index][self.index] {
                 for (i, c) in self.coordinates.iter().enumerate() {
-                    if let (Coordinate::Nonlinear { j, log }, Some(cv)) = (c, cov.matrix[i][self.index]) {
+                    if let (Coordinate::Nonlinear { j, log }, Some(cv)) =
+                        (c, cov.matrix[i][self.index])
+                    {
                         let shift = cv / vv * (value - estimate);
                         let here = self.coordinates[i].value(self.minimum, problem.beta);
                         let moved = here + shift;
@@ -253,9 +273,10 @@ impl Side<'_> {
             }
             Coordinate::Beta => (value, value),
         };
-        let from_path = minimise(problem, &start, &free, beta).point;
-        // The linearised path can start in another valley: the minimum's own
-        // nonlinear values are a second start.
+        let from_path = minimise(problem, &start, &free, beta, PROFILE_TOLERANCE).point;
+        if from_path.sse - self.minimum.sse <= 4.0 * target * target {
+            return from_path;
+        }
         let mut plain = self.minimum.theta.clone();
         if let Coordinate::Nonlinear { j, log } = self.coordinate {
             plain[j] = if log { value.ln() } else { value };
@@ -263,7 +284,7 @@ impl Side<'_> {
         if plain == start {
             return from_path;
         }
-        let from_minimum = minimise(problem, &plain, &free, beta).point;
+        let from_minimum = minimise(problem, &plain, &free, beta, PROFILE_TOLERANCE).point;
         if from_minimum.sse < from_path.sse {
             from_minimum
         } else {
@@ -291,15 +312,22 @@ impl Side<'_> {
             }
             let mut next = match (level, sd) {
                 (1, _) if ends[0].1 => room,
-                (1, _) => (ends[0].0 - estimate).abs() * (self.levels.heights[1] / self.levels.heights[0]).sqrt(),
+                (1, _) => {
+                    (ends[0].0 - estimate).abs()
+                        * (self.levels.heights[1] / self.levels.heights[0]).sqrt()
+                }
                 (_, Some(sd)) if sd > 0.0 => sd * (height / self.levels.s2).sqrt(),
                 _ => 0.1 * room,
             }
             .min(room);
             let mut found = None;
             for _ in 0..MOST_STEPS {
-                let value = if next >= room { face } else { estimate + self.direction * next };
-                let point = self.profile(value);
+                let value = if next >= room {
+                    face
+                } else {
+                    estimate + self.direction * next
+                };
+                let point = self.profile(value, target);
                 if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
                     return Walk::NewMinimum(point);
                 }
@@ -318,13 +346,13 @@ impl Side<'_> {
                     .iter()
                     .filter(|p| p.1 < target)
                     .fold((0.0, 0.0), |b, &p| if p.0 > b.0 { p } else { b });
-                let above = probes
-                    .iter()
-                    .filter(|p| p.1 >= target)
-                    .fold(None, |b: Option<(f64, f64)>, &p| match b {
+                let above = probes.iter().filter(|p| p.1 >= target).fold(
+                    None,
+                    |b: Option<(f64, f64)>, &p| match b {
                         Some(q) if q.0 <= p.0 => Some(q),
                         _ => Some(p),
-                    });
+                    },
+                );
                 next = match above {
                     Some(above) if above.1 > below.1 => {
                         let t = (target - below.1) / (above.1 - below.1);
@@ -342,15 +370,27 @@ impl Side<'_> {
                     .iter()
                     .filter(|p| p.1 < target)
                     .fold((0.0, 0.0), |b, &p| if p.0 > b.0 { p } else { b });
-                match probes.iter().filter(|p| p.1 >= target).map(|p| p.0).reduce(f64::min) {
+                match probes
+                    .iter()
+                    .filter(|p| p.1 >= target)
+                    .map(|p| p.0)
+                    .reduce(f64::min)
+                {
                     Some(d) => {
-                        let above = probes.iter().find(|p| p.0 == d).copied().unwrap_or((d, target));
+                        let above = probes
+                            .iter()
+                            .find(|p| p.0 == d)
+                            .copied()
+                            .unwrap_or((d, target));
                         let t = if above.1 > below.1 {
                             (target - below.1) / (above.1 - below.1)
                         } else {
                             1.0
                         };
-                        (estimate + self.direction * (below.0 + t * (above.0 - below.0)), false)
+                        (
+                            estimate + self.direction * (below.0 + t * (above.0 - below.0)),
+                            false,
+                        )
                     }
                     None => (face, true),
                 }

@@ -138,7 +138,11 @@ mod tests {
     fn exact_mixes_are_recovered_and_constraints_hold() {
         let s = [1.0, 0.5, 0.2, 0.1];
         let u = [0.2, 0.4, 0.6, 0.3];
-        let d: Vec<f64> = s.iter().zip(&u).map(|(s, u)| 2.0 * (0.7 * s + 0.3 * u)).collect();
+        let d: Vec<f64> = s
+            .iter()
+            .zip(&u)
+            .map(|(s, u)| 2.0 * (0.7 * s + 0.3 * u))
+            .collect();
         let m = moments(&d, &s, &u);
         let l = m.solve((0.0, 1.0));
         assert!((l.amplitude() - 2.0).abs() < 1e-12 && (l.beta(0.0) - 0.3).abs() < 1e-12);

@@ -61,7 +61,11 @@ impl Problem {
             Some(sigma) => (sigma.iter().map(|s| 1.0 / s).collect(), true),
             None => (vec![1.0; scene.len()], false),
         };
-        let beta = if basis.has_balance() { beta } else { (0.0, 0.0) };
+        let beta = if basis.has_balance() {
+            beta
+        } else {
+            (0.0, 0.0)
+        };
         Self {
             model,
             basis,
@@ -124,11 +128,7 @@ impl Problem {
     /// The point at `theta` from its columns.
     pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
         let linear = self.moments(columns).solve(beta);
-        let sse = self
-            .residuals(columns, &linear)
-            .iter()
-            .map(|r| r * r)
-            .sum();
+        let sse = self.residuals(columns, &linear).iter().map(|r| r * r).sum();
         Point {
             theta: theta.to_vec(),
             linear,
@@ -142,7 +142,7 @@ impl Problem {
     /// coefficients, projected off the columns whose coefficient is free),
     /// as one column per parameter.
     pub fn jacobian(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
-        let (columns, derivatives) = self.basis.derivatives(theta, &self.domain);
+        let (columns, derivatives) = self.basis.derivatives(theta, &self.domain, false);
         let point = self.point(theta, &columns, beta);
         let residuals = self.residuals(&columns, &point.linear);
         let Linear { p, q, .. } = point.linear;

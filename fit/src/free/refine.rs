@@ -17,9 +17,13 @@ use rayon::prelude::*;
 /// Most Levenberg–Marquardt iterations per start.
 pub const MAX_ITERATIONS: usize = 100;
 
-/// Iterations stop when a step lowers the objective by less than this
-/// fraction of it.
-pub const TOLERANCE: f64 = 1e-13;
+/// The refinement's iterations stop when a step lowers the objective by
+/// less than this fraction of it.
+pub const TOLERANCE: f64 = 1e-10;
+
+/// The tolerance of the first pass from every start: enough to tell the
+/// basins apart; only the best is then taken to [`TOLERANCE`].
+pub const SCREENING: f64 = 1e-6;
 
 /// A minimisation's result.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,8 +35,15 @@ pub struct Minimum {
 }
 
 /// Minimises `problem` from `start` over the parameters marked in `free`
-/// (the others stay at their start values), with β in `beta`.
-pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64)) -> Minimum {
+/// (the others stay at their start values), with β in `beta`, until a step
+/// gains less than `tolerance` of the objective.
+pub fn minimise(
+    problem: &Problem,
+    start: &[f64],
+    free: &[bool],
+    beta: (f64, f64),
+    tolerance: f64,
+) -> Minimum {
     let bounds = &problem.bounds;
     let clamp = |x: &[f64]| -> Vec<f64> {
         x.iter()
@@ -42,7 +53,7 @@ pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64
     };
     let mut x = clamp(start);
     let (mut point, mut r, mut jac) = problem.jacobian(&x, beta);
-    let mut evaluations = 3;
+    let mut evaluations = 2;
     let mut lambda = 1e-3;
     'outer: for _ in 0..MAX_ITERATIONS {
         let m = x.len();
@@ -82,6 +93,12 @@ pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64
                 }
                 continue;
             };
+            // The Gauss–Newton model's decrease of the objective along the
+            // step: below the tolerance, the point is the minimum to it.
+            let predicted = 2.0 * step.dot(&g) - (&h * &step).dot(&step);
+            if predicted < tolerance * point.sse && lambda <= 1e-3 {
+                break 'outer;
+            }
             let mut trial = x.clone();
             for (a, &j) in moving.iter().enumerate() {
                 trial[j] += step[a];
@@ -96,12 +113,13 @@ pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64
                     .zip(&x)
                     .any(|(a, b)| (a - b).abs() > 1e-14 * b.abs().max(1.0));
                 x = trial;
-                lambda = (lambda / 5.0).max(1e-12);
-                (point, r, jac) = problem.jacobian(&x, beta);
-                evaluations += 3;
-                if gain < TOLERANCE || !moved {
+                if gain < tolerance || !moved {
+                    point = candidate;
                     break 'outer;
                 }
+                lambda = (lambda / 5.0).max(1e-12);
+                (point, r, jac) = problem.jacobian(&x, beta);
+                evaluations += 2;
                 break;
             }
             lambda *= 5.0;
@@ -113,22 +131,24 @@ pub fn minimise(problem: &Problem, start: &[f64], free: &[bool], beta: (f64, f64
     Minimum { point, evaluations }
 }
 
-/// Minimises from every start (all parameters free, β in the box) and
-/// keeps the lowest objective (the first on ties, so the result does not
-/// depend on the thread count).
+/// Minimises from every start (all parameters free, β in the box) to the
+/// [`SCREENING`] tolerance, then takes the lowest (the first on ties, so the
+/// result does not depend on the thread count) on to [`TOLERANCE`].
 pub fn refine(problem: &Problem, starts: &[Vec<f64>]) -> Minimum {
     let free = vec![true; problem.dim()];
     let runs: Vec<Minimum> = starts
         .par_iter()
-        .map(|s| minimise(problem, s, &free, problem.beta))
+        .map(|s| minimise(problem, s, &free, problem.beta, SCREENING))
         .collect();
-    let evaluations = runs.iter().map(|r| r.evaluations).sum();
+    let mut evaluations: usize = runs.iter().map(|r| r.evaluations).sum();
     let best = runs
         .into_iter()
         .reduce(|a, b| if b.point.sse < a.point.sse { b } else { a })
         .expect("at least one start");
+    let polished = minimise(problem, &best.point.theta, &free, problem.beta, TOLERANCE);
+    evaluations += polished.evaluations;
     Minimum {
         evaluations,
-        ..best
+        ..polished
     }
 }

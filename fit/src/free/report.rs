@@ -4,7 +4,7 @@
 
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::problem::{Point, Problem};
-use super::refine::{minimise, refine};
+use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{grid_starts, grid_values, GridAxes, GridValues};
 use crate::covariance::Covariance;
 use crate::edges::Edge;
@@ -110,8 +110,7 @@ impl Layout {
     fn theta(&self, indices: &[usize]) -> Vec<f64> {
         let logarithmic = |j: usize| {
             self.coordinates
-                .iter()
-                .any(|c| *c == Coordinate::Nonlinear { j, log: true })
+                .contains(&Coordinate::Nonlinear { j, log: true })
         };
         indices
             .iter()
@@ -174,13 +173,17 @@ fn grid_best(values: &GridValues) -> usize {
     best
 }
 
-/// Intervals, covariance and what releasing a bound gives, at a minimum.
+/// One parameter's profile ends, `[below, above]`, each at the 68.27% and
+/// 95% levels as (value, stopped at the face of the box).
+type Ends = [[(f64, bool); 2]; 2];
+
+/// Intervals and covariance at a minimum.
 struct Analysed {
     minimum: Point,
     levels: Option<Levels>,
     covariance: Option<JacobianCovariance>,
     /// Per reported parameter, `[below, above]` ends of both levels.
-    profile: Option<Vec<[[(f64, bool); 2]; 2]>>,
+    profile: Option<Vec<Ends>>,
 }
 
 /// Intervals at `minimum`, refining again from any lower point a walk
@@ -197,9 +200,11 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
                 profile: None,
             };
         };
-        let covariance =
-            JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
-        let wants_profile = matches!(analysis.uncertainty, Uncertainty::Profile | Uncertainty::Both);
+        let covariance = JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
+        let wants_profile = matches!(
+            analysis.uncertainty,
+            Uncertainty::Profile | Uncertainty::Both
+        );
         if !wants_profile {
             return Analysed {
                 minimum,
@@ -237,7 +242,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
         if let Some(lower) = lower {
             if restarts < MOST_RESTARTS {
                 restarts += 1;
-                let again = minimise(problem, &lower.theta, &free, problem.beta).point;
+                let again = minimise(problem, &lower.theta, &free, problem.beta, TOLERANCE).point;
                 if again.sse < minimum.sse {
                     minimum = again;
                     continue;
@@ -309,7 +314,7 @@ fn release(
         }
     }
     let free = vec![true; problem.dim()];
-    let point = minimise(&wider, &minimum.theta, &free, wider.beta).point;
+    let point = minimise(&wider, &minimum.theta, &free, wider.beta, SCREENING).point;
     let e = estimate(scene, &wider, model, &point);
     Some(Released {
         value: coordinate.value(&point, wider.beta),
@@ -353,7 +358,14 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
             .expect("a non-empty grid");
         let mut point = problem.evaluate(&layout.theta(&values.indices(slice)), problem.beta);
         if analysis.refine {
-            point = minimise(&problem, &point.theta, &[true, true, false], problem.beta).point;
+            point = minimise(
+                &problem,
+                &point.theta,
+                &[true, true, false],
+                problem.beta,
+                TOLERANCE,
+            )
+            .point;
         }
         let fitted = FittedModel::with_amplitude(
             rh_model,
@@ -445,7 +457,12 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
     record.covariance = analysed
         .covariance
         .as_ref()
-        .filter(|_| matches!(analysis.uncertainty, Uncertainty::Jacobian | Uncertainty::Both))
+        .filter(|_| {
+            matches!(
+                analysis.uncertainty,
+                Uncertainty::Jacobian | Uncertainty::Both
+            )
+        })
         .and_then(|c| correlations(&layout, c));
     record.amplitude = Some(minimum.linear.amplitude());
     record.chi2_weighted = chi2_weighted(&problem, minimum);
@@ -472,7 +489,11 @@ fn correlations(layout: &Layout, c: &JacobianCovariance) -> Option<Covariance> {
         names: kept.iter().map(|&i| layout.names[i].to_string()).collect(),
         matrix: kept
             .iter()
-            .map(|&i| kept.iter().map(|&j| c.matrix[i][j].unwrap_or(0.0)).collect())
+            .map(|&i| {
+                kept.iter()
+                    .map(|&j| c.matrix[i][j].unwrap_or(0.0))
+                    .collect()
+            })
             .collect(),
     })
 }

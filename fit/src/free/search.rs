@@ -11,7 +11,6 @@
 
 use super::linear::Moments;
 use super::problem::Problem;
-use crate::profile::basins;
 use rayon::prelude::*;
 
 /// The grid axes of the nonlinear parameters, in the model's values (σ/T,
@@ -76,6 +75,30 @@ impl Quadratic {
     }
 }
 
+/// `Σ_k x_k y_k` for each of the `N` vectors `ys`, four partial sums per
+/// vector (a fixed order, so the same bits on every target) that the
+/// compiler keeps in vector registers.
+fn dots<const N: usize>(x: &[f64], ys: [&[f64]; N]) -> [f64; N] {
+    let len = x.len();
+    let body = len - len % 4;
+    let mut acc = [[0.0f64; 4]; N];
+    for k in (0..body).step_by(4) {
+        for (a, y) in acc.iter_mut().zip(&ys) {
+            for l in 0..4 {
+                a[l] += x[k + l] * y[k + l];
+            }
+        }
+    }
+    let mut out = [0.0; N];
+    for ((o, a), y) in out.iter_mut().zip(&acc).zip(&ys) {
+        *o = (a[0] + a[1]) + (a[2] + a[3]);
+        for k in body..len {
+            *o += x[k] * y[k];
+        }
+    }
+    out
+}
+
 /// The objective at every grid point of `axes` (layered: σ/T, n and, for
 /// the absorptive models, a; baselines: their two parameters).
 pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
@@ -84,50 +107,49 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
     let sse = if problem.basis.has_balance() {
         let basis = &problem.basis;
         let (ci, cs) = basis.cosines();
+        let k = problem.data.len();
+        // Per measurement, the factors that turn B into B1 and B2, and the
+        // products of the quadratic's coefficients: B_i B_j = B² g_ij.
+        let g1: Vec<f64> = (0..k).map(|i| -(ci[i] + cs[i])).collect();
+        let g2: Vec<f64> = (0..k).map(|i| ci[i] * cs[i]).collect();
+        let g11: Vec<f64> = g1.iter().map(|g| g * g).collect();
+        let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
+        let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
+        let ones = vec![1.0; k];
         let interfaces: Vec<_> = axes.axes[1].iter().map(|&n| basis.interfaces(n)).collect();
         let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
         let w: Vec<f64> = problem.root_weight.iter().map(|r| r * r).collect();
-        let d = &problem.data;
+        let wd: Vec<f64> = w.iter().zip(&problem.data).map(|(w, d)| w * d).collect();
+        let dd = dots(&wd, [&problem.data])[0];
         let rows: Vec<Vec<f64>> = axes.axes[0]
             .par_iter()
             .map(|&slope| {
                 let s = basis.surface(slope);
-                let (mut dd, mut ds, mut ss) = (0.0, 0.0, 0.0);
-                for k in 0..d.len() {
-                    dd += w[k] * d[k] * d[k];
-                    ds += w[k] * d[k] * s[k];
-                    ss += w[k] * s[k] * s[k];
-                }
+                let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
+                let [ds, ss] = dots(&s, [&wd, &ws]);
                 let mut row = Vec::with_capacity(interfaces.len() * a_axis.len());
+                let mut wbb = vec![0.0; k];
+                let mut wdb = vec![0.0; k];
+                let mut wsb = vec![0.0; k];
                 for iface in &interfaces {
                     let base = basis.base(slope, iface);
-                    let mut q = Quadratic {
+                    for i in 0..k {
+                        wbb[i] = w[i] * base[i] * base[i];
+                        wdb[i] = wd[i] * base[i];
+                        wsb[i] = ws[i] * base[i];
+                    }
+                    let [b00, b01, b02, b11, b12, b22] =
+                        dots(&wbb, [&ones, &g1, &g2, &g11, &g12, &g22]);
+                    let db = dots(&wdb, [&ones, &g1, &g2]);
+                    let sb = dots(&wsb, [&ones, &g1, &g2]);
+                    let q = Quadratic {
                         dd,
                         ds,
                         ss,
-                        db: [0.0; 3],
-                        sb: [0.0; 3],
-                        bb: [[0.0; 3]; 3],
+                        db,
+                        sb,
+                        bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
                     };
-                    for k in 0..d.len() {
-                        let b = [
-                            base[k],
-                            -base[k] * (ci[k] + cs[k]),
-                            base[k] * ci[k] * cs[k],
-                        ];
-                        for i in 0..3 {
-                            q.db[i] += w[k] * d[k] * b[i];
-                            q.sb[i] += w[k] * s[k] * b[i];
-                            for j in i..3 {
-                                q.bb[i][j] += w[k] * b[i] * b[j];
-                            }
-                        }
-                    }
-                    for i in 0..3 {
-                        for j in 0..i {
-                            q.bb[i][j] = q.bb[j][i];
-                        }
-                    }
                     row.extend(a_axis.iter().map(|&a| q.moments(a).solve(beta).sse));
                 }
                 row
@@ -153,17 +175,31 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
     GridValues { lens, sse }
 }
 
-/// The best point of each of the grid's basins (no axis neighbour lower),
-/// best first, at most `most`, as axis indices with their objective.
+/// The best point of each of the grid's basins (no axis neighbour lower;
+/// on ties the smaller flat index is lower), best first, at most `most`,
+/// as axis indices with their objective.
 pub fn grid_starts(values: &GridValues, most: usize) -> Vec<(Vec<usize>, f64)> {
-    let near: Vec<(usize, f64)> = values
-        .sse
-        .iter()
-        .copied()
-        .enumerate()
-        .filter(|(_, e)| e.is_finite())
+    let lens = &values.lens;
+    let e = &values.sse;
+    let strides: Vec<usize> = (0..lens.len())
+        .map(|i| lens[i + 1..].iter().product())
         .collect();
-    basins(&near, &values.lens, most)
+    let lower = |g: usize, f: usize| e[g] < e[f] || (e[g] == e[f] && g < f);
+    let mut minima: Vec<(usize, f64)> = (0..e.len())
+        .filter(|&f| e[f].is_finite())
+        .filter(|&f| {
+            lens.iter().zip(&strides).all(|(&len, &stride)| {
+                let i = (f / stride) % len;
+                let below = i > 0 && lower(f - stride, f);
+                let above = i + 1 < len && lower(f + stride, f);
+                !(below || above)
+            })
+        })
+        .map(|f| (f, e[f]))
+        .collect();
+    minima.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.cmp(&q.0)));
+    minima.truncate(most);
+    minima
         .into_iter()
         .map(|(flat, e)| (values.indices(flat), e))
         .collect()
