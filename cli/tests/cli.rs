@@ -139,7 +139,7 @@ fn grid_errors_are_range_errors_with_sizes() {
     );
     fails(
         &["fit", "--slope", "0.12:4.04:1000000", "--n", "1:2:1000"],
-        &["10100000000000 parameter sets (1000000×1000×101×100), more than the limit"],
+        &["2121000000000 parameter sets (1000000×1000×21×101), more than the limit"],
     );
 }
 
@@ -307,13 +307,15 @@ fn eval_truth(dir: &Path) -> (PathBuf, String) {
 }
 
 /// Noise-free radiance from `eval` (eq. 8, β = 0.4) at 200 geometries,
-/// fitted with `fit` on `beta` (the other axes: the paper's).
+/// fitted with `fit --objective paper` on `beta` (the other axes: the paper's).
 fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
     let (geometry, radiance) = eval_truth(dir);
     let data = write(dir, "made.csv", &radiance);
     let fits = dir.join("fits.json");
     ok(&[
         "fit",
+        "--objective",
+        "paper",
         "--measurements",
         s(&data),
         "--quantity",
@@ -397,6 +399,75 @@ fn eval_fit_predict_round_trip() {
     let only = ok(&["predict", "--fit", s(&fits), "--geometry", s(&geometry)]);
     assert!(only.starts_with("row,theta_i,theta_s,phi_s,prediction\n"));
     assert_eq!(only.lines().count(), 201);
+}
+
+/// The free objective (the default) on the same noise-free radiance: every
+/// parameter, β of eq. 8 included, found off the grid to 1e-6, in the box;
+/// `predict` on the fit's own measurements gives its Δ_RMS.
+#[test]
+fn free_objective_recovers_eq8_parameters() {
+    let d = tempfile::tempdir().unwrap();
+    let (_, radiance) = eval_truth(d.path());
+    let data = write(d.path(), "made.csv", &radiance);
+    let fits = d.path().join("fits.json");
+    ok(&[
+        "fit",
+        "--measurements",
+        s(&data),
+        "--quantity",
+        "radiance",
+        "--channels",
+        "total",
+        "--models",
+        "exp",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+    ]);
+    let j = json(&fits);
+    assert_eq!(j["version"], 2);
+    let f = &j["fits"][0];
+    assert_eq!(f["objective"], "free");
+    for (name, truth) in [("slope", 1.48), ("beta", 0.4), ("n", 1.44), ("a", 0.2)] {
+        let p = &f["parameters"][name];
+        let v = p["refined"].as_f64().unwrap();
+        assert!((v - truth).abs() < 1e-6, "{name} = {v}");
+        let b = p["box"].as_array().unwrap();
+        assert!(b[0].as_f64().unwrap() <= v && v <= b[1].as_f64().unwrap());
+        assert_eq!(
+            f["params"][name],
+            f["fitted"]["params"][name]
+                .as_f64()
+                .map(|x| (x * 1e10).round() / 1e10)
+                .unwrap()
+        );
+    }
+    assert_eq!(f["fitted"]["beta_eq8"], f["fitted"]["params"]["beta"]);
+    assert!(f["amplitude"].as_f64().unwrap() > 0.0);
+    let (code, _, err) = laminar(&[
+        "predict",
+        "--fit",
+        s(&fits),
+        "--measurements",
+        s(&data),
+        "--quantity",
+        "radiance",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let at = err.find("Δ_RMS (eq. 15) = ").unwrap() + "Δ_RMS (eq. 15) = ".len();
+    let got: f64 = err[at..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .trim_end_matches(')')
+        .parse()
+        .unwrap();
+    assert!(
+        (got - f["rms"].as_f64().unwrap()).abs() <= 1e-12,
+        "{got} vs {}",
+        f["rms"]
+    );
 }
 
 #[test]
@@ -704,7 +775,15 @@ fn curet_dir() -> Option<String> {
 #[test]
 fn curet_paper_fits_are_unchanged() {
     let Some(dir) = curet_dir() else { return };
-    let out = ok(&["fit", "--data", &dir, "--brdf", "abrdf.dat"]);
+    let out = ok(&[
+        "fit",
+        "--data",
+        &dir,
+        "--brdf",
+        "abrdf.dat",
+        "--objective",
+        "paper",
+    ]);
     let golden = include_str!("golden/curet_paper_fits.csv");
     let rows = |text: &str| -> Vec<Vec<String>> {
         csv::ReaderBuilder::new()

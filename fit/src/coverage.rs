@@ -103,7 +103,11 @@ pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams 
         },
         m => {
             let (slope, beta, n) = match objective {
-                Objective::Free => (u(0.2f64.ln(), 5f64.ln()).exp(), u(0.15, 0.85), u(1.15, 2.2)),
+                Objective::Free => (
+                    libm::exp(u(libm::log(0.2), libm::log(5.0))),
+                    u(0.15, 0.85),
+                    u(1.15, 2.2),
+                ),
                 Objective::Paper => (u(0.5, 3.5), u(0.2, 0.8), u(1.34, 1.46)),
             };
             ModelParams::Layered {

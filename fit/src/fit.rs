@@ -125,6 +125,17 @@ impl Fit {
     pub fn estimate(&self) -> &Estimate {
         self.refined.as_ref().unwrap_or(&self.best)
     }
+
+    /// The estimate a fit's main columns report (`rms`, `chi2_dof`,
+    /// `params`): the paper objective's best grid point, as in the paper's
+    /// tables; the free objective's [`Fit::estimate`] (its grid only places
+    /// the starts of the refinement).
+    pub fn reported(&self) -> &Estimate {
+        match self.objective {
+            Objective::Paper => &self.best,
+            Objective::Free => self.estimate(),
+        }
+    }
 }
 
 /// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.

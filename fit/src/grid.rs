@@ -60,12 +60,12 @@ impl Axis {
                 values: vec![start],
             };
         }
-        let (l0, l1) = (start.ln(), stop.ln());
+        let (l0, l1) = (libm::log(start), libm::log(stop));
         let values = (0..count)
             .map(|i| match i {
                 0 => start,
                 i if i + 1 == count => stop,
-                i => (l0 + (l1 - l0) * i as f64 / (count - 1) as f64).exp(),
+                i => libm::exp(l0 + (l1 - l0) * i as f64 / (count - 1) as f64),
             })
             .collect();
         Self { values }

@@ -2,17 +2,22 @@
 //! file read back, and whole-or-nothing file writes.
 //!
 //! Quantities: `rms` is Δ_RMS (eq. 15, `100·sqrt(Σ(D−P)²)/K`, D the
-//! normalised measured radiance, P the normalised prediction, K the kept
+//! measured radiance divided by its max, P the fitted prediction, K the kept
 //! measurements); `chi2_dof` is χ²/ν (eq. 16, `Σ(P−D)²/D / (d − p)` over the
-//! d measurements with D > 0, p the model's parameter count); `params` are
-//! the fitted parameters (β of the paper normalisation, see
-//! [`laminar_fit::FittedModel`]).
+//! d measurements with D > 0, p the fitted parameter count); `params` are
+//! the fitted parameters. Each fit names its `objective`: `free` (β is eq.
+//! 8's, P = amplitude · eq. 8's mix) or `paper` (β of the paper
+//! normalisation, see [`laminar_fit::FittedModel`]).
 
 use crate::error::ReadError;
 use laminar_fit::edges::edges_text;
 use laminar_fit::fitted::format_value;
 use laminar_fit::profile::Interval;
-use laminar_fit::{Estimate, Fit, FittedModel, Model, Parameter};
+use laminar_fit::{Estimate, Fit, FittedModel, Model, Objective, Parameter};
+
+fn paper() -> Objective {
+    Objective::Paper
+}
 use serde::{Deserialize, Serialize};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -38,8 +43,29 @@ pub const CSV_HEADER: [&str; 15] = [
 ];
 
 /// The columns each parameter gets, after its name and `_`.
-pub const PARAMETER_COLUMNS: [&str; 7] =
-    ["refined", "lo68", "hi68", "lo95", "hi95", "interval", "sd"];
+pub const PARAMETER_COLUMNS: [&str; 11] = [
+    "refined",
+    "lo68",
+    "hi68",
+    "lo95",
+    "hi95",
+    "interval",
+    "sd",
+    "box_lo",
+    "box_hi",
+    "released",
+    "released_rms",
+];
+
+/// The columns after the parameters' (the objective's, last so that the
+/// columns before them keep their places).
+pub const FIT_COLUMNS: [&str; 5] = [
+    "correlations",
+    "trade_offs",
+    "objective",
+    "amplitude",
+    "chi2w_dof",
+];
 
 /// The parameter names of `models`, in order of first appearance.
 fn parameter_names(models: impl IntoIterator<Item = Model>) -> Vec<&'static str> {
@@ -65,15 +91,14 @@ fn model_parameters(model: Model) -> Vec<&'static str> {
 
 /// The full CSV header for fits of `models`: [`CSV_HEADER`], then
 /// `rms_grid`, `rms_refined`, then for each parameter of those models
-/// `{name}_{column}` for each of [`PARAMETER_COLUMNS`], then `correlations`
-/// and `trade_offs`.
+/// `{name}_{column}` for each of [`PARAMETER_COLUMNS`], then [`FIT_COLUMNS`].
 pub fn csv_header(models: &[Model]) -> Vec<String> {
     let mut header: Vec<String> = CSV_HEADER.iter().map(|c| c.to_string()).collect();
     header.extend(["rms_grid".to_string(), "rms_refined".to_string()]);
     for name in parameter_names(models.iter().copied()) {
         header.extend(PARAMETER_COLUMNS.iter().map(|c| format!("{name}_{c}")));
     }
-    header.extend(["correlations".to_string(), "trade_offs".to_string()]);
+    header.extend(FIT_COLUMNS.iter().map(|c| c.to_string()));
     header
 }
 
@@ -117,21 +142,26 @@ fn parameter_cells(p: Option<&Parameter>) -> Vec<String> {
         hi95,
         p.source.map(|s| s.to_string()).unwrap_or_default(),
         p.sd.map(|sd| format!("{sd:.6e}")).unwrap_or_default(),
+        value(p.bounds.map(|b| b.0)),
+        value(p.bounds.map(|b| b.1)),
+        value(p.released.map(|r| r.value)),
+        opt(p.released.map(|r| r.rms)),
     ]
 }
 
 fn row(r: &Fit, names: &[&str]) -> Vec<String> {
-    let chi = r.best.chi2;
+    let reported = r.reported();
+    let chi = reported.chi2;
     let rh = r.rh.as_ref();
     let mut out = vec![
         r.sample.clone(),
         r.channel.clone(),
         r.model.name().into(),
-        format!("{:.6}", r.best.rms),
+        format!("{:.6}", reported.rms),
         opt(chi.map(|c| c.per_dof)),
         chi.map(|c| c.used.to_string()).unwrap_or_default(),
         chi.map(|c| c.left_out.to_string()).unwrap_or_default(),
-        r.best.params_text(),
+        reported.params_text(),
         opt(rh.map(|e| e.rms)),
         opt(rh.and_then(|e| e.chi2).map(|c| c.per_dof)),
         rh.map(Estimate::params_text).unwrap_or_default(),
@@ -154,6 +184,9 @@ fn row(r: &Fit, names: &[&str]) -> Vec<String> {
             .unwrap_or_default(),
     );
     out.push(trade_offs_text(r));
+    out.push(r.objective.to_string());
+    out.push(r.amplitude.map(|c| format!("{c:.9e}")).unwrap_or_default());
+    out.push(opt(r.chi2_weighted));
     out
 }
 
@@ -209,8 +242,13 @@ impl<W: Write> CsvRows<W> {
 
 /// The format name in every fitted-model file.
 pub const FORMAT: &str = "laminar-fits";
-/// The version of the fitted-model file.
-pub const VERSION: u32 = 1;
+/// The version of the fitted-model file. Version 2 added the objective, the
+/// amplitude, the weighted χ²/ν and each parameter's box; version 1 files
+/// (paper objective) are still read.
+pub const VERSION: u32 = 2;
+
+/// The versions [`read_fits`] reads.
+pub const READ_VERSIONS: [u32; 2] = [1, 2];
 
 /// One fit in the fitted-model file: the CSV's columns (params as an
 /// object) and the portable fitted models.
@@ -222,7 +260,10 @@ pub struct FitEntry {
     pub channel: String,
     /// Model.
     pub model: Model,
-    /// Δ_RMS (eq. 15).
+    /// The objective minimised (version 1 files: the paper's).
+    #[serde(default = "paper")]
+    pub objective: Objective,
+    /// Δ_RMS (eq. 15) of the reported estimate ([`Fit::reported`]).
     pub rms: f64,
     /// χ²/ν (eq. 16).
     pub chi2_dof: Option<f64>,
@@ -264,6 +305,12 @@ pub struct FitEntry {
     pub trade_offs: serde_json::Map<String, serde_json::Value>,
     /// The Ragheb–Hancock best as a fitted model.
     pub rh_fitted: Option<FittedModel>,
+    /// Free objective: the fitted amplitude c of the estimate.
+    #[serde(default)]
+    pub amplitude: Option<f64>,
+    /// Free objective: the weighted χ²/ν of the estimate.
+    #[serde(default)]
+    pub chi2w_dof: Option<f64>,
     /// Each searched parameter under its name: `grid`, `refined`, `lo68`,
     /// `hi68`, `lo95`, `hi95`, `interval` (`profile` or `jacobian`), `sd`
     /// and `flags` (`range_edge`, `domain_bound`, `open_below`,
@@ -314,21 +361,29 @@ fn parameter_object(p: &Parameter) -> serde_json::Value {
         "interval": p.source.map(|s| s.to_string()),
         "sd": p.sd,
         "flags": p.flags,
+        "box": p.bounds.map(|(lo, hi)| [lo, hi]),
+        "released": p.released.map(|r| serde_json::json!({
+            "value": r.value,
+            "rms": r.rms,
+            "rms_in_box": r.rms_in_box,
+        })),
     })
 }
 
 impl FitEntry {
     /// The entry of a fit.
     pub fn new(r: &Fit) -> Self {
+        let reported = r.reported();
         Self {
             sample: r.sample.clone(),
             channel: r.channel.clone(),
             model: r.model,
-            rms: r.best.rms,
-            chi2_dof: r.best.chi2.map(|c| c.per_dof),
-            chi2_used: r.best.chi2.map(|c| c.used),
-            chi2_left_out: r.best.chi2.map(|c| c.left_out),
-            params: params_object(&r.best),
+            objective: r.objective,
+            rms: reported.rms,
+            chi2_dof: reported.chi2.map(|c| c.per_dof),
+            chi2_used: reported.chi2.map(|c| c.used),
+            chi2_left_out: reported.chi2.map(|c| c.left_out),
+            params: params_object(reported),
             rh_rms: r.rh.as_ref().map(|e| e.rms),
             rh_chi2_dof: r.rh.as_ref().and_then(|e| e.chi2).map(|c| c.per_dof),
             rh_params: r.rh.as_ref().map(params_object),
@@ -340,6 +395,8 @@ impl FitEntry {
             rms_grid: Some(r.best.rms),
             rms_refined: r.refined.as_ref().map(|e| e.rms),
             rh_fitted: r.rh.as_ref().map(|e| e.fitted),
+            amplitude: r.amplitude,
+            chi2w_dof: r.chi2_weighted,
             correlations: r
                 .covariance
                 .as_ref()
@@ -384,16 +441,19 @@ pub fn json(records: &[Fit]) -> String {
         format: FORMAT.into(),
         version: VERSION,
         quantities: serde_json::json!({
-            "rms": "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the normalised prediction",
+            "objective": "free: weighted least squares Σ w(D − c·M)² with a free amplitude c ≥ 0, M eq. 8's raw mix (beta is eq. 8's β, solved with c in closed form), w = 1/σ² from the input's uncertainties (else 1), every estimate and interval inside the box searched; paper: the paper's objective, data and model each divided by their max over the measurements",
+            "rms": "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the fitted prediction; of the refined estimate (free) or of the best grid point (paper, as in the paper's tables)",
             "chi2_dof": "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p",
-            "params": "fitted parameters rounded to 10 decimals; beta is the balance of the paper normalisation, not of eq. 8",
-            "fitted": "the model to predict with: full-precision params; normalisation = maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (baselines: of the raw radiance); P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max",
+            "chi2w_dof": "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)",
+            "amplitude": "free: the fitted amplitude c (P = c·M on the data divided by their max)",
+            "params": "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper)",
+            "fitted": "the model to predict with: full-precision params; normalisation = {amplitude} (free: P = amplitude·(beta·L_sb + (1−beta)·L_sf)), or the maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (paper; baselines: of the raw radiance; P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max)",
             "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
             "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",
             "fitted_note": "fitted is the refined model when the fit was refined (grid_fitted is then the grid's best); laminar predict uses fitted",
-            "rms_grid": "Δ_RMS of the best grid point (= rms)",
-            "rms_refined": "Δ_RMS after local refinement (Nelder–Mead in f64 within the model's domain); never above rms_grid",
-            "parameters": "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the error surface at Δχ² = 1 and 3.84 with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (grid value first or last of its axis: the optimum may lie outside the range searched), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side)",
+            "rms_grid": "Δ_RMS of the best grid point (= rms for the paper objective)",
+            "rms_refined": "Δ_RMS after refinement (free: Levenberg–Marquardt from the grid's basins inside the box, which lowers the weighted objective; paper: Nelder–Mead in f64 within the model's domain, never above rms_grid)",
+            "parameters": "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the objective at Δχ² = 1 and 3.84 (free without uncertainties: F(1, K − p)'s quantiles) with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (paper: the grid value is first or last of its axis, the optimum may lie outside the range searched; free: the estimate is on a face of the box), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side), not_identified (free: the 95% interval is the whole box); box: [lo, hi], the box the free objective searched, refined and bounded the intervals in; released: for an estimate on a face of the box that is not a bound of the model's domain, the value and Δ_RMS of one local fit with that bound released (a diagnostic, not an estimate)",
             "correlations": "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹",
             "trade_offs": "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one",
         }),
@@ -426,12 +486,12 @@ pub fn parse_fits(file: &Path, text: &str) -> Result<FitsFile, ReadError> {
             ),
         )
     })?;
-    if fits.format != FORMAT || fits.version != VERSION {
+    if fits.format != FORMAT || !READ_VERSIONS.contains(&fits.version) {
         return Err(ReadError::format(
             file,
             0,
             format!(
-                "format `{}` version {}, expected `{FORMAT}` version {VERSION}",
+                "format `{}` version {}, expected `{FORMAT}` version 1 or {VERSION}",
                 fits.format, fits.version
             ),
         ));

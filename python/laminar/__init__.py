@@ -54,23 +54,37 @@ def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64")
     return {name: values.reshape(shape) for name, values in out.items()}
 
 
-def fit(measurements, model="exp", grid=None, refine=True, uncertainty="both", threads=None):
+def fit(measurements, model="exp", grid=None, refine=True, uncertainty="both", threads=None, objective="free"):
     """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
-    ``jensen``, ``oren-nayar``) to a :class:`Measurements` by the exhaustive
-    grid search. ``grid`` maps axis names (``slope``, ``beta``, ``n``,
-    ``a``) to ``"start:stop:count"`` or a sequence of values; the paper grid
-    otherwise. ``refine``: refine the best grid point by Nelder–Mead in f64
-    within the model's domain (``FitResult.params`` are then the refined
-    values, ``grid_params`` the grid's). ``uncertainty``: ``"profile"``
-    (68%/95% intervals from the profile of the error surface),
-    ``"jacobian"`` (standard deviations and correlations at the refined
-    optimum), ``"both"`` or ``"off"``; see ``FitResult.parameters``.
-    ``threads``: worker threads (default: all cores)."""
-    return _fit(measurements, model, grid, refine, uncertainty, threads)
+    ``jensen``, ``oren-nayar``) to a :class:`Measurements`.
+
+    ``objective``: ``"free"`` (default) minimises ``Σ w (D − c·M)²`` with a
+    free amplitude ``c ≥ 0``, ``M`` eq. 8's raw mix (β is eq. 8's, solved
+    with ``c`` in closed form), ``w = 1/σ²`` from the measurements'
+    uncertainties (else 1), everything inside the box the grid's axes span;
+    ``"paper"`` is the paper's max-normalised objective. ``grid`` maps axis
+    names (``slope``, ``beta``, ``n``, ``a``) to ``"start:stop:count"``,
+    ``"start:stop:count:log"`` or a sequence of values; the objective's
+    default grid otherwise. ``refine``: refine the best grid point
+    (``FitResult.params`` are then the refined values, ``grid_params`` the
+    grid's). ``uncertainty``: ``"profile"`` (68%/95% intervals from the
+    profile of the objective), ``"jacobian"`` (standard deviations and
+    correlations at the refined optimum), ``"both"`` or ``"off"``; see
+    ``FitResult.parameters``. ``threads``: worker threads (default: all
+    cores)."""
+    return _fit(measurements, model, grid, refine, uncertainty, threads, objective)
 
 
 def fit_batch(
-    geometry, values, model="exp", grid=None, threads=None, quantity="brdf", refine=True, uncertainty="both"
+    geometry,
+    values,
+    model="exp",
+    grid=None,
+    threads=None,
+    quantity="brdf",
+    refine=True,
+    uncertainty="both",
+    objective="free",
 ):
     """Fits a layered ``model`` to every row of ``values`` (N × K) on one
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
@@ -81,12 +95,12 @@ def fit_batch(
     search_rms, measurements, rms_grid`` and each parameter's 68% interval
     ``slope_lo68, slope_hi68, …, a_hi68``, NaN when not computed).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
-    times faster."""
+    times faster. ``objective`` as in :func:`fit`."""
     geometry = np.ascontiguousarray(geometry, dtype=np.float64)
     values = np.ascontiguousarray(values, dtype=np.float64)
     if values.ndim != 2:
         raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
-    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty)
+    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty, objective)
     out = np.empty(values.shape[0], dtype=BATCH_DTYPE)
     for name in BATCH_COLUMNS:
         out[name] = columns[name]

@@ -1,6 +1,6 @@
 """Type stubs of the laminar package."""
 
-from typing import Optional
+from typing import Literal, Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -28,8 +28,9 @@ def fit(
     model: str = "exp",
     grid: Grid = None,
     refine: bool = True,
-    uncertainty: str = "both",
+    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
     threads: Optional[int] = None,
+    objective: Literal["free", "paper"] = "free",
 ) -> FitResult: ...
 def fit_batch(
     geometry: npt.ArrayLike,
@@ -39,5 +40,6 @@ def fit_batch(
     threads: Optional[int] = None,
     quantity: str = "brdf",
     refine: bool = True,
-    uncertainty: str = "both",
+    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
+    objective: Literal["free", "paper"] = "free",
 ) -> npt.NDArray[np.void]: ...

@@ -1,7 +1,7 @@
 """Type stubs of the native module."""
 
 from os import PathLike
-from typing import Mapping, Optional, Sequence, Union
+from typing import Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -88,6 +88,12 @@ class FitResult:
     def measurements(self) -> int: ...
     @property
     def beta_eq8(self) -> Optional[float]: ...
+    @property
+    def objective(self) -> Literal["free", "paper"]: ...
+    @property
+    def amplitude(self) -> Optional[float]: ...
+    @property
+    def chi2w_dof(self) -> Optional[float]: ...
     def predict(
         self, theta_i: Array, phi_i: Array, theta_v: Array, phi_v: Array, radiance: bool = False
     ) -> Array: ...
@@ -98,8 +104,9 @@ def fit(
     model: str = "exp",
     grid: Grid = None,
     refine: bool = True,
-    uncertainty: str = "both",
+    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
     threads: Optional[int] = None,
+    objective: Literal["free", "paper"] = "free",
 ) -> FitResult: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
@@ -109,5 +116,6 @@ def fit_batch(
     threads: Optional[int] = None,
     quantity: str = "brdf",
     refine: bool = True,
-    uncertainty: str = "both",
+    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
+    objective: Literal["free", "paper"] = "free",
 ) -> dict[str, Array]: ...

@@ -10,7 +10,7 @@
 use laminar_core::{components, Angles, Geometry, Params};
 use laminar_fit::{
     Analysis, Axis, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams,
-    Quantity, Scene,
+    Objective, Quantity, Scene,
 };
 use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::fits::FitEntry;
@@ -300,9 +300,13 @@ impl Measurements {
     }
 }
 
-/// The grid of `fit`: the paper's, with the axes named in `grid` replaced.
-fn grid_from(grid: Option<HashMap<String, Bound<'_, PyAny>>>) -> PyResult<Grid> {
-    let mut out = Grid::paper();
+/// The grid of `fit`: the objective's default grid ([`Objective::default_grid`]),
+/// with the axes named in `grid` replaced.
+fn grid_from(
+    grid: Option<HashMap<String, Bound<'_, PyAny>>>,
+    objective: Objective,
+) -> PyResult<Grid> {
+    let mut out = objective.default_grid();
     for (name, spec) in grid.unwrap_or_default() {
         let axis = match spec.extract::<String>() {
             Ok(text) => Axis::parse(&text)
@@ -336,14 +340,17 @@ fn fitter(
     threads: Option<usize>,
     refine: bool,
     uncertainty: &str,
+    objective: &str,
 ) -> PyResult<Fitter> {
     let analysis = Analysis {
         refine,
         uncertainty: parse("uncertainty", uncertainty)?,
     };
-    let fitter = Fitter::new(grid_from(grid)?)
+    let objective: Objective = parse("objective", objective)?;
+    let fitter = Fitter::new(grid_from(grid, objective)?)
         .map_err(value_error)?
-        .analysis(analysis);
+        .analysis(analysis)
+        .objective(objective);
     match threads {
         Some(t) => fitter.threads(t).map_err(value_error),
         None => Ok(fitter),
@@ -474,10 +481,30 @@ impl FitResult {
         self.fit.measurements
     }
 
-    /// The balance of eq. 8 giving the fitted lobe (layered models).
+    /// The balance of eq. 8 giving the fitted lobe (layered models; the
+    /// fitted β itself under the free objective).
     #[getter]
     fn beta_eq8(&self) -> Option<f64> {
         self.fit.estimate().fitted.beta_eq8
+    }
+
+    /// The objective minimised: `"free"` or `"paper"`.
+    #[getter]
+    fn objective(&self) -> &'static str {
+        self.fit.objective.name()
+    }
+
+    /// Free objective: the fitted amplitude (prediction = amplitude · eq. 8's
+    /// mix on the data divided by their max); None for the paper objective.
+    #[getter]
+    fn amplitude(&self) -> Option<f64> {
+        self.fit.amplitude
+    }
+
+    /// Free objective: the weighted χ²/ν of the estimate (w = 1/σ²).
+    #[getter]
+    fn chi2w_dof(&self) -> Option<f64> {
+        self.fit.chi2_weighted
     }
 
     /// The normalised prediction P at lab-frame angles (radians), as the fit
@@ -535,7 +562,8 @@ impl FitResult {
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free"))]
+#[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
     measurements: &Measurements,
@@ -544,9 +572,10 @@ fn fit(
     refine: bool,
     uncertainty: &str,
     threads: Option<usize>,
+    objective: &str,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
-    let fitter = fitter(grid, threads, refine, uncertainty)?;
+    let fitter = fitter(grid, threads, refine, uncertainty, objective)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
@@ -628,7 +657,7 @@ fn batch_row(fit: &Fit) -> [f64; 21] {
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
 /// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
 #[pyfunction]
-#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both"))]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both", objective = "free"))]
 #[allow(clippy::too_many_arguments)]
 fn fit_batch<'py>(
     py: Python<'py>,
@@ -640,6 +669,7 @@ fn fit_batch<'py>(
     quantity: &str,
     refine: bool,
     uncertainty: &str,
+    objective: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
     if model.correlation().is_none() {
@@ -648,7 +678,7 @@ fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let fitter = fitter(grid, threads, refine, uncertainty)?;
+    let fitter = fitter(grid, threads, refine, uncertainty, objective)?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

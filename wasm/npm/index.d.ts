@@ -17,11 +17,21 @@ export declare function simdSupported(): boolean;
 /** Loads one build (SIMD where supported, unless `simd` says) and initialises it. */
 export declare function load(options?: { simd?: boolean }): Promise<Laminar>;
 
-/** A searched parameter of a fit (docs/conventions.md §11). */
+/** What releasing a bound of the box gives (a diagnostic, not an estimate). */
+export interface Released {
+  /** The parameter's value with that bound released to the model's domain. */
+  value: number;
+  /** Δ_RMS (eq. 15) there. */
+  rms: number;
+  /** Δ_RMS of the fit inside the box. */
+  rms_in_box: number;
+}
+
+/** A searched parameter of a fit (docs/conventions.md §11, §11b). */
 export interface FitParameter {
   /** The best grid point's value. */
   grid: number;
-  /** After Nelder–Mead refinement (null when not refined). */
+  /** After refinement (null when not refined). */
   refined: number | null;
   /** 68.27% and 95% interval ends (null when not computed or open). */
   lo68: number | null;
@@ -32,16 +42,20 @@ export interface FitParameter {
   interval: 'profile' | 'jacobian' | null;
   /** The Jacobian's standard deviation (null at a domain bound). */
   sd: number | null;
-  /** `range_edge`, `domain_bound`, `open_below`, `open_above`. */
+  /** `range_edge`, `domain_bound`, `open_below`, `open_above`, `not_identified`. */
   flags: string[];
+  /** The box searched (free objective; null for the paper's). */
+  box: [number, number] | null;
+  /** For an estimate on a face of the box: the fit with that bound released. */
+  released: Released | null;
 }
 
 /** A fitted model: what `predict` needs to reproduce the fit's prediction anywhere. */
 export interface FittedModel {
   model: string;
-  /** Full-precision parameters (β: the paper normalisation's balance). */
+  /** Full-precision parameters (β: eq. 8's under the free objective, the paper normalisation's balance under the paper's). */
   params: Record<string, number>;
-  /** Maxima over the fit's geometries: of the raw surface and subsurface terms and the normalised mix (baselines: of the raw radiance). */
+  /** Free objective: `{amplitude}`; paper: the maxima over the fit's geometries of the raw surface and subsurface terms and the normalised mix (baselines: of the raw radiance). */
   normalisation: Record<string, number>;
   /** Eq. 8's β giving the same lobe (layered models). */
   beta_eq8: number | null;
@@ -56,13 +70,15 @@ export interface FitEntry {
   sample: string;
   channel: string;
   model: 'exp' | 'gauss' | 'rh-exp' | 'rh-gauss' | 'jensen' | 'oren-nayar';
-  /** Δ_RMS (eq. 15) of the best grid point. */
+  /** The objective minimised. */
+  objective: 'free' | 'paper';
+  /** Δ_RMS (eq. 15) of the reported estimate: the refined one (free), the best grid point (paper). */
   rms: number;
   /** χ²/ν (eq. 16). */
   chi2_dof: number | null;
   chi2_used: number | null;
   chi2_left_out: number | null;
-  /** The best grid point (β is the paper normalisation's balance). */
+  /** The reported estimate's parameters (as `rms`). */
   params: Record<string, number>;
   rh_rms: number | null;
   rh_params: Record<string, number> | null;
@@ -78,6 +94,10 @@ export interface FitEntry {
   rh_fitted: FittedModel | null;
   rms_grid: number | null;
   rms_refined: number | null;
+  /** Free objective: the fitted amplitude. */
+  amplitude: number | null;
+  /** Free objective: the weighted χ²/ν. */
+  chi2w_dof: number | null;
   correlations: Record<string, number>;
   trade_offs: Record<string, number>;
   parameters: Record<string, FitParameter>;

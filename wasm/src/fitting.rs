@@ -4,7 +4,7 @@
 use crate::measurements::Measurements;
 use crate::{error, geometries};
 use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Uncertainty};
+use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Uncertainty};
 use laminar_io::fits;
 use std::cell::RefCell;
 use std::path::Path;
@@ -37,18 +37,23 @@ fn tick() {
 const FIT_OPTIONS: &str = r#"
 /** Options of `fit`, each as the `laminar fit` flag of the same name. */
 export interface FitOptions {
-  /** Refine the best grid point by Nelder–Mead (default true). */
+  /** 'free' (default): a free amplitude, β of eq. 8, weights 1/σ², inside
+   * the box of the axes; 'paper': the paper's max-normalised objective. */
+  objective?: 'free' | 'paper';
+  /** Refine the best grid point (default true). */
   refine?: boolean;
   /** Intervals and standard deviations (default 'both'). */
   uncertainty?: 'off' | 'profile' | 'jacobian' | 'both';
-  /** Grid axes as `start:stop:count` or one value (default: the paper grid's). */
+  /** Grid axes (and the free objective's box) as `start:stop:count`,
+   * `start:stop:count:log` or one value (default: the objective's grid). */
   slope?: string;
   beta?: string;
   n?: string;
   a?: string;
-  /** Search path, e.g. 'envelope-f32x8' (the default), 'direct-f64'. */
+  /** Search path of the paper objective, e.g. 'envelope-f32x8' (the default). */
   path?: string;
-  /** Called after each grid shard (one σ/T value) with (done, total). */
+  /** Called after each grid shard (paper: one σ/T value; free: the whole
+   * fit) with (done, total). */
   onProgress?: (done: number, total: number) => void;
 }
 "#;
@@ -60,10 +65,12 @@ extern "C" {
     pub type FitOptions;
 }
 
-/// What a fit does: `laminar fit`'s grid, path and analysis flags.
+/// What a fit does: `laminar fit`'s objective, grid, path and analysis flags.
 #[derive(Clone, Debug)]
 pub struct Settings {
-    /// The search grid (paper grid by default).
+    /// The objective (free by default).
+    pub objective: Objective,
+    /// The search grid (the objective's default grid unless set).
     pub grid: Grid,
     /// The search path of the layered models.
     pub path: SearchPath,
@@ -72,11 +79,12 @@ pub struct Settings {
 }
 
 impl Default for Settings {
-    /// `laminar fit`'s defaults: the paper grid, the default path, refinement
-    /// and both uncertainties.
+    /// `laminar fit`'s defaults: the free objective on its grid, the default
+    /// path, refinement and both uncertainties.
     fn default() -> Self {
         Self {
-            grid: Grid::paper(),
+            objective: Objective::Free,
+            grid: Objective::Free.default_grid(),
             path: SearchPath::DEFAULT,
             analysis: Analysis::FULL,
         }
@@ -104,6 +112,12 @@ impl Settings {
                 })
                 .transpose()
         };
+        if let Some(o) = text("objective")? {
+            s.objective = o
+                .parse::<Objective>()
+                .map_err(|e| error(format_args!("options.objective: {e}")))?;
+            s.grid = s.objective.default_grid();
+        }
         if let Some(v) = field("refine")? {
             s.analysis.refine = v
                 .as_bool()
@@ -141,13 +155,13 @@ impl Settings {
 
 /// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
 /// `oren-nayar`) to `channel` of `measurements` as `laminar fit` does (the
-/// paper grid, the default search path, refinement and both uncertainties,
-/// unless `options` says otherwise) and returns the fitted-model file
+/// free objective on its grid, refinement and both uncertainties, unless
+/// `options` says otherwise) and returns the fitted-model file
 /// (`laminar fit --format json`) of that one fit: parameters, Δ_RMS, χ²/ν,
-/// the refined parameters with their 68%/95% intervals, and the fitted
-/// model that [`predict`] uses. `options.onProgress(done, total)` is called
-/// after each grid shard (one σ/T value; 50 for a layered model on the paper
-/// grid); refinement and uncertainty follow the last one.
+/// the refined parameters with their 68%/95% intervals and box, and the
+/// fitted model that [`predict`] uses. `options.onProgress(done, total)` is
+/// called after each grid shard (paper objective: one σ/T value, 50 for a
+/// layered model on the paper grid; free objective: once per fit).
 ///
 /// # Errors
 /// For an unknown model, a wrong option (named), or a channel the set
@@ -183,6 +197,7 @@ pub fn fit(
         .map_err(error)?
         .path(settings.path)
         .analysis(settings.analysis)
+        .objective(settings.objective)
         .on_progress(tick);
     let total = fitter.shards(model);
     PROGRESS.with(|slot| *slot.borrow_mut() = progress.map(|f| (f, 0, total)));

@@ -10,8 +10,8 @@
 //!   parameter checks whose errors name the parameter.
 //! * [`measurements`]: CSV and CUReT files from bytes, and the built-in
 //!   example (the CLI's synthetic scene).
-//! * [`fitting`]: the fitting library's search (paper grid and default
-//!   path unless told), refinement and uncertainty, returning the
+//! * [`fitting`]: the fitting library's fit (the free-amplitude objective
+//!   on its grid unless told), refinement and uncertainty, returning the
 //!   fitted-model file of `laminar fit --format json`; prediction with a
 //!   fitted model.
 //!
@@ -26,8 +26,17 @@
 //! ```
 //! use laminar_wasm::{fitting, measurements::{example_csv, Measurements}};
 //! let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")?;
-//! // The grid search alone (no refinement, no intervals), as `laminar fit --refine off --uncertainty off`.
-//! let settings = fitting::Settings { analysis: laminar_fit::Analysis::NONE, ..Default::default() };
+//! // The default: the free-amplitude objective, refined, with intervals.
+//! let json = fitting::fit(&m, "value", "exp", &fitting::Settings::default(), None)?;
+//! assert!(json.contains(r#""objective": "free""#), "{json}");
+//! // The paper's grid search alone, as `laminar fit --objective paper --refine off --uncertainty off`:
+//! // the example was made at a point of the paper grid.
+//! let settings = fitting::Settings {
+//!     objective: laminar_fit::Objective::Paper,
+//!     grid: laminar_fit::Grid::paper(),
+//!     analysis: laminar_fit::Analysis::NONE,
+//!     ..Default::default()
+//! };
 //! let json = fitting::fit(&m, "value", "exp", &settings, None)?;
 //! assert!(json.contains(r#""slope": 1.48"#), "{json}");
 //! let scene = m.scene("value")?;

@@ -125,7 +125,7 @@ export const parameterOrder = (entry) =>
 function showFit(json) {
   const entry = JSON.parse(json).fits[0];
   const rows = parameterOrder(entry).map(([name, p]) => [
-    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.flags.join(', '),
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
   ]);
   $('params').tBodies[0].replaceChildren(...rows.map((cells) => {
     const tr = document.createElement('tr');
@@ -133,9 +133,14 @@ function showFit(json) {
     for (const c of cells) tr.appendChild(Object.assign(document.createElement('td'), { textContent: c }));
     return tr;
   }));
+  const free = entry.objective === 'free';
   const refined = entry.rms_refined === null ? '' : `, refined ${fmt(entry.rms_refined)}`;
-  $('measures').textContent = `${entry.sample}/${entry.channel}/${entry.model}: Δ_RMS (eq. 15) ${fmt(entry.rms)} at the grid point${refined}; `
-    + `χ²/ν (eq. 16) ${fmt(entry.chi2_dof)}; ${entry.measurements} measurements. β is the paper normalisation's balance; eq. 8's is ${fmt(entry.fitted.beta_eq8)}.`;
+  const beta = free
+    ? `β is eq. 8's; amplitude ${fmt(entry.amplitude)}, weighted χ²/ν ${fmt(entry.chi2w_dof)}. Everything stays in the box searched.`
+    : `β is the paper normalisation's balance; eq. 8's is ${fmt(entry.fitted.beta_eq8)}.`;
+  $('measures').textContent = `${entry.sample}/${entry.channel}/${entry.model} (${free ? 'free amplitude' : 'paper'} objective): `
+    + `Δ_RMS (eq. 15) ${fmt(entry.rms)} (grid ${fmt(entry.rms_grid)}${refined}); `
+    + `χ²/ν (eq. 16) ${fmt(entry.chi2_dof)}; ${entry.measurements} measurements. ${beta}`;
   $('fit-json').textContent = json;
   $('download').href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
   $('results').hidden = false;

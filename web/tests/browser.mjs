@@ -67,7 +67,7 @@ try {
   const rows = await page.$$eval('#params tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
   const order = Object.keys(entry.fitted.params).filter((k) => k in entry.parameters);
   const want = order.map((name) => [name, entry.parameters[name]]).map(([name, p]) => [
-    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.flags.join(', '),
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
   ]);
   check(JSON.stringify(rows) === JSON.stringify(want), `parameter table ${JSON.stringify(rows)} != ${JSON.stringify(want)}`);
   check(rows.length === 4, `${rows.length} parameter rows`);

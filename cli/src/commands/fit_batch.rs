@@ -1,8 +1,8 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
 use super::options::{
-    check_out, counter, emit, fitter, progress, report_time, AnalysisArgs, GridArgs, PathArgs,
-    ThreadArgs, PAIRS,
+    check_out, counter, emit, fitter, progress, report_time, AnalysisArgs, GridArgs, ObjectiveArgs,
+    PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::CliError;
@@ -55,6 +55,8 @@ pub struct FitBatchArgs {
     #[command(flatten)]
     grid: GridArgs,
     #[command(flatten)]
+    objective: ObjectiveArgs,
+    #[command(flatten)]
     analysis: AnalysisArgs,
     /// Results file: .csv (fit's columns) or .json (the fitted-model file).
     #[arg(long)]
@@ -75,7 +77,13 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         }
     };
     check_out(Some(&args.out))?;
-    let fitter = fitter(&args.grid, &args.threads, args.path.path, &args.analysis)?;
+    let fitter = fitter(
+        &args.grid,
+        &args.threads,
+        args.path.path,
+        &args.analysis,
+        args.objective.objective,
+    )?;
     let geometry = read_geometry(&args.geometry, args.angles)?;
     let mut values = ValueRows::open(&args.values)?;
     if values.cols() != geometry.len() {

@@ -8,7 +8,7 @@ use laminar_cli::selection::{
 };
 use laminar_cli::CliError;
 use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Analysis, Axis, Fitter, Grid, Quantity, Uncertainty};
+use laminar_fit::{Analysis, Axis, Fitter, Objective, Quantity, Uncertainty};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -113,27 +113,30 @@ pub fn jobs(
     Ok(curet.jobs()?.unwrap_or_else(synthetic_jobs))
 }
 
-/// The search grid of the layered models.
+/// The search grid of the layered models, and with the free objective the
+/// box every estimate and interval stays in.
 #[derive(Args, Debug, Clone)]
 pub struct GridArgs {
-    /// σ/T axis `start:stop:count` or one value (paper: 0.12:4.04:50).
+    /// σ/T axis `start:stop:count`, `start:stop:count:log` or one value
+    /// (free: 0.02:20:40:log; paper: 0.12:4.04:50).
     #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
     pub slope: Option<Axis>,
-    /// β axis (paper: 0.01:1:100).
+    /// β axis (free: 0:1, solved in closed form, so only its range is used;
+    /// paper: 0.01:1:100).
     #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
     pub beta: Option<Axis>,
-    /// n axis (paper: 1.3:1.5:11).
+    /// n axis (free: 1:2.5:11; paper: 1.3:1.5:11).
     #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
     pub n: Option<Axis>,
-    /// a axis (paper: 0:1:101).
+    /// a axis (free: 0:1:21; paper: 0:1:101).
     #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
     pub a: Option<Axis>,
 }
 
 impl GridArgs {
-    /// The paper grid with the given axes replaced, validated.
-    pub fn grid(&self) -> Result<Grid, CliError> {
-        let mut g = Grid::paper();
+    /// The default grid of `objective` with the given axes replaced, validated.
+    pub fn grid(&self, objective: Objective) -> Result<laminar_fit::Grid, CliError> {
+        let mut g = objective.default_grid();
         for (axis, given) in [
             (&mut g.slope, &self.slope),
             (&mut g.beta, &self.beta),
@@ -160,7 +163,8 @@ pub struct ThreadArgs {
 /// The search path.
 #[derive(Args, Debug, Clone)]
 pub struct PathArgs {
-    /// Search path METHOD-ARITH: METHOD direct|onepass|envelope, ARITH f32x8|f32|f64.
+    /// Search path of the paper objective METHOD-ARITH: METHOD
+    /// direct|onepass|envelope, ARITH f32x8|f32|f64.
     #[arg(long, default_value_t = SearchPath::DEFAULT)]
     pub path: SearchPath,
 }
@@ -174,15 +178,33 @@ pub enum Switch {
     Off,
 }
 
-/// What each fit does after its grid search (docs/conventions.md §11).
+/// The objective a fit minimises (docs/conventions.md §4, §4b).
+#[derive(Args, Debug, Clone)]
+pub struct ObjectiveArgs {
+    /// free: weighted least squares Σ w (D − c·M)² with a free amplitude
+    /// c ≥ 0, M eq. 8's raw mix (β of eq. 8, solved with c in closed form),
+    /// w = 1/σ² from sigma columns (else 1), everything inside the box the
+    /// axes give. paper: the paper's objective, data and model each divided
+    /// by their max (what `reproduce` uses).
+    #[arg(long, default_value_t = Objective::Free, value_parser = parse_objective)]
+    pub objective: Objective,
+}
+
+fn parse_objective(s: &str) -> Result<Objective, String> {
+    s.parse()
+}
+
+/// What each fit does after its grid search (docs/conventions.md §11, §11b).
 #[derive(Args, Debug, Clone)]
 pub struct AnalysisArgs {
-    /// Refine the best grid point (and the best of each other basin within
-    /// the 68% level) by Nelder–Mead in f64 within the model's domain.
+    /// Refine the best grid point: free objective, Levenberg–Marquardt from
+    /// the grid's basins inside the box; paper objective, Nelder–Mead from
+    /// the best grid point and other basins within the model's domain.
+    /// Intervals of the free objective need it.
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub refine: Switch,
     /// Uncertainty of each parameter: profile (68%/95% intervals from the
-    /// profile of the error surface), jacobian (sd and correlations from
+    /// profile of the objective), jacobian (sd and correlations from
     /// the Jacobian at the refined optimum, when no bound is active), both,
     /// or off.
     #[arg(long, default_value = "both", value_parser = parse_uncertainty)]
@@ -203,16 +225,18 @@ impl AnalysisArgs {
     }
 }
 
-/// A fitter on the grid with the threads, path and analysis given.
+/// A fitter of `objective` on the grid with the threads, path and analysis given.
 pub fn fitter(
     grid: &GridArgs,
     threads: &ThreadArgs,
     path: SearchPath,
     analysis: &AnalysisArgs,
+    objective: Objective,
 ) -> Result<Fitter, CliError> {
-    let mut f = Fitter::new(grid.grid()?)?
+    let mut f = Fitter::new(grid.grid(objective)?)?
         .path(path)
-        .analysis(analysis.analysis());
+        .analysis(analysis.analysis())
+        .objective(objective);
     if let Some(t) = threads.threads {
         f = f.threads(t)?;
     }

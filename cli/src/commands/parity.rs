@@ -50,7 +50,7 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
         ));
     }
     global_threads(&args.threads)?;
-    let grid = args.grid.grid()?;
+    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     let (mut same, mut all) = (0usize, 0usize);
     let mut pairs = 0.0;

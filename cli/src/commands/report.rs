@@ -98,7 +98,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
             "--ks, --scales, --sets and --batch-sets must be positive".into(),
         ));
     }
-    let grid = args.grid.grid()?;
+    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let bar = progress((args.ks.len() + args.scales.len()) as u64, "scaling");
     let report = scaling(
         &grid,
@@ -125,7 +125,7 @@ fn speed(args: &SpeedArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref())?;
     global_threads(&args.threads)?;
-    let grid = args.grid.grid()?;
+    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let jobs = args.curet.jobs()?.unwrap_or_else(synthetic_jobs);
     let scenes: Vec<Scene> = jobs.into_iter().map(|j| j.scene).collect();
     let runs = scenes.len() as u64 * 2 * SearchPath::all().len() as u64;

@@ -6,6 +6,7 @@ use super::options::{
 use clap::Args;
 use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
 use laminar_cli::CliError;
+use laminar_fit::Objective;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -39,7 +40,13 @@ pub struct ReproduceArgs {
 pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let start = Instant::now();
     prepare_out_dir(&args.out)?;
-    let fitter = fitter(&args.grid, &args.threads, args.path.path, &args.analysis)?;
+    let fitter = fitter(
+        &args.grid,
+        &args.threads,
+        args.path.path,
+        &args.analysis,
+        Objective::Paper,
+    )?;
     let jobs = args.curet.jobs()?.ok_or_else(|| {
         CliError::Usage(
             "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),

@@ -210,7 +210,7 @@ impl Basis {
     /// coordinates: `ln σ/T` first for the layered models).
     pub fn slope_n_a(&self, theta: &[f64]) -> (f64, f64, f64) {
         let a = if self.dim() == 3 { theta[2] } else { 0.0 };
-        (theta[0].exp(), theta[1], a)
+        (libm::exp(theta[0]), theta[1], a)
     }
 
     /// The columns at `theta`.
@@ -346,7 +346,7 @@ mod tests {
         let angles = synthetic::geometries();
         for model in [Model::Exp, Model::Gauss] {
             let basis = Basis::new(model, &angles);
-            let theta = [0.7f64.ln(), 1.45, 0.3];
+            let theta = [libm::log(0.7), 1.45, 0.3];
             let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
             let (at, d) = basis.derivatives(&theta, &domain, true);
             assert_eq!(at, basis.columns(&theta));

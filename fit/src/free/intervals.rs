@@ -80,7 +80,7 @@ impl Coordinate {
         match self {
             Self::Nonlinear { j, log } => {
                 if log {
-                    point.theta[j].exp()
+                    libm::exp(point.theta[j])
                 } else {
                     point.theta[j]
                 }
@@ -95,7 +95,7 @@ impl Coordinate {
             Self::Nonlinear { j, log } => {
                 let (lo, hi) = problem.bounds[j];
                 if log {
-                    (lo.exp(), hi.exp())
+                    (libm::exp(lo), libm::exp(hi))
                 } else {
                     (lo, hi)
                 }
@@ -137,7 +137,11 @@ impl JacobianCovariance {
         for &coordinate in coordinates {
             let (col, face) = match coordinate {
                 Coordinate::Nonlinear { j, log } => {
-                    let scale = if log { 1.0 / point.theta[j].exp() } else { 1.0 };
+                    let scale = if log {
+                        1.0 / libm::exp(point.theta[j])
+                    } else {
+                        1.0
+                    };
                     let d = &derivatives[j];
                     let col = (0..k)
                         .map(|i| c * ((1.0 - beta) * d.s[i] + beta * u(&d.u, i)) * scale)
@@ -259,7 +263,11 @@ impl Side<'_> {
                         let shift = cv / vv * (value - estimate);
                         let here = self.coordinates[i].value(self.minimum, problem.beta);
                         let moved = here + shift;
-                        start[*j] = if *log { moved.max(1e-300).ln() } else { moved };
+                        start[*j] = if *log {
+                            libm::log(moved.max(1e-300))
+                        } else {
+                            moved
+                        };
                     }
                 }
             }
@@ -267,7 +275,7 @@ impl Side<'_> {
         let mut free = vec![true; problem.dim()];
         let beta = match self.coordinate {
             Coordinate::Nonlinear { j, log } => {
-                start[j] = if log { value.ln() } else { value };
+                start[j] = if log { libm::log(value) } else { value };
                 free[j] = false;
                 problem.beta
             }
@@ -279,7 +287,7 @@ impl Side<'_> {
         }
         let mut plain = self.minimum.theta.clone();
         if let Coordinate::Nonlinear { j, log } = self.coordinate {
-            plain[j] = if log { value.ln() } else { value };
+            plain[j] = if log { libm::log(value) } else { value };
         }
         if plain == start {
             return from_path;

@@ -44,7 +44,7 @@ struct Layout {
 
 impl Layout {
     fn new(model: Model, grid: &Grid) -> Self {
-        let log = |(lo, hi): (f64, f64)| (lo.ln(), hi.ln());
+        let log = |(lo, hi): (f64, f64)| (libm::log(lo), libm::log(hi));
         match model {
             Model::Jensen | Model::OrenNayar => {
                 let (x, y) = if model == Model::Jensen {
@@ -118,7 +118,7 @@ impl Layout {
             .map(|(j, &i)| {
                 let v = self.axes.axes[j][i];
                 if logarithmic(j) {
-                    v.ln()
+                    libm::log(v)
                 } else {
                     v
                 }
@@ -274,7 +274,7 @@ fn domain_of(layout: &Layout, c: Coordinate) -> (f64, f64) {
         Coordinate::Nonlinear { j, log } => {
             let (lo, hi) = layout.domain[j];
             if log {
-                (lo.exp(), hi.exp())
+                (libm::exp(lo), libm::exp(hi))
             } else {
                 (lo, hi)
             }
