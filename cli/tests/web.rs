@@ -244,6 +244,7 @@ fn packed_package_imports_in_typescript() {
             "angles: unknown angle unit `grad` (expected rad or deg)",
             "options.n: count `x` in axis `1.5:1.3:x` is not a positive integer",
             "options.refine: give true or false",
+            "options.objective: unknown objective `max` (expected free or paper)",
         ]
     );
     // The options reach the fitter: a one-point σ/T, n, a grid, one shard.
@@ -254,7 +255,13 @@ fn packed_package_imports_in_typescript() {
         "{custom}"
     );
     assert_eq!(v["customCalls"], 1);
-    assert_eq!(v["calls"], 50, "one progress call per σ/T value");
+    assert_eq!(
+        v["calls"], 50,
+        "the paper objective: one progress call per σ/T value"
+    );
+    assert_eq!(v["freeCalls"], 1, "the free objective: one call per fit");
+    assert_eq!(v["freeObjective"], "free");
+    assert_eq!(v["freeBox"], serde_json::json!([1.0, 2.5]));
     assert_eq!(v["predicted"], v["measured"]);
     let p = Params::new(1.2, 0.4, 1.4, 0.3).expect("params");
     let a = Angles::new(0.3, 0.2, 0.5).expect("angles");

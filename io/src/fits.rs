@@ -638,3 +638,47 @@ pub fn check_writable(path: &Path) -> Result<(), ReadError> {
     let _ = std::fs::remove_file(&probe);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use laminar_fit::{synthetic, Fitter, Grid, NormalisationConstants};
+
+    fn fit(objective: Objective) -> Fit {
+        let grid = Grid {
+            slope: laminar_fit::Axis::stepped(1.32, 0.08, 5),
+            a: laminar_fit::Axis::stepped(0.13, 0.01, 9),
+            ..objective.default_grid()
+        };
+        Fitter::new(grid)
+            .unwrap()
+            .objective(objective)
+            .fit(&synthetic::default_scene(), Model::Exp)
+    }
+
+    #[test]
+    fn version_2_round_trips_and_version_1_files_are_read_as_paper_fits() {
+        let free = json(&[fit(Objective::Free)]);
+        let back = parse_fits(Path::new("f.json"), &free).unwrap();
+        assert_eq!(back.version, 2);
+        let entry = &back.fits[0];
+        assert_eq!(entry.objective, Objective::Free);
+        assert!(matches!(
+            entry.fitted.normalisation,
+            NormalisationConstants::Amplitude { .. }
+        ));
+        assert_eq!(entry.parameters["n"]["box"], serde_json::json!([1.0, 2.5]));
+        // A version 1 file: no objective, amplitude or box.
+        let mut v1: serde_json::Value = serde_json::from_str(&json(&[fit(Objective::Paper)])).unwrap();
+        v1["version"] = 1.into();
+        for key in ["objective", "amplitude", "chi2w_dof"] {
+            v1["fits"][0].as_object_mut().unwrap().remove(key);
+        }
+        let back = parse_fits(Path::new("old.json"), &v1.to_string()).unwrap();
+        assert_eq!(back.fits[0].objective, Objective::Paper);
+        // A later version is refused with a message naming both.
+        v1["version"] = 3.into();
+        let e = parse_fits(Path::new("new.json"), &v1.to_string()).unwrap_err();
+        assert!(e.to_string().contains("version 3, expected `laminar-fits` version 1 or 2"), "{e}");
+    }
+}

@@ -26,7 +26,8 @@ const errors = [
 
 const m = L.Measurements.fromCsv('example.csv', new TextEncoder().encode(L.exampleCsv()), 'rad', 'radiance');
 let calls = 0;
-const options: FitOptions = { refine: false, uncertainty: 'off', onProgress: () => calls++ };
+// The paper objective's grid search: one progress call per σ/T value.
+const options: FitOptions = { objective: 'paper', refine: false, uncertainty: 'off', onProgress: () => calls++ };
 const json: string = L.fit(m, 'value', 'exp', options);
 const file: FitsFile = JSON.parse(json);
 // A grid of one σ/T, n and a value: one progress call, those values fitted.
@@ -34,6 +35,9 @@ let customCalls = 0;
 const custom: FitsFile = JSON.parse(L.fit(m, 'value', 'exp', {
   refine: false, uncertainty: 'off', slope: '1.48', n: '1.44', a: '0.17', path: 'direct-f64', onProgress: () => customCalls++,
 }));
+// The default, the free-amplitude objective: one progress call per fit.
+let freeCalls = 0;
+const free: FitsFile = JSON.parse(L.fit(m, 'value', 'exp', { onProgress: () => freeCalls++ }));
 const scene = m.scene('value');
 const prediction: Float64Array = L.predict(json, undefined, scene.angles);
 errors.push(
@@ -43,6 +47,7 @@ errors.push(
   thrown(() => L.Measurements.fromCsv('x.csv', new Uint8Array(), 'grad', 'brdf')),
   thrown(() => L.fit(m, 'value', 'exp', { n: '1.5:1.3:x' })),
   thrown(() => L.fit(m, 'value', 'exp', { refine: 'yes' } as unknown as FitOptions)),
+  thrown(() => L.fit(m, 'value', 'exp', { objective: 'max' } as unknown as FitOptions)),
 );
 console.log(JSON.stringify({
   simd: L.simd,
@@ -55,6 +60,9 @@ console.log(JSON.stringify({
   params: file.fits[0].params,
   custom: custom.fits[0].params,
   customCalls,
+  freeCalls,
+  freeObjective: free.fits[0].objective,
+  freeBox: free.fits[0].parameters.n.box,
   rms: file.fits[0].rms,
   predicted: prediction.length,
   measured: scene.data.length,

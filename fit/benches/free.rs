@@ -1,0 +1,107 @@
+//! The free-amplitude objective's cost (docs/conventions.md §4b, §11b):
+//! one fit with the defaults (grid stage, refinement, 68%/95% profile
+//! intervals and the Jacobian), the grid stage alone, and batches of sets
+//! on one geometry with the defaults (elements = sets, so criterion reports
+//! sets per second). The scene is CUReT sample 21 (K = 198) when
+//! `CURET_DIR` is set, else the built-in synthetic one (K = 200); the
+//! batch's sets are the model at parameters drawn inside the box plus
+//! seeded noise of 1% of the max on every measurement on that geometry.
+//! Run: `cargo bench --bench free`.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use laminar_fit::coverage::draw;
+use laminar_fit::synthetic::{self, Noise};
+use laminar_fit::{
+    Analysis, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Quantity, Scene,
+};
+use laminar_io::curet::CuretDir;
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+
+fn scene() -> (String, Scene) {
+    match std::env::var_os("CURET_DIR") {
+        Some(dir) => {
+            let samples = CuretDir::open(Path::new(&dir))
+                .and_then(|d| d.samples(&[PathBuf::from("abrdf.dat")], Some(&[21])))
+                .expect("CURET_DIR holds table.txt and abrdf.dat with sample 21");
+            (
+                "curet21_k198".into(),
+                samples[0].set.scene("avg").expect("sample 21 fits"),
+            )
+        }
+        None => {
+            eprintln!("CURET_DIR is not set: using the built-in synthetic scene");
+            ("synthetic_k200".into(), synthetic::default_scene())
+        }
+    }
+}
+
+/// `count` sets of the exp model on `scene`'s geometry (noise on every
+/// measurement, not given to the fit).
+fn sets(scene: &Scene, count: usize) -> Vec<Scene> {
+    let mut rng = Noise::new(5);
+    let angles: Vec<MeasurementAngles> = scene
+        .angles()
+        .iter()
+        .map(|a| MeasurementAngles::Paper {
+            theta_i: a.theta_i(),
+            theta_s: a.theta_s(),
+            phi_s: a.phi_s(),
+        })
+        .collect();
+    (0..count)
+        .map(|i| {
+            let truth = draw(Model::Exp, Objective::Free, &mut rng);
+            let clean = laminar_fit::FittedModel::with_amplitude(Model::Exp, truth, 1.0, 1.0)
+                .predict(scene.angles())
+                .expect("truths inside the domain");
+            let peak = clean.iter().cloned().fold(0.0, f64::max);
+            let sigma = 0.01;
+            let values = clean
+                .iter()
+                .map(|v| v / peak + sigma * rng.normal())
+                .collect();
+            MeasurementSet::new(i.to_string(), angles.clone(), Quantity::Radiance)
+                .and_then(|s| s.with_channel("value", values, None))
+                .and_then(|s| s.scene("value"))
+                .expect("a valid set")
+        })
+        .collect()
+}
+
+fn free(c: &mut Criterion) {
+    let (label, scene) = scene();
+    let fitter = |analysis| {
+        Fitter::new(Grid::user())
+            .expect("the default box is valid")
+            .objective(Objective::Free)
+            .analysis(analysis)
+    };
+    let mut group = c.benchmark_group(format!("free_{label}"));
+    group.sample_size(20);
+    for model in [Model::Exp, Model::Gauss] {
+        let full = fitter(Analysis::FULL);
+        group.bench_function(format!("{model}_one_fit_defaults"), |b| {
+            b.iter(|| black_box(full.fit(&scene, model)))
+        });
+    }
+    let grid_only = fitter(Analysis::NONE);
+    group.bench_function("exp_grid_stage_only", |b| {
+        b.iter(|| black_box(grid_only.fit(&scene, Model::Exp)))
+    });
+    group.finish();
+
+    let count = 256;
+    let batch = sets(&scene, count);
+    let full = fitter(Analysis::FULL);
+    let mut group = c.benchmark_group(format!("free_batch_{label}"));
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(count as u64));
+    group.bench_function(format!("exp_{count}_sets_defaults"), |b| {
+        b.iter(|| black_box(full.fit_batch(&batch, Model::Exp)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, free);
+criterion_main!(benches);
