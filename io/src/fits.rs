@@ -669,7 +669,8 @@ mod tests {
         ));
         assert_eq!(entry.parameters["n"]["box"], serde_json::json!([1.0, 2.5]));
         // A version 1 file: no objective, amplitude or box.
-        let mut v1: serde_json::Value = serde_json::from_str(&json(&[fit(Objective::Paper)])).unwrap();
+        let mut v1: serde_json::Value =
+            serde_json::from_str(&json(&[fit(Objective::Paper)])).unwrap();
         v1["version"] = 1.into();
         for key in ["objective", "amplitude", "chi2w_dof"] {
             v1["fits"][0].as_object_mut().unwrap().remove(key);
@@ -679,6 +680,10 @@ mod tests {
         // A later version is refused with a message naming both.
         v1["version"] = 3.into();
         let e = parse_fits(Path::new("new.json"), &v1.to_string()).unwrap_err();
-        assert!(e.to_string().contains("version 3, expected `laminar-fits` version 1 or 2"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("version 3, expected `laminar-fits` version 1 or 2"),
+            "{e}"
+        );
     }
 }

@@ -59,8 +59,18 @@ pub enum Basis {
     OrenNayar(Vec<OrenNayarGeometry<f64>>),
 }
 
+/// The columns at one point, with what their derivatives there need
+/// (so that a minimisation that accepts a trial point reuses its work).
+#[derive(Debug, Clone)]
+pub struct Evaluated {
+    /// The columns.
+    pub columns: Columns,
+    terms: Option<LayeredTerms>,
+}
+
 /// The Ragheb–Hancock base `B_k` and the surface term of a layered model
 /// at one (σ/T, n), with what their σ/T derivatives need.
+#[derive(Debug, Clone)]
 struct LayeredTerms {
     s: Vec<f64>,
     base: Vec<f64>,
@@ -215,6 +225,11 @@ impl Basis {
 
     /// The columns at `theta`.
     pub fn columns(&self, theta: &[f64]) -> Columns {
+        self.evaluate(theta).columns
+    }
+
+    /// The columns at `theta`, keeping what [`Basis::derivatives_at`] needs.
+    pub fn evaluate(&self, theta: &[f64]) -> Evaluated {
         match self {
             Self::Layered { .. } => {
                 let (slope, n, a) = self.slope_n_a(theta);
@@ -222,8 +237,24 @@ impl Basis {
                 let u = (0..terms.base.len())
                     .map(|k| terms.base[k] * self.attenuation(k, a))
                     .collect();
-                Columns { s: terms.s, u }
+                Evaluated {
+                    columns: Columns {
+                        s: terms.s.clone(),
+                        u,
+                    },
+                    terms: Some(terms),
+                }
             }
+            _ => Evaluated {
+                columns: self.baseline_columns(theta),
+                terms: None,
+            },
+        }
+    }
+
+    fn baseline_columns(&self, theta: &[f64]) -> Columns {
+        match self {
+            Self::Layered { .. } => unreachable!("baselines only"),
             Self::Jensen(geometry) => {
                 let k = JensenCoefficients::<f64>::new(theta[0], theta[1])
                     .expect("inside the box, which is inside the domain");
@@ -256,13 +287,24 @@ impl Basis {
         domain: &[(f64, f64)],
         central: bool,
     ) -> (Columns, Vec<Columns>) {
-        match self {
-            Self::Layered { corr, .. } => {
+        self.derivatives_at(theta, domain, central, self.evaluate(theta))
+    }
+
+    /// [`Basis::derivatives`] at a point already evaluated ([`Basis::evaluate`]
+    /// at `theta`).
+    pub fn derivatives_at(
+        &self,
+        theta: &[f64],
+        domain: &[(f64, f64)],
+        central: bool,
+        at: Evaluated,
+    ) -> (Columns, Vec<Columns>) {
+        match (self, at.terms) {
+            (Self::Layered { corr, .. }, Some(terms)) => {
                 let (slope, n, a) = self.slope_n_a(theta);
-                let terms = self.layered_terms(slope, n);
                 let len = terms.base.len();
                 let att: Vec<f64> = (0..len).map(|k| self.attenuation(k, a)).collect();
-                let u: Vec<f64> = (0..len).map(|k| terms.base[k] * att[k]).collect();
+                let u = at.columns.u;
                 let d_slope = Columns {
                     s: (0..len)
                         .map(|k| terms.s[k] * log_slope_derivative(*corr, terms.x[k]))
@@ -297,7 +339,7 @@ impl Basis {
                 (Columns { s: terms.s, u }, out)
             }
             _ => {
-                let at = self.columns(theta);
+                let at = at.columns;
                 let out = (0..theta.len())
                     .map(|j| {
                         let (h, lo, hi) = difference(theta[j], domain[j], central);

@@ -9,7 +9,7 @@
 //! internal coordinates of [`Basis`]; the linear part is solved in closed
 //! form ([`crate::free::linear`]).
 
-use super::basis::{Basis, Columns};
+use super::basis::{Basis, Columns, Evaluated};
 use super::linear::{Linear, Moments};
 use crate::model::Model;
 use crate::scene::Scene;
@@ -125,6 +125,12 @@ impl Problem {
         self.point(theta, &columns, beta)
     }
 
+    /// [`Problem::evaluate`], keeping what [`Problem::jacobian_at`] needs.
+    pub fn evaluate_keeping(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Evaluated) {
+        let evaluated = self.basis.evaluate(theta);
+        (self.point(theta, &evaluated.columns, beta), evaluated)
+    }
+
     /// The point at `theta` from its columns.
     pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
         let linear = self.moments(columns).solve(beta);
@@ -138,56 +144,90 @@ impl Problem {
 
     /// The point at `theta`, its weighted residuals and the Jacobian of the
     /// variable-projection residual with respect to the nonlinear
-    /// parameters (Kaufman's form: the derivative at the fixed linear
-    /// coefficients, projected off the columns whose coefficient is free),
-    /// as one column per parameter.
+    /// parameters (Golub and Pereyra's: the derivative at the fixed linear
+    /// coefficients projected off the columns whose coefficient is free,
+    /// plus the term of the coefficients' own change), one column per
+    /// parameter.
     pub fn jacobian(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
-        let (columns, derivatives) = self.basis.derivatives(theta, &self.domain, false);
+        self.jacobian_at(theta, beta, self.basis.evaluate(theta))
+    }
+
+    /// [`Problem::jacobian`] at a point already evaluated.
+    pub fn jacobian_at(
+        &self,
+        theta: &[f64],
+        beta: (f64, f64),
+        at: Evaluated,
+    ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
+        let (columns, derivatives) = self.basis.derivatives_at(theta, &self.domain, false, at);
         let point = self.point(theta, &columns, beta);
         let residuals = self.residuals(&columns, &point.linear);
         let Linear { p, q, .. } = point.linear;
         let has_u = !columns.u.is_empty();
-        let weighted = |v: &[f64]| -> Vec<f64> {
-            v.iter()
-                .zip(&self.root_weight)
-                .map(|(x, w)| x * w)
-                .collect()
-        };
         // The columns whose coefficient moves freely at this point: both
-        // inside the cone, the active ray's mix on its edge, none at c = 0.
-        let free_columns: Vec<Vec<f64>> = if point.linear.amplitude() <= 0.0 {
+        // inside the cone, the active ray's mix on its edge, none at c = 0;
+        // as mixes `(weight of S, weight of U)` of the two columns.
+        let mixes: Vec<(f64, f64)> = if point.linear.amplitude() <= 0.0 {
             Vec::new()
         } else if !has_u {
-            vec![weighted(&columns.s)]
+            vec![(1.0, 0.0)]
         } else {
             let b = point.linear.beta(beta.0);
-            let interior = beta.0 < beta.1 && b > beta.0 && b < beta.1;
-            if interior {
-                vec![weighted(&columns.s), weighted(&columns.u)]
+            if beta.0 < beta.1 && b > beta.0 && b < beta.1 {
+                vec![(1.0, 0.0), (0.0, 1.0)]
             } else {
-                let mix: Vec<f64> = columns
-                    .s
-                    .iter()
-                    .zip(&columns.u)
-                    .map(|(s, u)| (1.0 - b) * s + b * u)
-                    .collect();
-                vec![weighted(&mix)]
+                vec![(1.0 - b, b)]
             }
         };
-        let basis = orthonormal(free_columns);
+        let mixed = |c: &Columns, (ws, wu): (f64, f64)| -> Vec<f64> {
+            (0..self.data.len())
+                .map(|k| {
+                    let u = if has_u { c.u[k] } else { 0.0 };
+                    self.root_weight[k] * (ws * c.s[k] + wu * u)
+                })
+                .collect()
+        };
+        let free: Vec<Vec<f64>> = mixes.iter().map(|&m| mixed(&columns, m)).collect();
+        let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(a, b)| a * b).sum::<f64>();
+        // `(FᵀF)⁻¹` of the free columns F, when they are independent.
+        let gram_inverse: Option<Vec<Vec<f64>>> = match free.as_slice() {
+            [] => None,
+            [f] => {
+                let g = dot(f, f);
+                (g > 0.0).then(|| vec![vec![1.0 / g]])
+            }
+            [f, h] => {
+                let (a, b, d) = (dot(f, f), dot(f, h), dot(h, h));
+                let det = a * d - b * b;
+                (det > 1e-12 * a * d)
+                    .then(|| vec![vec![d / det, -b / det], vec![-b / det, a / det]])
+            }
+            _ => unreachable!("at most two columns"),
+        };
+        let basis = orthonormal(free.clone());
         let jac = derivatives
             .iter()
             .map(|d| {
-                let mut col: Vec<f64> = (0..self.data.len())
-                    .map(|k| {
-                        let du = if has_u { d.u[k] } else { 0.0 };
-                        -self.root_weight[k] * (p * d.s[k] + q * du)
-                    })
-                    .collect();
+                // Kaufman's part: −P⊥ (∂Φ c).
+                let mut col: Vec<f64> = mixed(d, (p, q)).iter().map(|v| -v).collect();
                 for e in &basis {
                     let c: f64 = e.iter().zip(&col).map(|(a, b)| a * b).sum();
                     for (x, y) in col.iter_mut().zip(e) {
                         *x -= c * y;
+                    }
+                }
+                // Golub–Pereyra's second part: −F (FᵀF)⁻¹ (∂F)ᵀ r, which the
+                // large residuals of a misfitting model make matter.
+                if let Some(inverse) = &gram_inverse {
+                    let v: Vec<f64> = mixes
+                        .iter()
+                        .map(|&m| dot(&mixed(d, m), &residuals))
+                        .collect();
+                    for (i, f) in free.iter().enumerate() {
+                        let y: f64 = (0..v.len()).map(|l| inverse[i][l] * v[l]).sum();
+                        for (x, fk) in col.iter_mut().zip(f) {
+                            *x -= y * fk;
+                        }
                     }
                 }
                 col

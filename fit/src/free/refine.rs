@@ -55,6 +55,8 @@ pub fn minimise(
     let (mut point, mut r, mut jac) = problem.jacobian(&x, beta);
     let mut evaluations = 2;
     let mut lambda = 1e-3;
+    // Nielsen's factor for consecutive failures.
+    let mut nu = 2.0;
     'outer: for _ in 0..MAX_ITERATIONS {
         let m = x.len();
         let gradient: Vec<f64> = jac
@@ -104,7 +106,7 @@ pub fn minimise(
                 trial[j] += step[a];
             }
             let trial = clamp(&trial);
-            let candidate = problem.evaluate(&trial, beta);
+            let (candidate, evaluated) = problem.evaluate_keeping(&trial, beta);
             evaluations += 1;
             if candidate.sse < point.sse {
                 let gain = (point.sse - candidate.sse) / point.sse.max(1e-300);
@@ -117,12 +119,18 @@ pub fn minimise(
                     point = candidate;
                     break 'outer;
                 }
-                lambda = (lambda / 5.0).max(1e-12);
-                (point, r, jac) = problem.jacobian(&x, beta);
-                evaluations += 2;
+                // Nielsen's update from the gain ratio: the damping follows
+                // how well the Gauss–Newton model predicted the decrease
+                // (no see-saw between two values in a curved valley).
+                let rho = (point.sse - candidate.sse) / predicted.max(1e-300);
+                lambda = (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12);
+                nu = 2.0;
+                (point, r, jac) = problem.jacobian_at(&x, beta, evaluated);
+                evaluations += 1;
                 break;
             }
-            lambda *= 5.0;
+            lambda *= nu;
+            nu *= 2.0;
             if lambda > 1e12 {
                 break 'outer;
             }
