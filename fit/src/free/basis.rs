@@ -17,6 +17,7 @@ use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, Jense
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
+use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
 use laminar_core::{
     inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
     Interface,
@@ -220,7 +221,9 @@ impl Basis {
     /// coordinates: `ln σ/T` first for the layered models).
     pub fn slope_n_a(&self, theta: &[f64]) -> (f64, f64, f64) {
         let a = if self.dim() == 3 { theta[2] } else { 0.0 };
-        (libm::exp(theta[0]), theta[1], a)
+        // exp(ln x) can miss x by an ulp: kept inside the model's domain.
+        let slope = libm::exp(theta[0]).clamp(SLOPE_MIN, SLOPE_MAX);
+        (slope, theta[1], a)
     }
 
     /// The columns at `theta`.

@@ -75,31 +75,25 @@ pub enum Coordinate {
 }
 
 impl Coordinate {
-    /// The reported value at `point`.
-    pub fn value(self, point: &Point, beta_box: (f64, f64)) -> f64 {
+    /// The reported value at `point` (σ/T from its logarithm, kept in the box).
+    pub fn value(self, point: &Point, problem: &Problem) -> f64 {
         match self {
             Self::Nonlinear { j, log } => {
                 if log {
-                    libm::exp(point.theta[j])
+                    let (lo, hi) = problem.reported[j];
+                    libm::exp(point.theta[j]).clamp(lo, hi)
                 } else {
                     point.theta[j]
                 }
             }
-            Self::Beta => point.linear.beta(beta_box.0),
+            Self::Beta => point.linear.beta(problem.beta.0),
         }
     }
 
     /// The box in reported units.
     pub fn bounds(self, problem: &Problem) -> (f64, f64) {
         match self {
-            Self::Nonlinear { j, log } => {
-                let (lo, hi) = problem.bounds[j];
-                if log {
-                    (libm::exp(lo), libm::exp(hi))
-                } else {
-                    (lo, hi)
-                }
-            }
+            Self::Nonlinear { j, .. } => problem.reported[j],
             Self::Beta => problem.beta,
         }
     }
@@ -252,7 +246,7 @@ impl Side<'_> {
     /// start in another valley), keeping the lower.
     fn profile(&self, value: f64, target: f64) -> Point {
         let problem = self.problem;
-        let estimate = self.coordinate.value(self.minimum, problem.beta);
+        let estimate = self.coordinate.value(self.minimum, problem);
         let mut start = self.minimum.theta.clone();
         if let Some(cov) = self.covariance {
             if let Some(vv) = cov.matrix[self.index][self.index] {
@@ -261,7 +255,7 @@ impl Side<'_> {
                         (c, cov.matrix[i][self.index])
                     {
                         let shift = cv / vv * (value - estimate);
-                        let here = self.coordinates[i].value(self.minimum, problem.beta);
+                        let here = self.coordinates[i].value(self.minimum, problem);
                         let moved = here + shift;
                         start[*j] = if *log {
                             libm::log(moved.max(1e-300))
@@ -303,7 +297,7 @@ impl Side<'_> {
     /// Walks out to both levels' ends on this side.
     pub fn walk(&self) -> Walk {
         let problem = self.problem;
-        let estimate = self.coordinate.value(self.minimum, problem.beta);
+        let estimate = self.coordinate.value(self.minimum, problem);
         let (lo, hi) = self.coordinate.bounds(problem);
         let face = if self.direction < 0.0 { lo } else { hi };
         let sse_min = self.minimum.sse;

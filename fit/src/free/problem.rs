@@ -40,6 +40,9 @@ pub struct Problem {
     pub weighted: bool,
     /// The box of each nonlinear parameter, internal coordinates.
     pub bounds: Vec<(f64, f64)>,
+    /// The same box in the parameters' own units, exactly as the user gave
+    /// it (`ln` and `exp` do not round-trip: σ/T's ends are kept here).
+    pub reported: Vec<(f64, f64)>,
     /// The domain of each nonlinear parameter (for difference steps).
     pub domain: Vec<(f64, f64)>,
     /// The box of β (`(0, 0)` for a baseline).
@@ -48,11 +51,12 @@ pub struct Problem {
 
 impl Problem {
     /// The objective of `model` on `scene` in the box `bounds` (nonlinear
-    /// parameters, internal coordinates) and `beta`.
+    /// parameters, internal coordinates, with `reported`, the same box in
+    /// the parameters' units) and `beta`.
     pub fn new(
         scene: &Scene,
         model: Model,
-        bounds: Vec<(f64, f64)>,
+        (bounds, reported): (Vec<(f64, f64)>, Vec<(f64, f64)>),
         domain: Vec<(f64, f64)>,
         beta: (f64, f64),
     ) -> Self {
@@ -73,6 +77,7 @@ impl Problem {
             root_weight,
             weighted,
             bounds,
+            reported,
             domain,
             beta,
         }

@@ -36,6 +36,8 @@ struct Layout {
     axes: GridAxes,
     /// Box of the nonlinear parameters (internal coordinates).
     bounds: Vec<(f64, f64)>,
+    /// The same box in the parameters' units.
+    reported: Vec<(f64, f64)>,
     /// Domain of the nonlinear parameters (internal coordinates).
     domain: Vec<(f64, f64)>,
     /// β's box.
@@ -69,6 +71,7 @@ impl Layout {
                         Coordinate::Nonlinear { j: 1, log: false },
                     ],
                     bounds: vec![x.range(), y.range()],
+                    reported: vec![x.range(), y.range()],
                     axes: GridAxes {
                         axes: vec![x.values, y.values],
                     },
@@ -86,12 +89,14 @@ impl Layout {
                 ];
                 let mut axes = vec![grid.slope.values.clone(), grid.n.values.clone()];
                 let mut bounds = vec![log(grid.slope.range()), grid.n.range()];
+                let mut reported = vec![grid.slope.range(), grid.n.range()];
                 let mut domain = vec![log((SLOPE_MIN, SLOPE_MAX)), (1.0, INDEX_MAX)];
                 if !rh {
                     names.push("a");
                     coordinates.push(Coordinate::Nonlinear { j: 2, log: false });
                     axes.push(grid.a.values.clone());
                     bounds.push(grid.a.range());
+                    reported.push(grid.a.range());
                     domain.push((0.0, 1.0));
                 }
                 Self {
@@ -99,6 +104,7 @@ impl Layout {
                     coordinates,
                     axes: GridAxes { axes },
                     bounds,
+                    reported,
                     domain,
                     beta: grid.beta.range(),
                 }
@@ -139,9 +145,10 @@ fn params_of(problem: &Problem, model: Model, point: &Point) -> ModelParams {
             rho: point.theta[1],
         },
         _ => {
-            let (slope, n, a) = problem.basis.slope_n_a(&point.theta);
+            let (_, n, a) = problem.basis.slope_n_a(&point.theta);
             ModelParams::Layered {
-                slope,
+                // In the box exactly (exp(ln x) can miss x by an ulp).
+                slope: Coordinate::Nonlinear { j: 0, log: true }.value(point, problem),
                 beta: point.linear.beta(problem.beta.0),
                 n,
                 a,
@@ -299,10 +306,13 @@ fn release(
     match coordinate {
         Coordinate::Nonlinear { j, .. } => {
             let (dlo, dhi) = layout.domain[j];
+            let (rlo, rhi) = domain_of(layout, coordinate);
             if at_upper {
                 wider.bounds[j].1 = dhi;
+                wider.reported[j].1 = rhi;
             } else {
                 wider.bounds[j].0 = dlo;
+                wider.reported[j].0 = rlo;
             }
         }
         Coordinate::Beta => {
@@ -317,7 +327,7 @@ fn release(
     let point = minimise(&wider, &minimum.theta, &free, wider.beta, SCREENING).point;
     let e = estimate(scene, &wider, model, &point);
     Some(Released {
-        value: coordinate.value(&point, wider.beta),
+        value: coordinate.value(&point, &wider),
         rms: e.rms,
         rms_in_box,
     })
@@ -331,7 +341,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
     let problem = Problem::new(
         scene,
         model,
-        layout.bounds.clone(),
+        (layout.bounds.clone(), layout.reported.clone()),
         layout.domain.clone(),
         layout.beta,
     );
@@ -397,7 +407,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
     let grid_values_of: Vec<f64> = layout
         .coordinates
         .iter()
-        .map(|c| c.value(&grid_point, problem.beta))
+        .map(|c| c.value(&grid_point, &problem))
         .collect();
     if !analysis.refine {
         record.parameters = parameters(&layout, &problem, &grid_values_of, None, &grid_point, None);
@@ -514,7 +524,7 @@ fn parameters(
         .map(|(i, &c)| {
             let (lo, hi) = c.bounds(problem);
             let (dlo, dhi) = domain_of(layout, c);
-            let value = c.value(at, problem.beta);
+            let value = c.value(at, problem);
             let mut p = Parameter::new(layout.names[i], grid[i]);
             p.bounds = Some((lo, hi));
             if analysed.is_some() {
