@@ -14,6 +14,9 @@ use super::linear::{Linear, Moments};
 use crate::model::Model;
 use crate::scene::Scene;
 
+/// A `[lo, hi]` range per parameter.
+pub type Ranges = Vec<(f64, f64)>;
+
 /// One evaluated point.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Point {
@@ -56,7 +59,7 @@ impl Problem {
     pub fn new(
         scene: &Scene,
         model: Model,
-        (bounds, reported): (Vec<(f64, f64)>, Vec<(f64, f64)>),
+        (bounds, reported): (Ranges, Ranges),
         domain: Vec<(f64, f64)>,
         beta: (f64, f64),
     ) -> Self {

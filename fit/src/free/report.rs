@@ -350,42 +350,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
     let grid_point = problem.evaluate(&layout.theta(&values.indices(grid_flat)), problem.beta);
     let best = estimate(scene, &problem, model, &grid_point);
 
-    // The Ragheb–Hancock best of the same box (a = 0), when 0 is in it.
-    let rh_model = model.ragheb_hancock();
-    let zero_a = layout
-        .axes
-        .axes
-        .get(2)
-        .and_then(|a| a.iter().position(|&v| v == 0.0));
-    let rh = rh_model.zip(zero_a).map(|(rh_model, zero_a)| {
-        let a_len = values.lens[2];
-        let slice = (0..values.sse.len())
-            .filter(|f| f % a_len == zero_a)
-            .fold(None, |b: Option<usize>, f| match b {
-                Some(g) if values.sse[g] <= values.sse[f] => Some(g),
-                _ => Some(f),
-            })
-            .expect("a non-empty grid");
-        let mut point = problem.evaluate(&layout.theta(&values.indices(slice)), problem.beta);
-        if analysis.refine {
-            point = minimise(
-                &problem,
-                &point.theta,
-                &[true, true, false],
-                problem.beta,
-                TOLERANCE,
-            )
-            .point;
-        }
-        let fitted = FittedModel::with_amplitude(
-            rh_model,
-            params_of(&problem, model, &point),
-            point.linear.amplitude(),
-            scene.data_scale(),
-        );
-        Estimate::of_fitted(scene, fitted, problem.parameter_count() - 1)
-            .expect("the box lies inside the model's domain")
-    });
+    let rh = ragheb_hancock(scene, &problem, &layout, &values, model, analysis.refine);
 
     let mut record = Fit {
         sample: scene.sample().to_string(),
@@ -439,31 +404,14 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
         minimum,
         Some(analysis.uncertainty),
     );
-    // Estimates on a face of the box that is not a bound of the domain: the
-    // fit with that bound released, as a diagnostic.
-    for (i, p) in parameters.iter_mut().enumerate() {
-        let (lo, hi) = p.bounds.expect("free fits state their box");
-        let v = p.value();
-        let (dlo, dhi) = domain_of(&layout, layout.coordinates[i]);
-        let side = if v <= lo && lo > dlo {
-            Some(false)
-        } else if v >= hi && hi < dhi {
-            Some(true)
-        } else {
-            None
-        };
-        if let Some(at_upper) = side {
-            p.released = release(
-                scene,
-                &problem,
-                model,
-                &layout,
-                (i, at_upper),
-                minimum,
-                refined_estimate.rms,
-            );
-        }
-    }
+    release_faces(
+        scene,
+        &problem,
+        model,
+        &layout,
+        (minimum, refined_estimate.rms),
+        &mut parameters,
+    );
     record.covariance = analysed
         .covariance
         .as_ref()
@@ -479,6 +427,85 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
     record.parameters = parameters;
     record.refined = Some(refined_estimate);
     record
+}
+
+/// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
+/// a = 0 slice's best grid point, refined with a held at 0 when `refine`.
+fn ragheb_hancock(
+    scene: &Scene,
+    problem: &Problem,
+    layout: &Layout,
+    values: &GridValues,
+    model: Model,
+    refine: bool,
+) -> Option<Estimate> {
+    let rh_model = model.ragheb_hancock()?;
+    let zero_a = layout.axes.axes.get(2)?.iter().position(|&v| v == 0.0)?;
+    let a_len = values.lens[2];
+    let slice = (0..values.sse.len()).filter(|f| f % a_len == zero_a).fold(
+        None,
+        |b: Option<usize>, f| match b {
+            Some(g) if values.sse[g] <= values.sse[f] => Some(g),
+            _ => Some(f),
+        },
+    )?;
+    let mut point = problem.evaluate(&layout.theta(&values.indices(slice)), problem.beta);
+    if refine {
+        point = minimise(
+            problem,
+            &point.theta,
+            &[true, true, false],
+            problem.beta,
+            TOLERANCE,
+        )
+        .point;
+    }
+    let fitted = FittedModel::with_amplitude(
+        rh_model,
+        params_of(problem, model, &point),
+        point.linear.amplitude(),
+        scene.data_scale(),
+    );
+    Some(
+        Estimate::of_fitted(scene, fitted, problem.parameter_count() - 1)
+            .expect("the box lies inside the model's domain"),
+    )
+}
+
+/// For each estimate on a face of the box that is not a bound of the
+/// model's domain: the fit with that bound released ([`release`]), a
+/// diagnostic beside the estimate.
+fn release_faces(
+    scene: &Scene,
+    problem: &Problem,
+    model: Model,
+    layout: &Layout,
+    (minimum, rms_in_box): (&Point, f64),
+    parameters: &mut [Parameter],
+) {
+    for (i, p) in parameters.iter_mut().enumerate() {
+        let (lo, hi) = p.bounds.expect("free fits state their box");
+        let v = p.value();
+        let (dlo, dhi) = domain_of(layout, layout.coordinates[i]);
+        let side = if v <= lo && lo > dlo {
+            Some(false)
+        } else if v >= hi && hi < dhi {
+            Some(true)
+        } else {
+            None
+        };
+        if let Some(at_upper) = side {
+            p.released = release(
+                scene,
+                problem,
+                model,
+                layout,
+                (i, at_upper),
+                minimum,
+                rms_in_box,
+            );
+        }
+    }
 }
 
 /// `Σ w r² / (K − p)`, when there are degrees of freedom.
