@@ -574,7 +574,10 @@ impl Fitter {
             && share_geometry(scenes)
     }
 
-    /// Fits `model` to every scene of `scenes`. When the scenes share their
+    /// Fits `model` to every scene of `scenes`. Under the free objective the
+    /// scenes are fitted in parallel, sharing the grid stage's model side
+    /// when they are on one geometry without uncertainties
+    /// ([`crate::free::fit_batch`]); under the paper's: when the scenes share their
     /// geometry ([`share_geometry`]), the model is layered and the path is
     /// the envelope method, one batch search does the model-side work once
     /// for all of them ([`crate::search::batch`]); otherwise each scene is
@@ -615,7 +618,8 @@ impl Fitter {
                 })
             }
             _ if self.objective == Objective::Free => {
-                self.run(|| scenes.par_iter().map(|s| self.fit_here(s, model)).collect())
+                let tick = || self.tick();
+                self.run(|| crate::free::fit_batch(scenes, model, &self.grid, self.analysis, &tick))
             }
             _ => scenes.iter().map(|s| self.fit(s, model)).collect(),
         }

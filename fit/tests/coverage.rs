@@ -174,3 +174,24 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
     assert!(sigma.hi - sigma.lo < 0.2, "{sigma:?}");
     assert!(!fit.parameters[0].flags.contains(&Edge::NotIdentified));
 }
+
+#[test]
+fn batches_equal_fits_alone_with_and_without_uncertainties() {
+    // On one geometry without uncertainties the sets share the grid
+    // stage's model side; with them each computes its own. Either way each
+    // fit is bit for bit the fit of that set alone.
+    let mut rng = Noise::new(12);
+    for noise in SETTINGS {
+        let scenes: Vec<_> = (0..3)
+            .map(|_| {
+                let truth = laminar_fit::coverage::draw(Model::Exp, Objective::Free, &mut rng);
+                noisy_scene(Model::Exp, Objective::Free, truth, noise, &mut rng)
+            })
+            .collect();
+        let fitter = fitter();
+        let batch = fitter.fit_batch(&scenes, Model::Exp);
+        for (scene, fit) in scenes.iter().zip(&batch) {
+            assert_eq!(fit, &fitter.fit(scene, Model::Exp));
+        }
+    }
+}

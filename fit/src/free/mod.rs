@@ -21,4 +21,4 @@ pub mod refine;
 pub mod report;
 pub mod search;
 
-pub use report::fit;
+pub use report::{fit, fit_batch};

@@ -5,7 +5,7 @@
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::problem::{Point, Problem};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
-use super::search::{grid_starts, grid_values, GridAxes, GridValues};
+use super::search::{grid_starts, grid_values, grid_values_with, GridAxes, GridValues, ModelSide};
 use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::fit::{jensen_grid, oren_nayar_grid, Estimate, Fit};
@@ -338,19 +338,76 @@ fn release(
 /// the baselines' their own grids), with `analysis` after the grid stage.
 pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit {
     let layout = Layout::new(model, grid);
-    let problem = Problem::new(
+    let problem = problem_of(scene, model, &layout);
+    let values = grid_values(&problem, &layout.axes);
+    fit_from(scene, model, &layout, problem, values, analysis)
+}
+
+/// The objective of `model` on `scene` in the box of `layout`.
+fn problem_of(scene: &Scene, model: Model, layout: &Layout) -> Problem {
+    Problem::new(
         scene,
         model,
         (layout.bounds.clone(), layout.reported.clone()),
         layout.domain.clone(),
         layout.beta,
-    );
-    let values = grid_values(&problem, &layout.axes);
+    )
+}
+
+/// [`fit`] of every scene of `scenes` (in order, in parallel), calling
+/// `progress` after each. Scenes on one geometry without uncertainties
+/// share the model side of the grid stage ([`ModelSide`]); every fit is bit
+/// for bit [`fit`]'s.
+pub fn fit_batch(
+    scenes: &[Scene],
+    model: Model,
+    grid: &Grid,
+    analysis: Analysis,
+    progress: &(dyn Fn() + Sync),
+) -> Vec<Fit> {
+    let layout = Layout::new(model, grid);
+    let problems: Vec<Problem> = scenes
+        .iter()
+        .map(|s| problem_of(s, model, &layout))
+        .collect();
+    let shared = match problems.first() {
+        Some(first)
+            if problems.iter().all(ModelSide::shareable)
+                && scenes.iter().all(|s| s.angles() == scenes[0].angles()) =>
+        {
+            Some(ModelSide::new(first, &layout.axes))
+        }
+        _ => None,
+    };
+    scenes
+        .par_iter()
+        .zip(problems)
+        .map(|(scene, problem)| {
+            let values = match &shared {
+                Some(side) => grid_values_with(&problem, &layout.axes, side),
+                None => grid_values(&problem, &layout.axes),
+            };
+            let fit = fit_from(scene, model, &layout, problem, values, analysis);
+            progress();
+            fit
+        })
+        .collect()
+}
+
+/// A fit from its grid stage's values on.
+fn fit_from(
+    scene: &Scene,
+    model: Model,
+    layout: &Layout,
+    problem: Problem,
+    values: GridValues,
+    analysis: Analysis,
+) -> Fit {
     let grid_flat = grid_best(&values);
     let grid_point = problem.evaluate(&layout.theta(&values.indices(grid_flat)), problem.beta);
     let best = estimate(scene, &problem, model, &grid_point);
 
-    let rh = ragheb_hancock(scene, &problem, &layout, &values, model, analysis.refine);
+    let rh = ragheb_hancock(scene, &problem, layout, &values, model, analysis.refine);
 
     let mut record = Fit {
         sample: scene.sample().to_string(),
@@ -375,7 +432,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
         .map(|c| c.value(&grid_point, &problem))
         .collect();
     if !analysis.refine {
-        record.parameters = parameters(&layout, &problem, &grid_values_of, None, &grid_point, None);
+        record.parameters = parameters(layout, &problem, &grid_values_of, None, &grid_point, None);
         record.chi2_weighted = chi2_weighted(&problem, &grid_point);
         return record;
     }
@@ -392,12 +449,12 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
             profile: None,
         }
     } else {
-        analyse(&problem, &layout, refined, analysis)
+        analyse(&problem, layout, refined, analysis)
     };
     let minimum = &analysed.minimum;
     let refined_estimate = estimate(scene, &problem, model, minimum);
     let mut parameters = parameters(
-        &layout,
+        layout,
         &problem,
         &grid_values_of,
         Some(&analysed),
@@ -408,7 +465,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
         scene,
         &problem,
         model,
-        &layout,
+        layout,
         (minimum, refined_estimate.rms),
         &mut parameters,
     );
@@ -421,7 +478,7 @@ pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit 
                 Uncertainty::Jacobian | Uncertainty::Both
             )
         })
-        .and_then(|c| correlations(&layout, c));
+        .and_then(|c| correlations(layout, c));
     record.amplitude = Some(minimum.linear.amplitude());
     record.chi2_weighted = chi2_weighted(&problem, minimum);
     record.parameters = parameters;

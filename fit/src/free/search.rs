@@ -99,12 +99,38 @@ fn dots<const N: usize>(x: &[f64], ys: [&[f64]; N]) -> [f64; N] {
     out
 }
 
-/// The objective at every grid point of `axes` (layered: σ/T, n and, for
-/// the absorptive models, a; baselines: their two parameters).
-pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
-    let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
-    let beta = problem.beta;
-    let sse = if problem.basis.has_balance() {
+/// The model side of the layered grid stage: per σ/T the surface term and
+/// `Σ w S²`, per (σ/T, n) the base `B` and the sums of the quadratic's
+/// coefficients against each other and against `S`. It depends on the
+/// geometry and the weights only, so sets on one geometry without
+/// uncertainties share it ([`ModelSide::shareable`]); a set's own grid
+/// values from it are bit for bit those of computing it for that set.
+#[derive(Debug, Clone)]
+pub struct ModelSide {
+    /// Per σ/T value.
+    rows: Vec<SlopeRow>,
+    /// Per measurement: the factors turning B into B1 and B2.
+    g: [Vec<f64>; 2],
+}
+
+#[derive(Debug, Clone)]
+struct SlopeRow {
+    s: Vec<f64>,
+    ss: f64,
+    /// Per n value.
+    columns: Vec<ColumnSums>,
+}
+
+#[derive(Debug, Clone)]
+struct ColumnSums {
+    base: Vec<f64>,
+    bb: [[f64; 3]; 3],
+    sb: [f64; 3],
+}
+
+impl ModelSide {
+    /// The model side of `problem` (a layered model) on `axes`.
+    pub fn new(problem: &Problem, axes: &GridAxes) -> Self {
         let basis = &problem.basis;
         let (ci, cs) = basis.cosines();
         let k = problem.data.len();
@@ -117,46 +143,48 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
         let ones = vec![1.0; k];
         let interfaces: Vec<_> = axes.axes[1].iter().map(|&n| basis.interfaces(n)).collect();
-        let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
         let w: Vec<f64> = problem.root_weight.iter().map(|r| r * r).collect();
-        let wd: Vec<f64> = w.iter().zip(&problem.data).map(|(w, d)| w * d).collect();
-        let dd = dots(&wd, [&problem.data])[0];
-        let rows: Vec<Vec<f64>> = axes.axes[0]
+        let rows = axes.axes[0]
             .par_iter()
             .map(|&slope| {
                 let s = basis.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
-                let [ds, ss] = dots(&s, [&wd, &ws]);
-                let mut row = Vec::with_capacity(interfaces.len() * a_axis.len());
-                let mut wbb = vec![0.0; k];
-                let mut wdb = vec![0.0; k];
-                let mut wsb = vec![0.0; k];
-                for iface in &interfaces {
-                    let base = basis.base(slope, iface);
-                    for i in 0..k {
-                        wbb[i] = w[i] * base[i] * base[i];
-                        wdb[i] = wd[i] * base[i];
-                        wsb[i] = ws[i] * base[i];
-                    }
-                    let [b00, b01, b02, b11, b12, b22] =
-                        dots(&wbb, [&ones, &g1, &g2, &g11, &g12, &g22]);
-                    let db = dots(&wdb, [&ones, &g1, &g2]);
-                    let sb = dots(&wsb, [&ones, &g1, &g2]);
-                    let q = Quadratic {
-                        dd,
-                        ds,
-                        ss,
-                        db,
-                        sb,
-                        bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
-                    };
-                    row.extend(a_axis.iter().map(|&a| q.moments(a).solve(beta).sse));
-                }
-                row
+                let [ss] = dots(&s, [&ws]);
+                let columns = interfaces
+                    .iter()
+                    .map(|iface| {
+                        let base = basis.base(slope, iface);
+                        let wbb: Vec<f64> = (0..k).map(|i| w[i] * base[i] * base[i]).collect();
+                        let wsb: Vec<f64> = (0..k).map(|i| ws[i] * base[i]).collect();
+                        let [b00, b01, b02, b11, b12, b22] =
+                            dots(&wbb, [&ones, &g1, &g2, &g11, &g12, &g22]);
+                        ColumnSums {
+                            sb: dots(&wsb, [&ones, &g1, &g2]),
+                            bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
+                            base,
+                        }
+                    })
+                    .collect();
+                SlopeRow { s, ss, columns }
             })
             .collect();
-        rows.concat()
+        Self { rows, g: [g1, g2] }
+    }
+
+    /// True when the model side of `problem` is the same for every set on
+    /// its geometry: a layered model, and no uncertainties (weights 1).
+    pub fn shareable(problem: &Problem) -> bool {
+        problem.basis.has_balance() && !problem.weighted
+    }
+}
+
+/// The objective at every grid point of `axes` (layered: σ/T, n and, for
+/// the absorptive models, a; baselines: their two parameters).
+pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
+    if problem.basis.has_balance() {
+        grid_values_with(problem, axes, &ModelSide::new(problem, axes))
     } else {
+        let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
         let (outer, inner) = (&axes.axes[0], &axes.axes[1]);
         let rows: Vec<Vec<f64>> = outer
             .par_iter()
@@ -165,14 +193,59 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
                     .iter()
                     .map(|&y| {
                         let columns = problem.basis.columns(&[x, y]);
-                        problem.moments(&columns).solve(beta).sse
+                        problem.moments(&columns).solve(problem.beta).sse
                     })
                     .collect()
             })
             .collect();
-        rows.concat()
-    };
-    GridValues { lens, sse }
+        GridValues {
+            lens,
+            sse: rows.concat(),
+        }
+    }
+}
+
+/// [`grid_values`] of a layered model from its model side (computed for
+/// `problem`, or shared: [`ModelSide::shareable`]); per grid point only the
+/// data's sums remain, then each a is a closed-form solve.
+pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -> GridValues {
+    let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
+    let beta = problem.beta;
+    let k = problem.data.len();
+    let ones = vec![1.0; k];
+    let [g1, g2] = &model.g;
+    let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
+    let w: Vec<f64> = problem.root_weight.iter().map(|r| r * r).collect();
+    let wd: Vec<f64> = w.iter().zip(&problem.data).map(|(w, d)| w * d).collect();
+    let dd = dots(&wd, [&problem.data])[0];
+    let rows: Vec<Vec<f64>> = model
+        .rows
+        .par_iter()
+        .map(|row| {
+            let [ds] = dots(&row.s, [&wd]);
+            let mut out = Vec::with_capacity(row.columns.len() * a_axis.len());
+            let mut wdb = vec![0.0; k];
+            for c in &row.columns {
+                for i in 0..k {
+                    wdb[i] = wd[i] * c.base[i];
+                }
+                let q = Quadratic {
+                    dd,
+                    ds,
+                    ss: row.ss,
+                    db: dots(&wdb, [&ones, g1, g2]),
+                    sb: c.sb,
+                    bb: c.bb,
+                };
+                out.extend(a_axis.iter().map(|&a| q.moments(a).solve(beta).sse));
+            }
+            out
+        })
+        .collect();
+    GridValues {
+        lens,
+        sse: rows.concat(),
+    }
 }
 
 /// The best point of each of the grid's basins (no axis neighbour lower;
