@@ -18,7 +18,9 @@ use std::fmt;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Edge {
-    /// The grid value is the first or last value of the parameter's axis.
+    /// Paper objective: the grid value is the first or last value of the
+    /// parameter's axis. Free objective: the estimate is on a face of the
+    /// box (the fit then also reports what releasing that bound gives).
     RangeEdge,
     /// The value reported (the refined one when refined, else the grid's)
     /// is a bound of the model's domain (e.g. a = 0 or 1, n = 1).
