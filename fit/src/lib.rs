@@ -3,8 +3,10 @@
 //! The fitting engine of laminar: fit the absorptive scattering model for
 //! rough laminar surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the
 //! Ragheb–Hancock model it extends and the Jensen and Oren–Nayar baselines
-//! to any measurement set, by the paper's exhaustive grid search, and carry
-//! the fit anywhere. It names no file format (readers and writers are in
+//! to any measurement set — by a weighted free-amplitude estimator inside a
+//! stated box ([`Objective::Free`], [`free`]: the front ends' default) or by
+//! the paper's exhaustive grid search ([`Objective::Paper`]) — and carry the
+//! fit anywhere. It names no file format (readers and writers are in
 //! `laminar-io`); every front end (the `laminar` command, and later the C,
 //! WebAssembly and Python bindings) calls it.
 //!
@@ -12,7 +14,8 @@
 //!   the paper frame, named channels, optional uncertainties, BRDF or
 //!   radiance), turned into a [`Scene`] per channel in one place.
 //! * [`Grid`] and [`Axis`]: the search grid (paper preset by default).
-//! * [`Fitter`]: grid, [`Path`], threads, progress; [`Fitter::fit`] returns a [`Fit`].
+//! * [`Fitter`]: objective, grid, [`Path`], threads, progress; [`Fitter::fit`]
+//!   returns a [`Fit`].
 //! * [`FittedModel`]: model, parameters and normalisation constants, which
 //!   predict at any geometry exactly what the fit predicted at its own.
 //!

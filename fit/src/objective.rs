@@ -6,6 +6,24 @@ use std::fmt;
 use std::str::FromStr;
 
 /// The objective of a fit.
+///
+/// ```
+/// use laminar_fit::{synthetic, Fitter, Grid, Model, Objective};
+/// // The built-in scene: exp at σ/T 1.48, n 1.44, a 0.17, noise σ = 0.005.
+/// let scene = synthetic::default_scene();
+/// let fit = Fitter::new(Grid::user())?
+///     .objective(Objective::Free)
+///     .fit(&scene, Model::Exp);
+/// for (name, truth) in [("slope", 1.48), ("n", 1.44), ("a", 0.17)] {
+///     let p = fit.parameters.iter().find(|p| p.name == name).unwrap();
+///     let (lo, hi) = p.bounds.unwrap();
+///     assert!(lo <= p.value() && p.value() <= hi, "{name}: in the box");
+///     let i = p.interval95.unwrap();
+///     assert!(i.lo <= truth && truth <= i.hi, "{name}: {i:?}");
+/// }
+/// assert_eq!(fit.objective, Objective::Free);
+/// # Ok::<(), laminar_fit::FitError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
