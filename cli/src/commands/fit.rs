@@ -23,33 +23,43 @@ pub enum Format {
     Markdown,
 }
 
-/// Fit models by exhaustive grid search.
+/// Fit models to measurements.
 ///
 /// Input: a measurement file (--measurements: CSV, or MERL with
 /// --sample-at), a CUReT directory (--data or CURET_DIR), or else the
 /// built-in synthetic scene. Values are BRDF unless --quantity radiance;
 /// BRDF is fitted as radiance BRDF·cos θi. Specular measurements are left
-/// out; data and model are each divided by their max (the paper
-/// normalisation; docs/conventions.md §4).
+/// out and the data divided by their max.
+///
+/// Objective (--objective): free (default) minimises Σ w(D − c·M)², M eq.
+/// 8's raw mix with β eq. 8's, the amplitude c ≥ 0 and β in closed form,
+/// w = 1/σ² from sigma columns (else 1): a grid over σ/T, n, a, then
+/// Levenberg–Marquardt from its basins, every estimate and interval inside
+/// the box the axes give (docs/conventions.md §4b, §11b). paper: the
+/// paper's exhaustive grid search, data and model each divided by their
+/// max (§4, §11).
 ///
 /// CSV columns: sample (CUReT sample number or file stem), channel, model,
 /// rms = Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K over the K kept measurements,
 /// chi2_dof = χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements
-/// with D > 0 divided by (chi2_used − p), chi2_left_out, params (β is the
-/// paper normalisation's balance; the JSON gives eq. 8's beta_eq8), rh_rms,
+/// with D > 0 divided by (chi2_used − p), chi2_left_out, params (free: the
+/// refined estimate, β eq. 8's; paper: the best grid point, β the paper
+/// normalisation's balance, the JSON gives eq. 8's beta_eq8), rh_rms,
 /// rh_chi2_dof, rh_params (the Ragheb–Hancock best, a = 0, of the same
-/// search), measurements (K), nonpositive, search_rms (the search's own
-/// Δ_RMS in its precision), edges (flags per searched parameter: range_edge,
-/// its grid value is an end of its axis; domain_bound, the value reported
-/// is a bound of the model's domain; open_below/open_above, its 95%
-/// interval reaches past the range searched; e.g.
-/// `n:range_edge+open_above;a:range_edge+domain_bound`). rms and chi2_dof
-/// are recomputed in f64 at the best grid point. Then rms_grid,
-/// rms_refined, and per parameter {name}_refined, _lo68, _hi68, _lo95,
-/// _hi95 (68% and 95% intervals), _interval (profile or jacobian: where
-/// the ends come from), _sd (the Jacobian's), then correlations and
-/// trade_offs (pairs with |r| ≥ 0.9); see --refine and --uncertainty
-/// (docs/conventions.md §11).
+/// box or search), measurements (K), nonpositive, search_rms (the grid's
+/// Δ_RMS), edges (flags per parameter: range_edge, free: the estimate is on
+/// a face of the box, paper: its grid value is an end of its axis;
+/// domain_bound, the value reported is a bound of the model's domain;
+/// open_below/open_above, its 95% interval reaches the box's face (free) or
+/// past the range searched (paper); not_identified, its 95% interval is the
+/// whole box; e.g. `n:range_edge+open_above;a:range_edge+domain_bound`).
+/// Then rms_grid, rms_refined, and per parameter {name}_refined, _lo68,
+/// _hi68, _lo95, _hi95 (68% and 95% intervals), _interval (profile or
+/// jacobian: where the ends come from), _sd (the Jacobian's), _box_lo,
+/// _box_hi (the box), _released, _released_rms (for an estimate on a face
+/// of the box: one local fit with that bound released, a diagnostic), then
+/// correlations, trade_offs (pairs with |r| ≥ 0.9), objective, amplitude
+/// (c) and chi2w_dof (Σ w(D−P)²/(K − p)); see --refine and --uncertainty.
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitArgs {

@@ -21,7 +21,9 @@ fn io_error(file: &std::path::Path, e: std::io::Error) -> CliError {
 }
 
 /// Fit many measurement sets that share one geometry (every sample of a
-/// database, every pixel of a texture) with one batch search per block.
+/// database, every pixel of a texture), a block at a time: under the free
+/// objective (the default, as `fit`) the sets of a block share the grid
+/// stage's model side; under --objective paper one batch search per block.
 ///
 /// VALUES is an N × K array: N sets (rows), K measurements each in the
 /// order of GEOMETRY's rows; `.npy` (float32 or float64, little-endian,
