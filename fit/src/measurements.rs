@@ -439,6 +439,22 @@ impl MeasurementSet {
                 why,
             });
         }
+        // The free objective weighs by 1/σ²: an uncertainty below 1e-100 of
+        // the max would make a weight overflow.
+        if let (Some(sigma), Some(given)) = (&sigma, &c.sigma) {
+            let sigma: &Vec<f64> = sigma;
+            for (&s, &k) in sigma.iter().zip(&kept) {
+                if s < max * MIN_RELATIVE_VALUE {
+                    return Err(MeasurementError::OutOfScale {
+                        set: self.name.clone(),
+                        row: self.rows[k],
+                        channel: format!("sigma of {}", c.name),
+                        value: given[k],
+                        why: "an uncertainty below 1e-100 of the max radiance (its weight 1/σ² would overflow)",
+                    });
+                }
+            }
+        }
         let rows = kept.iter().map(|&k| self.rows[k]).collect();
         Ok(
             Scene::from_radiance(angles, radiance, rows, nonpositive, sigma)
@@ -498,6 +514,23 @@ mod tests {
             assert_eq!(s.data, vec![1.0, second]);
             assert_eq!(s.sigma.unwrap(), vec![0.1, 0.1 * second]);
         }
+    }
+
+    #[test]
+    fn an_uncertainty_whose_weight_would_overflow_is_refused() {
+        // σ = 1e-200 of the max: its weight 1/σ² would be infinite.
+        let angles = vec![lab(0.2, 0.0, 0.3, 1.0), lab(0.4, 0.0, 0.3, 1.0)];
+        let e = MeasurementSet::new("s", angles, Quantity::Radiance)
+            .unwrap()
+            .with_channel("v", vec![1.0, 1.0], Some(vec![0.1, 1e-200]))
+            .unwrap()
+            .scene("v")
+            .unwrap_err();
+        assert!(
+            e.to_string().contains("row 2: channel `sigma of v`")
+                && e.to_string().contains("below 1e-100 of the max radiance"),
+            "{e}"
+        );
     }
 
     #[test]
