@@ -195,3 +195,38 @@ fn batches_equal_fits_alone_with_and_without_uncertainties() {
         }
     }
 }
+
+#[test]
+fn an_estimate_on_the_box_face_says_what_releasing_the_bound_gives() {
+    // Truth n = 3.2, outside the default box n ∈ [1, 2.5]: the estimate
+    // stays in the box, on its face, flagged; released, n goes back to
+    // the truth and the fit improves.
+    let truth = ModelParams::Layered {
+        slope: 0.9,
+        beta: 0.6,
+        n: 3.2,
+        a: 0.3,
+    };
+    let scene = noisy_scene(
+        Model::Exp,
+        Objective::Free,
+        truth,
+        NoiseModel::Every(0.002),
+        &mut Noise::new(5),
+    );
+    let fit = fitter().fit(&scene, Model::Exp);
+    let n = fit.parameters.iter().find(|p| p.name == "n").unwrap();
+    assert_eq!(n.value(), 2.5, "{n:?}");
+    assert!(n.flags.contains(&Edge::RangeEdge) && n.flags.contains(&Edge::OpenAbove));
+    let i = n.interval95.unwrap();
+    assert!(i.hi <= 2.5 && i.open_above, "{i:?}");
+    let released = n.released.expect("the bound released");
+    assert!((released.value - 3.2).abs() < 0.2, "{released:?}");
+    assert!(released.rms < released.rms_in_box, "{released:?}");
+    assert_eq!(released.rms_in_box, fit.estimate().rms);
+    // Every reported value stays in its box.
+    for p in &fit.parameters {
+        let (lo, hi) = p.bounds.unwrap();
+        assert!(lo <= p.value() && p.value() <= hi, "{p:?}");
+    }
+}
