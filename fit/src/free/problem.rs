@@ -141,13 +141,25 @@ impl Problem {
 
     /// The point at `theta` from its columns.
     pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
+        self.point_and_residuals(theta, columns, beta).0
+    }
+
+    /// [`Problem::point`] and the weighted residuals its objective sums.
+    fn point_and_residuals(
+        &self,
+        theta: &[f64],
+        columns: &Columns,
+        beta: (f64, f64),
+    ) -> (Point, Vec<f64>) {
         let linear = self.moments(columns).solve(beta);
-        let sse = self.residuals(columns, &linear).iter().map(|r| r * r).sum();
-        Point {
+        let residuals = self.residuals(columns, &linear);
+        let sse = residuals.iter().map(|r| r * r).sum();
+        let point = Point {
             theta: theta.to_vec(),
             linear,
             sse,
-        }
+        };
+        (point, residuals)
     }
 
     /// The point at `theta`, its weighted residuals and the Jacobian of the
@@ -168,8 +180,7 @@ impl Problem {
         at: Evaluated,
     ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
         let (columns, derivatives) = self.basis.derivatives_at(theta, &self.domain, false, at);
-        let point = self.point(theta, &columns, beta);
-        let residuals = self.residuals(&columns, &point.linear);
+        let (point, residuals) = self.point_and_residuals(theta, &columns, beta);
         let Linear { p, q, .. } = point.linear;
         let has_u = !columns.u.is_empty();
         // The columns whose coefficient moves freely at this point: both
