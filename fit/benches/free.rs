@@ -9,11 +9,9 @@
 //! Run: `cargo bench --bench free`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use laminar_fit::coverage::draw;
+use laminar_fit::coverage::{draw, noisy_scene_on, NoiseModel};
 use laminar_fit::synthetic::{self, Noise};
-use laminar_fit::{
-    Analysis, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Quantity, Scene,
-};
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -40,31 +38,17 @@ fn scene() -> (String, Scene) {
 /// measurement, not given to the fit).
 fn sets(scene: &Scene, count: usize) -> Vec<Scene> {
     let mut rng = Noise::new(5);
-    let angles: Vec<MeasurementAngles> = scene
-        .angles()
-        .iter()
-        .map(|a| MeasurementAngles::Paper {
-            theta_i: a.theta_i(),
-            theta_s: a.theta_s(),
-            phi_s: a.phi_s(),
-        })
-        .collect();
     (0..count)
-        .map(|i| {
+        .map(|_| {
             let truth = draw(Model::Exp, Objective::Free, &mut rng);
-            let clean = laminar_fit::FittedModel::with_amplitude(Model::Exp, truth, 1.0, 1.0)
-                .predict(scene.angles())
-                .expect("truths inside the domain");
-            let peak = clean.iter().cloned().fold(0.0, f64::max);
-            let sigma = 0.01;
-            let values = clean
-                .iter()
-                .map(|v| v / peak + sigma * rng.normal())
-                .collect();
-            MeasurementSet::new(i.to_string(), angles.clone(), Quantity::Radiance)
-                .and_then(|s| s.with_channel("value", values, None))
-                .and_then(|s| s.scene("value"))
-                .expect("a valid set")
+            noisy_scene_on(
+                scene.angles().to_vec(),
+                Model::Exp,
+                Objective::Free,
+                truth,
+                NoiseModel::Every(0.01),
+                &mut rng,
+            )
         })
         .collect()
 }

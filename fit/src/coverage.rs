@@ -19,6 +19,7 @@ use crate::objective::Objective;
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
 use laminar_core::measures::max_of;
+use laminar_core::Angles;
 
 /// The noise of a coverage trial (the prediction's max is 1).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -126,14 +127,18 @@ pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams 
 
 /// The noise-free data of `model` at `truth` on `angles` in the
 /// parametrisation of `objective`, with max 1.
-pub fn clean(model: Model, objective: Objective, truth: ModelParams) -> Vec<f64> {
-    let angles = geometries();
+pub fn clean(
+    model: Model,
+    objective: Objective,
+    truth: ModelParams,
+    angles: &[Angles],
+) -> Vec<f64> {
     let fitted = match objective {
-        Objective::Paper => FittedModel::normalised_on(model, truth, &angles, 1.0),
+        Objective::Paper => FittedModel::normalised_on(model, truth, angles, 1.0),
         Objective::Free => Ok(FittedModel::with_amplitude(model, truth, 1.0, 1.0)),
     };
     let mut p = fitted
-        .and_then(|m| m.predict(&angles))
+        .and_then(|m| m.predict(angles))
         .expect("truths are drawn inside the domain");
     let peak = max_of(&p);
     p.iter_mut().for_each(|v| *v /= peak);
@@ -149,8 +154,19 @@ pub fn noisy_scene(
     noise: NoiseModel,
     rng: &mut Noise,
 ) -> Scene {
-    let angles = geometries();
-    let clean = clean(model, objective, truth);
+    noisy_scene_on(geometries(), model, objective, truth, noise, rng)
+}
+
+/// [`noisy_scene`] on the geometries `angles`.
+pub fn noisy_scene_on(
+    angles: Vec<Angles>,
+    model: Model,
+    objective: Objective,
+    truth: ModelParams,
+    noise: NoiseModel,
+    rng: &mut Noise,
+) -> Scene {
+    let clean = clean(model, objective, truth, &angles);
     let sigma: Vec<f64> = clean
         .iter()
         .map(|&v| match noise {
