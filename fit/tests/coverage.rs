@@ -10,7 +10,7 @@
 
 use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel};
 use laminar_fit::synthetic::Noise;
-use laminar_fit::{Edge, Fitter, Grid, Model, ModelParams, Objective};
+use laminar_fit::{Edge, Fit, Fitter, Grid, Model, ModelParams, Objective};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
@@ -34,6 +34,12 @@ fn fitter() -> Fitter {
     Fitter::new(Grid::user())
         .unwrap()
         .objective(Objective::Free)
+}
+
+/// The free fit of `model` to a noisy scene at `truth`.
+fn free_fit(model: Model, truth: ModelParams, noise: NoiseModel, rng: &mut Noise) -> Fit {
+    let scene = noisy_scene(model, Objective::Free, truth, noise, rng);
+    fitter().fit(&scene, model)
 }
 
 fn check(model: Model) {
@@ -88,14 +94,12 @@ fn intervals_shrink_with_the_noise_and_an_exact_truth_is_found() {
     };
     let mut widths = Vec::new();
     for noise in [0.02, 0.005, 0.001] {
-        let scene = noisy_scene(
+        let fit = free_fit(
             Model::Exp,
-            Objective::Free,
             truth,
             NoiseModel::Every(noise),
             &mut Noise::new(7),
         );
-        let fit = fitter().fit(&scene, Model::Exp);
         let width: f64 = fit
             .parameters
             .iter()
@@ -108,14 +112,12 @@ fn intervals_shrink_with_the_noise_and_an_exact_truth_is_found() {
     }
     assert!(widths.windows(2).all(|w| w[1] < w[0]), "{widths:?}");
     // Without noise the truth, off every grid axis, is found.
-    let scene = noisy_scene(
+    let fit = free_fit(
         Model::Exp,
-        Objective::Free,
         truth,
         NoiseModel::Every(0.0),
         &mut Noise::new(7),
     );
-    let fit = fitter().fit(&scene, Model::Exp);
     for p in &fit.parameters {
         let t = truth.get(&p.name).unwrap();
         assert!((p.value() - t).abs() <= 1e-6, "{}: {}", p.name, p.value());
@@ -133,14 +135,7 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
         sigma_a: 0.3,
         sigma_s: 0.6,
     };
-    let scene = noisy_scene(
-        Model::Jensen,
-        Objective::Free,
-        truth,
-        NoiseModel::Every(0.01),
-        &mut rng,
-    );
-    let fit = fitter().fit(&scene, Model::Jensen);
+    let fit = free_fit(Model::Jensen, truth, NoiseModel::Every(0.01), &mut rng);
     // The estimate slides along the valley, often to a face of the box
     // (then the Jacobian has no covariance for that parameter).
     if let Some(c) = &fit.covariance {
@@ -157,14 +152,7 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
         sigma: 0.5,
         rho: 0.5,
     };
-    let scene = noisy_scene(
-        Model::OrenNayar,
-        Objective::Free,
-        truth,
-        NoiseModel::Every(0.01),
-        &mut rng,
-    );
-    let fit = fitter().fit(&scene, Model::OrenNayar);
+    let fit = free_fit(Model::OrenNayar, truth, NoiseModel::Every(0.01), &mut rng);
     let p = &fit.parameters[1];
     let (lo, hi) = p.bounds.unwrap();
     let i = p.interval95.unwrap();
@@ -207,14 +195,12 @@ fn an_estimate_on_the_box_face_says_what_releasing_the_bound_gives() {
         n: 3.2,
         a: 0.3,
     };
-    let scene = noisy_scene(
+    let fit = free_fit(
         Model::Exp,
-        Objective::Free,
         truth,
         NoiseModel::Every(0.002),
         &mut Noise::new(5),
     );
-    let fit = fitter().fit(&scene, Model::Exp);
     let n = fit.parameters.iter().find(|p| p.name == "n").unwrap();
     assert_eq!(n.value(), 2.5, "{n:?}");
     assert!(n.flags.contains(&Edge::RangeEdge) && n.flags.contains(&Edge::OpenAbove));

@@ -13,9 +13,9 @@ use laminar_core::{components, Correlation, Geometry, Params};
 use laminar_fit::coverage::{draw, noisy_scene, NoiseModel};
 use laminar_fit::synthetic::Noise;
 use laminar_fit::{Fitter, Grid, Model, Objective, Scene};
-use laminar_io::curet::CuretDir;
 use rayon::prelude::*;
-use std::path::PathBuf;
+
+mod common;
 
 /// The weighted objective `Σ w (D − c M)²` at (σ/T, β, n, a), with the best
 /// `c ≥ 0` for those.
@@ -209,24 +209,8 @@ fn no_multistart_beats_the_fit_on_synthetic_sets() {
 
 #[test]
 fn no_multistart_beats_the_fit_on_the_26_curet_paper_fits() {
-    let Some(dir) = std::env::var_os("CURET_DIR") else {
-        if std::env::var_os("LAMINAR_REQUIRE_CURET").is_some() {
-            panic!("LAMINAR_REQUIRE_CURET is set but CURET_DIR is not");
-        }
-        let _ = std::io::Write::write_all(
-            &mut std::io::stderr(),
-            b"SKIPPED CUReT global-optimum test: CURET_DIR is not set\n",
-        );
+    let Some(scenes) = common::paper_scenes("CUReT global-optimum test") else {
         return;
     };
-    const PAPER_SAMPLES: [u32; 13] = [1, 3, 7, 18, 19, 21, 25, 48, 51, 52, 53, 55, 61];
-    let samples = CuretDir::open(std::path::Path::new(&dir))
-        .unwrap()
-        .samples(&[PathBuf::from("abrdf.dat")], Some(&PAPER_SAMPLES))
-        .unwrap();
-    let scenes: Vec<Scene> = samples
-        .iter()
-        .map(|s| s.set.scene("avg").unwrap())
-        .collect();
     assert_eq!(check(&scenes).len(), 26);
 }

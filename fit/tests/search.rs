@@ -7,8 +7,8 @@ use laminar_fit::search::{error_surface, point, search, Arith, Method, Path, Twi
 use laminar_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Scene,
 };
-use laminar_io::curet::CuretDir;
-use std::path::PathBuf;
+
+mod common;
 
 /// A grid on the paper's steps with a coarser a axis (0.1 steps).
 fn test_grid() -> Grid {
@@ -216,28 +216,13 @@ fn ragheb_hancock_slice_equals_its_own_search() {
 /// specular exclusion (K = 198) and full-grid SIMD/scalar parity.
 #[test]
 fn curet_paper_samples_fit_and_match_scalar_twin() {
-    let Some(dir) = std::env::var_os("CURET_DIR") else {
-        if std::env::var_os("LAMINAR_REQUIRE_CURET").is_some() {
-            panic!("LAMINAR_REQUIRE_CURET is set but CURET_DIR is not");
-        }
-        // Past the test harness's capture, so that the user sees it.
-        let _ = std::io::Write::write_all(
-            &mut std::io::stderr(),
-            concat!("SKIPPED CUReT end-to-end test: CURET_DIR is not set", "\n").as_bytes(),
-        );
+    let Some(scenes) = common::paper_scenes("CUReT end-to-end test") else {
         return;
     };
-    const PAPER_SAMPLES: [u32; 13] = [1, 3, 7, 18, 19, 21, 25, 48, 51, 52, 53, 55, 61];
-    let samples = CuretDir::open(std::path::Path::new(&dir))
-        .unwrap()
-        .samples(&[PathBuf::from("abrdf.dat")], Some(&PAPER_SAMPLES))
-        .unwrap();
-    assert_eq!(samples.len(), 13);
     let grid = Grid::paper();
     let fitter = Fitter::new(grid.clone()).unwrap();
     let mut identical = 0usize;
-    for s in &samples {
-        let scene = s.set.scene("avg").unwrap();
+    for scene in scenes {
         assert_eq!(scene.len(), 198, "sample {}", scene.sample());
         for (model, corr) in [
             (Model::Exp, Correlation::Exponential),
