@@ -307,15 +307,13 @@ fn eval_truth(dir: &Path) -> (PathBuf, String) {
 }
 
 /// Noise-free radiance from `eval` (eq. 8, β = 0.4) at 200 geometries,
-/// fitted with `fit --objective paper` on `beta` (the other axes: the paper's).
-fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
+/// fitted by `fit` (exp, JSON) with the options `extra`.
+fn eval_and_fit(dir: &Path, extra: &[&str]) -> (PathBuf, PathBuf, PathBuf) {
     let (geometry, radiance) = eval_truth(dir);
     let data = write(dir, "made.csv", &radiance);
     let fits = dir.join("fits.json");
-    ok(&[
+    let mut args = vec![
         "fit",
-        "--objective",
-        "paper",
         "--measurements",
         s(&data),
         "--quantity",
@@ -328,10 +326,16 @@ fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
         "json",
         "--out",
         s(&fits),
-        "--beta",
-        beta,
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    ok(&args);
     (geometry, data, fits)
+}
+
+/// [`eval_and_fit`] with `fit --objective paper` on the β axis `beta` (the
+/// other axes: the paper's).
+fn eval_and_fit_paper(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
+    eval_and_fit(dir, &["--objective", "paper", "--beta", beta])
 }
 
 /// `eval` → fit → the other parameters exactly and beta_eq8 within one β
@@ -341,7 +345,7 @@ fn eval_and_fit(dir: &Path, beta: &str) -> (PathBuf, PathBuf, PathBuf) {
 #[test]
 fn eval_fit_predict_round_trip() {
     let d = tempfile::tempdir().unwrap();
-    let (geometry, data, fits) = eval_and_fit(d.path(), "0.001:1:1000");
+    let (geometry, data, fits) = eval_and_fit_paper(d.path(), "0.001:1:1000");
     let j = json(&fits);
     let f = &j["fits"][0];
     assert_eq!(f["sample"], "made");
@@ -407,24 +411,7 @@ fn eval_fit_predict_round_trip() {
 #[test]
 fn free_objective_recovers_eq8_parameters() {
     let d = tempfile::tempdir().unwrap();
-    let (_, radiance) = eval_truth(d.path());
-    let data = write(d.path(), "made.csv", &radiance);
-    let fits = d.path().join("fits.json");
-    ok(&[
-        "fit",
-        "--measurements",
-        s(&data),
-        "--quantity",
-        "radiance",
-        "--channels",
-        "total",
-        "--models",
-        "exp",
-        "--format",
-        "json",
-        "--out",
-        s(&fits),
-    ]);
+    let (_, data, fits) = eval_and_fit(d.path(), &[]);
     let j = json(&fits);
     assert_eq!(j["version"], 2);
     let f = &j["fits"][0];
@@ -604,7 +591,7 @@ fn csv_measurements_are_fitted_by_channel_with_the_file_stem_as_sample() {
 fn export_merl_and_fit_it_back() {
     use laminar_io::merl::bin_centre;
     let d = tempfile::tempdir().unwrap();
-    let (_, _, fits) = eval_and_fit(d.path(), "0.001:1:1000");
+    let (_, _, fits) = eval_and_fit_paper(d.path(), "0.001:1:1000");
     let merl = d.path().join("model.binary");
     ok(&["export", "--fit", s(&fits), "--merl", s(&merl)]);
     assert_eq!(std::fs::metadata(&merl).unwrap().len(), 34_992_012);
