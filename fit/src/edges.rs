@@ -60,6 +60,13 @@ pub(crate) fn domain(model: Model, name: &str) -> (f64, f64) {
     }
 }
 
+/// [`domain`] with an open lower end replaced by the smallest value a fit
+/// takes there (Jensen's σa, σs′ > 0: 10⁻⁹).
+pub(crate) fn attainable_domain(model: Model, name: &str) -> (f64, f64) {
+    let (lo, hi) = domain(model, name);
+    (if lo.is_nan() { 1e-9 } else { lo }, hi)
+}
+
 /// The flags of parameter `name` of `model` whose chosen grid value is
 /// `value` on `axis`: [`Edge::RangeEdge`] and [`Edge::DomainBound`].
 pub fn flags(model: Model, name: &str, value: f64, axis: &Axis) -> Vec<Edge> {

@@ -14,7 +14,7 @@
 //! never replaces its best vertex by a worse one, so the refined objective
 //! is never above the start's.
 
-use crate::edges::domain;
+use crate::edges::attainable_domain;
 use crate::error::ModelError;
 use crate::fitted::{FittedModel, Geometries, ModelParams};
 use crate::model::Model;
@@ -43,7 +43,7 @@ impl<'a> Objective<'a> {
         let names = free_names(model);
         let bounds = names
             .iter()
-            .map(|&name| attainable(domain(model, name)))
+            .map(|&name| attainable_domain(model, name))
             .collect();
         Self {
             scene,
@@ -162,12 +162,6 @@ fn template(model: Model) -> ModelParams {
             a: 0.0,
         },
     }
-}
-
-/// The smallest positive value stands for an open lower end (Jensen's σa,
-/// σs′ > 0).
-fn attainable((lo, hi): (f64, f64)) -> (f64, f64) {
-    (if lo.is_nan() { 1e-9 } else { lo }, hi)
 }
 
 /// A refined point: free values (inside the domain) and objective.

@@ -7,18 +7,18 @@ use super::problem::{Point, Problem};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{grid_starts, grid_values, grid_values_with, GridAxes, GridValues, ModelSide};
 use crate::covariance::Covariance;
+use crate::edges::attainable_domain;
 use crate::edges::Edge;
 use crate::fit::{jensen_grid, oren_nayar_grid, Estimate, Fit};
 use crate::fitted::{FittedModel, ModelParams};
-use crate::grid::Grid;
+use crate::grid::{Axis, Grid};
 use crate::model::Model;
 use crate::objective::Objective;
 use crate::profile::Interval;
+use crate::refine::free_names;
 use crate::scene::Scene;
 use crate::uncertainty::{Analysis, Parameter, Released, Source, Uncertainty};
-use laminar_core::radiance::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
 use rayon::prelude::*;
-use std::f64::consts::FRAC_PI_2;
 
 /// Most starts of the refinement: the best point of each of the grid's
 /// best basins.
@@ -47,68 +47,62 @@ struct Layout {
 impl Layout {
     fn new(model: Model, grid: &Grid) -> Self {
         let log = |(lo, hi): (f64, f64)| (libm::log(lo), libm::log(hi));
-        match model {
+        // The nonlinear parameters and the axes they are searched on.
+        let nonlinear: Vec<(&'static str, Axis)> = match model {
             Model::Jensen | Model::OrenNayar => {
                 let (x, y) = if model == Model::Jensen {
                     jensen_grid()
                 } else {
                     oren_nayar_grid()
                 };
-                let names = if model == Model::Jensen {
-                    vec!["sigma_a", "sigma_s"]
-                } else {
-                    vec!["sigma", "rho"]
-                };
-                let domain = if model == Model::Jensen {
-                    vec![(1e-9, 100.0), (1e-9, 100.0)]
-                } else {
-                    vec![(0.0, FRAC_PI_2), (0.0, 1.0)]
-                };
-                Self {
-                    names,
-                    coordinates: vec![
-                        Coordinate::Nonlinear { j: 0, log: false },
-                        Coordinate::Nonlinear { j: 1, log: false },
-                    ],
-                    bounds: vec![x.range(), y.range()],
-                    reported: vec![x.range(), y.range()],
-                    axes: GridAxes {
-                        axes: vec![x.values, y.values],
-                    },
-                    domain,
-                    beta: (0.0, 0.0),
-                }
+                let names = free_names(model);
+                vec![(names[0], x), (names[1], y)]
             }
             _ => {
-                let rh = model.is_ragheb_hancock();
-                let mut names = vec!["slope", "beta", "n"];
-                let mut coordinates = vec![
-                    Coordinate::Nonlinear { j: 0, log: true },
-                    Coordinate::Beta,
-                    Coordinate::Nonlinear { j: 1, log: false },
-                ];
-                let mut axes = vec![grid.slope.values.clone(), grid.n.values.clone()];
-                let mut bounds = vec![log(grid.slope.range()), grid.n.range()];
-                let mut reported = vec![grid.slope.range(), grid.n.range()];
-                let mut domain = vec![log((SLOPE_MIN, SLOPE_MAX)), (1.0, INDEX_MAX)];
-                if !rh {
-                    names.push("a");
-                    coordinates.push(Coordinate::Nonlinear { j: 2, log: false });
-                    axes.push(grid.a.values.clone());
-                    bounds.push(grid.a.range());
-                    reported.push(grid.a.range());
-                    domain.push((0.0, 1.0));
+                let mut axes = vec![("slope", grid.slope.clone()), ("n", grid.n.clone())];
+                if !model.is_ragheb_hancock() {
+                    axes.push(("a", grid.a.clone()));
                 }
-                Self {
-                    names,
-                    coordinates,
-                    axes: GridAxes { axes },
-                    bounds,
-                    reported,
-                    domain,
-                    beta: grid.beta.range(),
-                }
+                axes
             }
+        };
+        // σ/T is searched and refined in its logarithm.
+        let in_log = |name: &str| name == "slope";
+        let internal =
+            |name: &str, range: (f64, f64)| if in_log(name) { log(range) } else { range };
+        let names = free_names(model);
+        let coordinates = names
+            .iter()
+            .map(
+                |&name| match nonlinear.iter().position(|(n, _)| *n == name) {
+                    Some(j) => Coordinate::Nonlinear {
+                        j,
+                        log: in_log(name),
+                    },
+                    None => Coordinate::Beta,
+                },
+            )
+            .collect();
+        Self {
+            names,
+            coordinates,
+            bounds: nonlinear
+                .iter()
+                .map(|(name, axis)| internal(name, axis.range()))
+                .collect(),
+            reported: nonlinear.iter().map(|(_, axis)| axis.range()).collect(),
+            domain: nonlinear
+                .iter()
+                .map(|(name, _)| internal(name, attainable_domain(model, name)))
+                .collect(),
+            beta: if model.correlation().is_some() {
+                grid.beta.range()
+            } else {
+                (0.0, 0.0)
+            },
+            axes: GridAxes {
+                axes: nonlinear.into_iter().map(|(_, axis)| axis.values).collect(),
+            },
         }
     }
 
