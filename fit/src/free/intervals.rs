@@ -12,10 +12,11 @@
 
 use super::problem::{Point, Problem};
 use super::refine::minimise;
+use crate::uncertainty::Z_95;
 use nalgebra::DMatrix;
 
 /// The two-sided normal quantiles of the 68.27% and 95% levels.
-pub const Z: [f64; 2] = [1.0, 1.959_963_984_540_054];
+pub const Z: [f64; 2] = [1.0, Z_95];
 
 /// Student's t quantile for the normal quantile `z` and `nu` degrees of
 /// freedom (Cornish–Fisher expansion to `ν⁻³`; better than 10⁻⁴ relative
