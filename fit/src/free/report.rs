@@ -30,6 +30,7 @@ pub const MOST_RESTARTS: usize = 3;
 
 /// A model's reported parameters and how each maps onto the objective.
 struct Layout {
+    model: Model,
     names: Vec<&'static str>,
     coordinates: Vec<Coordinate>,
     /// Grid axes of the nonlinear parameters (model units).
@@ -84,6 +85,7 @@ impl Layout {
             )
             .collect();
         Self {
+            model,
             names,
             coordinates,
             bounds: nonlinear
@@ -269,19 +271,10 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
     }
 }
 
-/// A model's domain bound in reported units of coordinate `c`.
-fn domain_of(layout: &Layout, c: Coordinate) -> (f64, f64) {
-    match c {
-        Coordinate::Nonlinear { j, log } => {
-            let (lo, hi) = layout.domain[j];
-            if log {
-                (libm::exp(lo), libm::exp(hi))
-            } else {
-                (lo, hi)
-            }
-        }
-        Coordinate::Beta => (0.0, 1.0),
-    }
+/// The model's domain of reported parameter `i` (an open lower end at the
+/// smallest value a fit takes), exactly: not through σ/T's logarithm.
+fn domain_of(layout: &Layout, i: usize) -> (f64, f64) {
+    attainable_domain(layout.model, layout.names[i])
 }
 
 /// One local fit from `minimum` with the box's bound on the side where
@@ -294,13 +287,13 @@ fn release(
     (index, at_upper): (usize, bool),
     minimum: &Point,
     rms_in_box: f64,
-) -> Option<Released> {
+) -> Released {
     let coordinate = layout.coordinates[index];
     let mut wider = problem.clone();
     match coordinate {
         Coordinate::Nonlinear { j, .. } => {
             let (dlo, dhi) = layout.domain[j];
-            let (rlo, rhi) = domain_of(layout, coordinate);
+            let (rlo, rhi) = domain_of(layout, index);
             if at_upper {
                 wider.bounds[j].1 = dhi;
                 wider.reported[j].1 = rhi;
@@ -320,11 +313,11 @@ fn release(
     let free = vec![true; problem.dim()];
     let point = minimise(&wider, &minimum.theta, &free, wider.beta, SCREENING).point;
     let e = estimate(scene, &wider, model, &point);
-    Some(Released {
+    Released {
         value: coordinate.value(&point, &wider),
         rms: e.rms,
         rms_in_box,
-    })
+    }
 }
 
 /// Fits `model` to `scene` under the free-amplitude objective in the box of
@@ -537,7 +530,7 @@ fn release_faces(
     for (i, p) in parameters.iter_mut().enumerate() {
         let (lo, hi) = p.bounds.expect("free fits state their box");
         let v = p.value();
-        let (dlo, dhi) = domain_of(layout, layout.coordinates[i]);
+        let (dlo, dhi) = domain_of(layout, i);
         let side = if v <= lo && lo > dlo {
             Some(false)
         } else if v >= hi && hi < dhi {
@@ -546,7 +539,7 @@ fn release_faces(
             None
         };
         if let Some(at_upper) = side {
-            p.released = release(
+            p.released = Some(release(
                 scene,
                 problem,
                 model,
@@ -554,7 +547,7 @@ fn release_faces(
                 (i, at_upper),
                 minimum,
                 rms_in_box,
-            );
+            ));
         }
     }
 }
@@ -601,7 +594,7 @@ fn parameters(
         .enumerate()
         .map(|(i, &c)| {
             let (lo, hi) = c.bounds(problem);
-            let (dlo, dhi) = domain_of(layout, c);
+            let (dlo, dhi) = domain_of(layout, i);
             let value = c.value(at, problem);
             let mut p = Parameter::new(layout.names[i], grid[i]);
             p.bounds = Some((lo, hi));
