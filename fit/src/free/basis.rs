@@ -69,6 +69,14 @@ pub struct Evaluated {
     terms: Option<LayeredTerms>,
 }
 
+/// What a minimisation keeps while some parameters are held
+/// ([`Basis::held`]): the interfaces (eqs. 5–7) at a held n, which the
+/// columns at every σ/T and a reuse.
+#[derive(Debug, Clone, Default)]
+pub struct Held {
+    interfaces: Option<(f64, Vec<Interface<f64>>)>,
+}
+
 /// The Ragheb–Hancock base `B_k` and the surface term of a layered model
 /// at one (σ/T, n), with what their σ/T derivatives need.
 #[derive(Debug, Clone)]
@@ -203,15 +211,22 @@ impl Basis {
         (1.0 - a * ci[k]) * (1.0 - a * cs[k])
     }
 
-    fn layered_terms(&self, slope: f64, n: f64) -> LayeredTerms {
+    fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> LayeredTerms {
         let Self::Layered { geometry, .. } = self else {
             unreachable!("layered models only")
         };
-        let interfaces = self.interfaces(n);
+        let built;
+        let interfaces = match &held.interfaces {
+            Some((at, interfaces)) if *at == n => interfaces,
+            _ => {
+                built = self.interfaces(n);
+                &built
+            }
+        };
         let t = inverse_slope_squared(slope);
         LayeredTerms {
             s: self.surface(slope),
-            base: self.base(slope, &interfaces),
+            base: self.base(slope, interfaces),
             x: geometry.iter().map(|g| g.ratio * t).collect(),
             x_refracted: interfaces.iter().map(|i| i.refracted.ratio * t).collect(),
         }
@@ -233,10 +248,25 @@ impl Basis {
 
     /// The columns at `theta`, keeping what [`Basis::derivatives_at`] needs.
     pub fn evaluate(&self, theta: &[f64]) -> Evaluated {
+        self.evaluate_held(theta, &Held::default())
+    }
+
+    /// What stays fixed while the parameters marked `free` move from
+    /// `theta`: the interfaces when n is held (a profile of n).
+    pub fn held(&self, theta: &[f64], free: &[bool]) -> Held {
+        let interfaces = match self {
+            Self::Layered { .. } if !free[1] => Some((theta[1], self.interfaces(theta[1]))),
+            _ => None,
+        };
+        Held { interfaces }
+    }
+
+    /// [`Basis::evaluate`], reusing what `held` keeps when it applies.
+    pub fn evaluate_held(&self, theta: &[f64], held: &Held) -> Evaluated {
         match self {
             Self::Layered { .. } => {
                 let (slope, n, a) = self.slope_n_a(theta);
-                let terms = self.layered_terms(slope, n);
+                let terms = self.layered_terms(slope, n, held);
                 let u = (0..terms.base.len())
                     .map(|k| terms.base[k] * self.attenuation(k, a))
                     .collect();
@@ -290,18 +320,23 @@ impl Basis {
         domain: &[(f64, f64)],
         central: bool,
     ) -> (Columns, Vec<Columns>) {
-        self.derivatives_at(theta, domain, central, self.evaluate(theta))
+        let wanted = vec![true; theta.len()];
+        let (columns, derivatives) =
+            self.derivatives_at(theta, domain, central, self.evaluate(theta), &wanted);
+        (columns, derivatives.into_iter().flatten().collect())
     }
 
     /// [`Basis::derivatives`] at a point already evaluated ([`Basis::evaluate`]
-    /// at `theta`).
+    /// at `theta`), with respect to the parameters marked `wanted` only
+    /// (`None` for the others: a held n costs no difference).
     pub fn derivatives_at(
         &self,
         theta: &[f64],
         domain: &[(f64, f64)],
         central: bool,
         at: Evaluated,
-    ) -> (Columns, Vec<Columns>) {
+        wanted: &[bool],
+    ) -> (Columns, Vec<Option<Columns>>) {
         match (self, at.terms) {
             (Self::Layered { corr, .. }, Some(terms)) => {
                 let (slope, n, a) = self.slope_n_a(theta);
@@ -316,28 +351,32 @@ impl Basis {
                         .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
                         .collect(),
                 };
-                let (h, lo, hi) = difference(n, domain[1], central);
-                let base_at = |v: f64| {
-                    if v == n {
-                        terms.base.clone()
-                    } else {
-                        self.base(slope, &self.interfaces(v))
+                let d_n = wanted[1].then(|| {
+                    let (h, lo, hi) = difference(n, domain[1], central);
+                    let base_at = |v: f64| {
+                        if v == n {
+                            terms.base.clone()
+                        } else {
+                            self.base(slope, &self.interfaces(v))
+                        }
+                    };
+                    let (up, down) = (base_at(hi), base_at(lo));
+                    Columns {
+                        s: vec![0.0; len],
+                        u: (0..len).map(|k| (up[k] - down[k]) / h * att[k]).collect(),
                     }
-                };
-                let (up, down) = (base_at(hi), base_at(lo));
-                let d_n = Columns {
-                    s: vec![0.0; len],
-                    u: (0..len).map(|k| (up[k] - down[k]) / h * att[k]).collect(),
-                };
-                let mut out = vec![d_slope, d_n];
-                if self.dim() == 3 {
+                });
+                let mut out = vec![wanted[0].then_some(d_slope), d_n];
+                if self.dim() == 3 && wanted[2] {
                     let (ci, cs) = self.cosines();
-                    out.push(Columns {
+                    out.push(Some(Columns {
                         s: vec![0.0; len],
                         u: (0..len)
                             .map(|k| terms.base[k] * (2.0 * a * ci[k] * cs[k] - ci[k] - cs[k]))
                             .collect(),
-                    });
+                    }));
+                } else if self.dim() == 3 {
+                    out.push(None);
                 }
                 (Columns { s: terms.s, u }, out)
             }
@@ -345,6 +384,9 @@ impl Basis {
                 let at = at.columns;
                 let out = (0..theta.len())
                     .map(|j| {
+                        if !wanted[j] {
+                            return None;
+                        }
                         let (h, lo, hi) = difference(theta[j], domain[j], central);
                         let moved = |v: f64| {
                             if v == theta[j] {
@@ -355,10 +397,10 @@ impl Basis {
                             self.columns(&t).s
                         };
                         let (up, down) = (moved(hi), moved(lo));
-                        Columns {
+                        Some(Columns {
                             s: up.iter().zip(&down).map(|(u, d)| (u - d) / h).collect(),
                             u: Vec::new(),
-                        }
+                        })
                     })
                     .collect();
                 (at, out)

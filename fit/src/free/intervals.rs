@@ -228,28 +228,62 @@ pub struct Side<'a> {
     pub levels: Levels,
 }
 
-/// The minimisations of a profile stop at this gain: `sqrt(profile − min)`
-/// is then known far better than [`END_TOLERANCE`] of its level.
-pub const PROFILE_TOLERANCE: f64 = 1e-7;
+/// The minimisations of a profile stop when a step gains less than this
+/// fraction of the 68.27% level's height `Δ s²`: `sqrt(profile − min)` is
+/// then known to about half of it, ten times inside [`END_TOLERANCE`].
+pub const PROFILE_TOLERANCE: f64 = 1e-3;
 
 /// Most profile evaluations per end.
 pub const MOST_STEPS: usize = 12;
 
-/// An end is accepted when `sqrt(profile − min)` is within this fraction of
-/// its target.
-pub const END_TOLERANCE: f64 = 5e-3;
+/// A probe ends the search for a level when `sqrt(profile − min)` is within
+/// this fraction of its target; the end is then one Newton step from the
+/// probe ([`Side::local_slope`]), whose error is of the order of the square
+/// of this fraction (10⁻³ of the end's distance, with the probe's own
+/// error from [`PROFILE_TOLERANCE`]).
+pub const END_TOLERANCE: f64 = 2e-2;
+
+/// One probe of a walk: the distance from the estimate, `sqrt(profile − min)`
+/// there, and the profile's minimising parameters.
+#[derive(Debug, Clone)]
+struct Probe {
+    distance: f64,
+    height: f64,
+    theta: Vec<f64>,
+}
 
 impl Side<'_> {
-    /// The profile at `value`: the minimum over every other parameter with
-    /// this one held at `value`, started on the Jacobian's linearised path;
-    /// when that lands more than twice `target` (in `sqrt(profile − min)`)
-    /// above the minimum, also from the minimum's own values (the path can
-    /// start in another valley), keeping the lower.
-    fn profile(&self, value: f64, target: f64) -> Point {
+    /// `value` in the internal coordinate of the held parameter.
+    fn internal(&self, value: f64) -> f64 {
+        match self.coordinate {
+            Coordinate::Nonlinear { log: true, .. } => libm::log(value),
+            _ => value,
+        }
+    }
+
+    /// Where the profile's minimisation at `value` (at `distance` from the
+    /// estimate) starts. After the first probe: on the profile's own path,
+    /// interpolated (or extrapolated) between the two probes nearest in
+    /// distance. Before it: on the Jacobian's linearised path.
+    fn start(&self, value: f64, distance: f64, probes: &[Probe]) -> Vec<f64> {
         let problem = self.problem;
-        let estimate = self.coordinate.value(self.minimum, problem);
         let mut start = self.minimum.theta.clone();
-        if let Some(cov) = self.covariance {
+        if probes.len() >= 2 {
+            let mut nearest: Vec<&Probe> = probes.iter().collect();
+            nearest.sort_by(|p, q| {
+                (p.distance - distance)
+                    .abs()
+                    .total_cmp(&(q.distance - distance).abs())
+            });
+            let (p, q) = (nearest[0], nearest[1]);
+            if p.distance != q.distance {
+                let t = (distance - p.distance) / (q.distance - p.distance);
+                for (x, (a, b)) in start.iter_mut().zip(p.theta.iter().zip(&q.theta)) {
+                    *x = a + t * (b - a);
+                }
+            }
+        } else if let Some(cov) = self.covariance {
+            let estimate = self.coordinate.value(self.minimum, problem);
             if let Some(vv) = cov.matrix[self.index][self.index] {
                 for (i, c) in self.coordinates.iter().enumerate() {
                     if let (Coordinate::Nonlinear { j, log }, Some(cv)) =
@@ -267,31 +301,140 @@ impl Side<'_> {
                 }
             }
         }
+        if let Coordinate::Nonlinear { j, .. } = self.coordinate {
+            start[j] = self.internal(value);
+        }
+        start
+    }
+
+    /// The profile at `value`: the minimum over every other parameter with
+    /// this one held at `value`, from `start`; when that lands more than
+    /// twice `target` (in `sqrt(profile − min)`) above the minimum, also
+    /// from the minimum's own values (the path can start in another
+    /// valley), keeping the lower.
+    fn profile(&self, value: f64, target: f64, start: &[f64]) -> Point {
+        let problem = self.problem;
         let mut free = vec![true; problem.dim()];
         let beta = match self.coordinate {
-            Coordinate::Nonlinear { j, log } => {
-                start[j] = if log { libm::log(value) } else { value };
+            Coordinate::Nonlinear { j, .. } => {
                 free[j] = false;
                 problem.beta
             }
             Coordinate::Beta => (value, value),
         };
-        let from_path = minimise(problem, &start, &free, beta, PROFILE_TOLERANCE).point;
-        if from_path.sse - self.minimum.sse <= 4.0 * target * target {
-            return from_path;
+        // `minimise` takes its tolerance as a fraction of the objective.
+        let tolerance = PROFILE_TOLERANCE * self.levels.heights[0] / self.minimum.sse.max(1e-300);
+        let from_start = minimise(problem, start, &free, beta, tolerance).point;
+        if from_start.sse - self.minimum.sse <= 4.0 * target * target {
+            return from_start;
         }
         let mut plain = self.minimum.theta.clone();
-        if let Coordinate::Nonlinear { j, log } = self.coordinate {
-            plain[j] = if log { libm::log(value) } else { value };
+        if let Coordinate::Nonlinear { j, .. } = self.coordinate {
+            plain[j] = self.internal(value);
         }
         if plain == start {
-            return from_path;
+            return from_start;
         }
-        let from_minimum = minimise(problem, &plain, &free, beta, PROFILE_TOLERANCE).point;
-        if from_minimum.sse < from_path.sse {
+        let from_minimum = minimise(problem, &plain, &free, beta, tolerance).point;
+        if from_minimum.sse < from_start.sse {
             from_minimum
         } else {
-            from_path
+            from_start
+        }
+    }
+
+    /// The next distance to probe for `target`. With the Jacobian's slope
+    /// `alpha` of `sqrt(profile − min)` at the estimate (`√s² / sd`), the
+    /// model `h(d) = α d + γ d²` through the probe nearest the target, kept
+    /// inside the bracket when there is one. Otherwise inside a bracket,
+    /// linear interpolation between its ends (nearly exact, as `sqrt(profile
+    /// − min)` is nearly linear in the distance); beyond every probe, the
+    /// secant of the two farthest (the origin among them). Never more than
+    /// four times as far as the farthest probe below the target.
+    fn next_distance(probes: &[Probe], target: f64, alpha: Option<f64>) -> f64 {
+        let mut below: Vec<&Probe> = probes.iter().filter(|p| p.height < target).collect();
+        below.sort_by(|p, q| p.distance.total_cmp(&q.distance));
+        let near = below.last().expect("the origin is below every level");
+        let above = probes
+            .iter()
+            .filter(|p| p.height >= target && p.distance > near.distance)
+            .min_by(|p, q| p.distance.total_cmp(&q.distance));
+        let most = match above {
+            Some(above) => above.distance,
+            None => 4.0 * near.distance,
+        };
+        let quadratic = alpha.and_then(|alpha| {
+            let nearest = probes.iter().filter(|p| p.distance > 0.0).min_by(|p, q| {
+                (p.height - target)
+                    .abs()
+                    .total_cmp(&(q.height - target).abs())
+            })?;
+            let (d, h) = (nearest.distance, nearest.height);
+            let gamma = (h - alpha * d) / (d * d);
+            let root = if gamma == 0.0 {
+                target / alpha
+            } else {
+                let disc = alpha * alpha + 4.0 * gamma * target;
+                (disc >= 0.0).then(|| 2.0 * target / (alpha + disc.sqrt()))?
+            };
+            (root > near.distance && root < most).then_some(root)
+        });
+        if let Some(root) = quadratic {
+            return root;
+        }
+        match above {
+            Some(above) if above.height > near.height => {
+                let t = (target - near.height) / (above.height - near.height);
+                near.distance + t * (above.distance - near.distance)
+            }
+            Some(above) => 0.5 * (near.distance + above.distance),
+            None => {
+                let far = near.distance;
+                let slope = match below.len() {
+                    1 => 0.0,
+                    n => {
+                        let before = below[n - 2];
+                        (near.height - before.height) / (far - before.distance)
+                    }
+                };
+                if slope > 0.0 {
+                    (far + (target - near.height) / slope).min(most)
+                } else {
+                    2.0 * far
+                }
+            }
+        }
+    }
+
+    /// The slope of `sqrt(profile − min)` in the distance at the probe
+    /// `here` (near `target`): the secant with another probe near the
+    /// target when there is one; else the derivative of the model
+    /// `h(d) = α d + γ d²` through `here` with the Jacobian's slope `alpha`
+    /// at the estimate; else the secant from the estimate.
+    fn local_slope(probes: &[Probe], here: &Probe, target: f64, alpha: Option<f64>) -> f64 {
+        let other = probes
+            .iter()
+            .filter(|p| p.distance > 0.0 && p.distance != here.distance)
+            .filter(|p| (p.height - target).abs() <= 0.25 * target)
+            .min_by(|p, q| {
+                (p.distance - here.distance)
+                    .abs()
+                    .total_cmp(&(q.distance - here.distance).abs())
+            });
+        let secant = |p: &Probe| (here.height - p.height) / (here.distance - p.distance);
+        match (other, alpha) {
+            (Some(p), _) if secant(p) > 0.0 => secant(p),
+            (_, Some(alpha)) => {
+                let (d, h) = (here.distance, here.height);
+                let gamma = (h - alpha * d) / (d * d);
+                let slope = alpha + 2.0 * gamma * d;
+                if slope > 0.0 {
+                    slope
+                } else {
+                    h / d
+                }
+            }
+            _ => here.height / here.distance,
         }
     }
 
@@ -303,22 +446,24 @@ impl Side<'_> {
         let face = if self.direction < 0.0 { lo } else { hi };
         let sse_min = self.minimum.sse;
         let sd = self.covariance.and_then(|c| c.sd(self.index));
-        // (distance from the estimate, sqrt(profile − min)) of every probe.
-        let mut probes: Vec<(f64, f64)> = vec![(0.0, 0.0)];
+        let alpha = sd
+            .filter(|&sd| sd > 0.0)
+            .map(|sd| self.levels.s2.sqrt() / sd);
         let room = (face - estimate).abs();
+        let mut probes = vec![Probe {
+            distance: 0.0,
+            height: 0.0,
+            theta: self.minimum.theta.clone(),
+        }];
         let mut ends = [(face, true); 2];
         for (level, &height) in self.levels.heights.iter().enumerate() {
             let target = height.sqrt();
-            if room == 0.0 {
-                ends[level] = (face, true);
+            if room == 0.0 || (level == 1 && ends[0].1) {
+                // No room, or the face is inside the 68.27% level already.
                 continue;
             }
             let mut next = match (level, sd) {
-                (1, _) if ends[0].1 => room,
-                (1, _) => {
-                    (ends[0].0 - estimate).abs()
-                        * (self.levels.heights[1] / self.levels.heights[0]).sqrt()
-                }
+                (1, _) => Self::next_distance(&probes, target, alpha),
                 (_, Some(sd)) if sd > 0.0 => sd * (height / self.levels.s2).sqrt(),
                 _ => 0.1 * room,
             }
@@ -330,72 +475,43 @@ impl Side<'_> {
                 } else {
                     estimate + self.direction * next
                 };
-                let point = self.profile(value, target);
+                let start = self.start(value, next, &probes);
+                let point = self.profile(value, target, &start);
                 if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
                     return Walk::NewMinimum(point);
                 }
                 let h = (point.sse - sse_min).max(0.0).sqrt();
-                probes.push((next.min(room), h));
-                if (h - target).abs() <= END_TOLERANCE * target {
-                    found = Some((value, false));
-                    break;
-                }
+                probes.push(Probe {
+                    distance: next.min(room),
+                    height: h,
+                    theta: point.theta,
+                });
                 if h < target && next >= room {
                     found = Some((face, true));
                     break;
                 }
-                // The nearest probes on either side of the level.
-                let below = probes
-                    .iter()
-                    .filter(|p| p.1 < target)
-                    .fold((0.0, 0.0), |b, &p| if p.0 > b.0 { p } else { b });
-                let above = probes.iter().filter(|p| p.1 >= target).fold(
-                    None,
-                    |b: Option<(f64, f64)>, &p| match b {
-                        Some(q) if q.0 <= p.0 => Some(q),
-                        _ => Some(p),
-                    },
-                );
-                next = match above {
-                    Some(above) if above.1 > below.1 => {
-                        let t = (target - below.1) / (above.1 - below.1);
-                        below.0 + t * (above.0 - below.0)
-                    }
-                    Some(above) => 0.5 * (below.0 + above.0),
-                    None if h > 0.0 => (next * target / h * 1.1).max(next * 1.2),
-                    None => next * 2.0,
+                if (h - target).abs() <= END_TOLERANCE * target {
+                    let here = probes.last().expect("just pushed");
+                    let slope = Self::local_slope(&probes, here, target, alpha);
+                    let end = here.distance + (target - h) / slope;
+                    found = Some(if end.is_nan() || end <= 0.0 {
+                        (value, false)
+                    } else if end >= room {
+                        (face, true)
+                    } else {
+                        (estimate + self.direction * end, false)
+                    });
+                    break;
                 }
-                .min(room);
+                next = Self::next_distance(&probes, target, alpha).min(room);
             }
             ends[level] = found.unwrap_or_else(|| {
                 // Out of steps: the interpolated crossing, or the face.
-                let below = probes
-                    .iter()
-                    .filter(|p| p.1 < target)
-                    .fold((0.0, 0.0), |b, &p| if p.0 > b.0 { p } else { b });
-                match probes
-                    .iter()
-                    .filter(|p| p.1 >= target)
-                    .map(|p| p.0)
-                    .reduce(f64::min)
-                {
-                    Some(d) => {
-                        let above = probes
-                            .iter()
-                            .find(|p| p.0 == d)
-                            .copied()
-                            .unwrap_or((d, target));
-                        let t = if above.1 > below.1 {
-                            (target - below.1) / (above.1 - below.1)
-                        } else {
-                            1.0
-                        };
-                        (
-                            estimate + self.direction * (below.0 + t * (above.0 - below.0)),
-                            false,
-                        )
-                    }
-                    None => (face, true),
+                if probes.iter().any(|p| p.height >= target) {
+                    let d = Self::next_distance(&probes, target, alpha);
+                    (estimate + self.direction * d, false)
+                } else {
+                    (face, true)
                 }
             });
         }

@@ -9,7 +9,7 @@
 //! internal coordinates of [`Basis`]; the linear part is solved in closed
 //! form ([`crate::free::linear`]).
 
-use super::basis::{Basis, Columns, Evaluated};
+use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
 use crate::model::Model;
 use crate::scene::Scene;
@@ -133,9 +133,15 @@ impl Problem {
         self.point(theta, &columns, beta)
     }
 
-    /// [`Problem::evaluate`], keeping what [`Problem::jacobian_at`] needs.
-    pub fn evaluate_keeping(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Evaluated) {
-        let evaluated = self.basis.evaluate(theta);
+    /// [`Problem::evaluate`], keeping what [`Problem::jacobian_at`] needs,
+    /// and reusing what `held` keeps.
+    pub fn evaluate_keeping(
+        &self,
+        theta: &[f64],
+        beta: (f64, f64),
+        held: &Held,
+    ) -> (Point, Evaluated) {
+        let evaluated = self.basis.evaluate_held(theta, held);
         (self.point(theta, &evaluated.columns, beta), evaluated)
     }
 
@@ -167,9 +173,15 @@ impl Problem {
     /// parameters (Golub and Pereyra's: the derivative at the fixed linear
     /// coefficients projected off the columns whose coefficient is free,
     /// plus the term of the coefficients' own change), one column per
-    /// parameter.
-    pub fn jacobian(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
-        self.jacobian_at(theta, beta, self.basis.evaluate(theta))
+    /// parameter marked in `free` (empty for the others).
+    pub fn jacobian(
+        &self,
+        theta: &[f64],
+        beta: (f64, f64),
+        held: &Held,
+        free: &[bool],
+    ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
+        self.jacobian_at(theta, beta, self.basis.evaluate_held(theta, held), free)
     }
 
     /// [`Problem::jacobian`] at a point already evaluated.
@@ -178,8 +190,11 @@ impl Problem {
         theta: &[f64],
         beta: (f64, f64),
         at: Evaluated,
+        free: &[bool],
     ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
-        let (columns, derivatives) = self.basis.derivatives_at(theta, &self.domain, false, at);
+        let (columns, derivatives) =
+            self.basis
+                .derivatives_at(theta, &self.domain, false, at, free);
         let (point, residuals) = self.point_and_residuals(theta, &columns, beta);
         let Linear { p, q, .. } = point.linear;
         let has_u = !columns.u.is_empty();
@@ -227,6 +242,9 @@ impl Problem {
         let jac = derivatives
             .iter()
             .map(|d| {
+                let Some(d) = d else {
+                    return Vec::new();
+                };
                 // Kaufman's part: −P⊥ (∂Φ c).
                 let mut col: Vec<f64> = mixed(d, (p, q)).iter().map(|v| -v).collect();
                 for e in &basis {

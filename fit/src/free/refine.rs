@@ -52,7 +52,8 @@ pub fn minimise(
             .collect()
     };
     let mut x = clamp(start);
-    let (mut point, mut r, mut jac) = problem.jacobian(&x, beta);
+    let held = problem.basis.held(&x, free);
+    let (mut point, mut r, mut jac) = problem.jacobian(&x, beta, &held, free);
     let mut evaluations = 2;
     let mut lambda = 1e-3;
     // Nielsen's factor for consecutive failures.
@@ -61,7 +62,7 @@ pub fn minimise(
         let m = x.len();
         let gradient: Vec<f64> = jac
             .iter()
-            .map(|col| col.iter().zip(&r).map(|(a, b)| a * b).sum())
+            .map(|col| col.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>())
             .collect();
         let moving: Vec<usize> = (0..m)
             .filter(|&j| {
@@ -106,7 +107,7 @@ pub fn minimise(
                 trial[j] += step[a];
             }
             let trial = clamp(&trial);
-            let (candidate, evaluated) = problem.evaluate_keeping(&trial, beta);
+            let (candidate, evaluated) = problem.evaluate_keeping(&trial, beta, &held);
             evaluations += 1;
             if candidate.sse < point.sse {
                 let gain = (point.sse - candidate.sse) / point.sse.max(1e-300);
@@ -125,7 +126,7 @@ pub fn minimise(
                 let rho = (point.sse - candidate.sse) / predicted.max(1e-300);
                 lambda = (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12);
                 nu = 2.0;
-                (point, r, jac) = problem.jacobian_at(&x, beta, evaluated);
+                (point, r, jac) = problem.jacobian_at(&x, beta, evaluated, free);
                 evaluations += 1;
                 break;
             }
