@@ -77,6 +77,16 @@ pub struct Held {
     interfaces: Option<(f64, Vec<Interface<f64>>)>,
 }
 
+impl Held {
+    /// The held interfaces, when they are those at `n`.
+    fn at(&self, n: f64) -> Option<&[Interface<f64>]> {
+        match &self.interfaces {
+            Some((at, interfaces)) if *at == n => Some(interfaces),
+            _ => None,
+        }
+    }
+}
+
 /// The Ragheb–Hancock base `B_k` and the surface term of a layered model
 /// at one (σ/T, n), with what their σ/T derivatives need.
 #[derive(Debug, Clone)]
@@ -86,6 +96,9 @@ struct LayeredTerms {
     /// `x = (T/σ)² v_xy²/v_z²` at each measurement (surface, refracted).
     x: Vec<f64>,
     x_refracted: Vec<f64>,
+    /// The interfaces at n, when they were built for this point (not held:
+    /// a held n needs no derivative in n).
+    interfaces: Option<Vec<Interface<f64>>>,
 }
 
 /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
@@ -98,6 +111,41 @@ fn log_slope_derivative(corr: Correlation, x: f64) -> f64 {
         Correlation::Exponential => 3.0 * x / (1.0 + x),
         Correlation::Gaussian => 0.5 * x,
     }
+}
+
+/// `∂ ln B/∂n` of the Ragheb–Hancock base at one measurement (eqs. 3–7),
+/// analytically; `x_refracted` is eq. 1–2's argument below the boundary.
+///
+/// Snell's `cos θ′ = √(n² − sin²θ)/n` gives `∂cos θ′/∂n = sin²θ/(n³ cos θ′)`.
+/// The leading factor `cos θi′/v_z′²`, the solid angle
+/// `cos θi/(n² cos θi′)` (eq. 5) and the shape's argument
+/// `x′ ∝ v_xy²/(n² v_z′²)` all vary as `n⁻² v_z′⁻²` (the `cos θi′` cancel),
+/// whose logarithmic derivative is `ℓ = −2/n − 2 ∂v_z′/∂n / v_z′`; the shape
+/// adds its elasticity `∂ ln shape/∂ ln x′` times `ℓ`. Each transmission
+/// (eq. 7) is `t = 2 n c c′ (1/s² + 1/p²)` with `s = c + n c′`,
+/// `p = n c + c′`. Where `B = 0` the caller uses 0.
+fn log_n_derivative(
+    corr: Correlation,
+    g: &Geometry<f64>,
+    interface: &Interface<f64>,
+    n: f64,
+    x_refracted: f64,
+) -> f64 {
+    let refracted = &interface.refracted;
+    let d_cos = |sin2: f64, c: f64| sin2 / (n * n * n * c);
+    let (ci, cs) = (refracted.cos_i, refracted.cos_s);
+    let (dci, dcs) = (d_cos(g.sin2_i, ci), d_cos(g.sin2_s, cs));
+    let ell = -2.0 / n - 2.0 * (dci + dcs) / (ci + cs);
+    // The elasticity of the shape in x′ is half that in σ/T with the sign
+    // turned, as x ∝ (σ/T)⁻².
+    let elasticity = -0.5 * log_slope_derivative(corr, x_refracted);
+    let transmission = |c: f64, c2: f64, dc2: f64| {
+        let (s, p) = (c + n * c2, n * c + c2);
+        let (is2, ip2) = (1.0 / (s * s), 1.0 / (p * p));
+        let (ds, dp) = (c2 + n * dc2, c + dc2);
+        1.0 / n + dc2 / c2 - 2.0 * (ds * is2 / s + dp * ip2 / p) / (is2 + ip2)
+    };
+    (1.0 + elasticity) * ell + transmission(g.cos_i, ci, dci) + transmission(g.cos_s, cs, dcs)
 }
 
 impl Basis {
@@ -215,20 +263,21 @@ impl Basis {
         let Self::Layered { geometry, .. } = self else {
             unreachable!("layered models only")
         };
-        let built;
-        let interfaces = match &held.interfaces {
-            Some((at, interfaces)) if *at == n => interfaces,
-            _ => {
-                built = self.interfaces(n);
-                &built
-            }
+        let owned = match held.at(n) {
+            Some(_) => None,
+            None => Some(self.interfaces(n)),
         };
+        let interfaces = owned
+            .as_deref()
+            .or_else(|| held.at(n))
+            .expect("built here or held");
         let t = inverse_slope_squared(slope);
         LayeredTerms {
             s: self.surface(slope),
             base: self.base(slope, interfaces),
             x: geometry.iter().map(|g| g.ratio * t).collect(),
             x_refracted: interfaces.iter().map(|i| i.refracted.ratio * t).collect(),
+            interfaces: owned,
         }
     }
 
@@ -311,8 +360,8 @@ impl Basis {
     }
 
     /// The columns at `theta` and their derivatives with respect to each
-    /// nonlinear parameter: analytic in `ln σ/T` and a, differences in the
-    /// others: central when `central` (one-sided at an end of `domain`),
+    /// nonlinear parameter: analytic for the layered models (`ln σ/T`, n, a), differences for the
+    /// baselines: central when `central` (one-sided at an end of `domain`),
     /// else forward (one evaluation less, for the steps of a minimisation).
     pub fn derivatives(
         &self,
@@ -338,10 +387,9 @@ impl Basis {
         wanted: &[bool],
     ) -> (Columns, Vec<Option<Columns>>) {
         match (self, at.terms) {
-            (Self::Layered { corr, .. }, Some(terms)) => {
-                let (slope, n, a) = self.slope_n_a(theta);
+            (Self::Layered { corr, geometry, .. }, Some(terms)) => {
+                let (_, n, a) = self.slope_n_a(theta);
                 let len = terms.base.len();
-                let att: Vec<f64> = (0..len).map(|k| self.attenuation(k, a)).collect();
                 let u = at.columns.u;
                 let d_slope = Columns {
                     s: (0..len)
@@ -352,18 +400,32 @@ impl Basis {
                         .collect(),
                 };
                 let d_n = wanted[1].then(|| {
-                    let (h, lo, hi) = difference(n, domain[1], central);
-                    let base_at = |v: f64| {
-                        if v == n {
-                            terms.base.clone()
-                        } else {
-                            self.base(slope, &self.interfaces(v))
+                    let built;
+                    let interfaces = match &terms.interfaces {
+                        Some(interfaces) => interfaces,
+                        None => {
+                            built = self.interfaces(n);
+                            &built
                         }
                     };
-                    let (up, down) = (base_at(hi), base_at(lo));
                     Columns {
                         s: vec![0.0; len],
-                        u: (0..len).map(|k| (up[k] - down[k]) / h * att[k]).collect(),
+                        u: (0..len)
+                            .map(|k| {
+                                let d = log_n_derivative(
+                                    *corr,
+                                    &geometry[k],
+                                    &interfaces[k],
+                                    n,
+                                    terms.x_refracted[k],
+                                );
+                                if u[k] == 0.0 {
+                                    0.0
+                                } else {
+                                    u[k] * d
+                                }
+                            })
+                            .collect(),
                     }
                 });
                 let mut out = vec![wanted[0].then_some(d_slope), d_n];
@@ -433,23 +495,40 @@ mod tests {
         let angles = synthetic::geometries();
         for model in [Model::Exp, Model::Gauss] {
             let basis = Basis::new(model, &angles);
-            let theta = [libm::log(0.7), 1.45, 0.3];
-            let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
-            let (at, d) = basis.derivatives(&theta, &domain, true);
-            assert_eq!(at, basis.columns(&theta));
-            for j in 0..3 {
-                let h = 1e-6;
-                let mut up = theta;
-                up[j] += h;
-                let mut down = theta;
-                down[j] -= h;
-                let (cu, cd) = (basis.columns(&up), basis.columns(&down));
-                for k in 0..angles.len() {
-                    let fd_s = (cu.s[k] - cd.s[k]) / (2.0 * h);
-                    let fd_u = (cu.u[k] - cd.u[k]) / (2.0 * h);
-                    let scale = at.s[k].abs().max(at.u[k].abs()).max(1e-300);
-                    assert!((d[j].s[k] - fd_s).abs() <= 1e-6 * scale, "{model} {j} {k}");
-                    assert!((d[j].u[k] - fd_u).abs() <= 1e-6 * scale, "{model} {j} {k}");
+            // n near 1 (refraction barely bends), typical, and large.
+            for theta in [
+                [libm::log(0.7), 1.45, 0.3],
+                [libm::log(0.2), 1.01, 0.0],
+                [libm::log(3.0), 2.4, 0.9],
+            ] {
+                let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
+                let (at, d) = basis.derivatives(&theta, &domain, true);
+                assert_eq!(at, basis.columns(&theta));
+                for j in 0..3 {
+                    let h = 1e-6;
+                    let mut up = theta;
+                    up[j] += h;
+                    let mut down = theta;
+                    down[j] -= h;
+                    let (cu, cd) = (basis.columns(&up), basis.columns(&down));
+                    for k in 0..angles.len() {
+                        let fd_s = (cu.s[k] - cd.s[k]) / (2.0 * h);
+                        let fd_u = (cu.u[k] - cd.u[k]) / (2.0 * h);
+                        // Relative to the column or its derivative, whichever
+                        // is larger (a Gaussian tail changes ~x′ times faster
+                        // than its size).
+                        let scale = at.s[k]
+                            .abs()
+                            .max(at.u[k].abs())
+                            .max(fd_s.abs())
+                            .max(fd_u.abs())
+                            .max(1e-300);
+                        assert!((d[j].s[k] - fd_s).abs() <= 1e-8 * scale, "{model} {j} {k}");
+                        assert!(
+                            (d[j].u[k] - fd_u).abs() <= 1e-6 * scale,
+                            "{model} {j} {k} {theta:?}"
+                        );
+                    }
                 }
             }
         }

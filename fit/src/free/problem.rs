@@ -239,16 +239,31 @@ impl Problem {
             _ => unreachable!("at most two columns"),
         };
         let basis = orthonormal(free.clone());
+        // `√w r`, against which `(∂F)ᵀ r = Σ √w (ws ∂S + wu ∂U) r` is formed.
+        let weighted_residuals: Vec<f64> = residuals
+            .iter()
+            .zip(&self.root_weight)
+            .map(|(r, w)| r * w)
+            .collect();
+        let zeros = if has_u {
+            Vec::new()
+        } else {
+            vec![0.0; self.data.len()]
+        };
         let jac = derivatives
             .iter()
             .map(|d| {
                 let Some(d) = d else {
                     return Vec::new();
                 };
+                let ds = &d.s;
+                let du = if has_u { &d.u[..] } else { &zeros[..] };
                 // Kaufman's part: −P⊥ (∂Φ c).
-                let mut col: Vec<f64> = mixed(d, (p, q)).iter().map(|v| -v).collect();
+                let mut col: Vec<f64> = (0..self.data.len())
+                    .map(|k| -self.root_weight[k] * (p * ds[k] + q * du[k]))
+                    .collect();
                 for e in &basis {
-                    let c: f64 = e.iter().zip(&col).map(|(a, b)| a * b).sum();
+                    let c = dot(e, &col);
                     for (x, y) in col.iter_mut().zip(e) {
                         *x -= c * y;
                     }
@@ -256,10 +271,8 @@ impl Problem {
                 // Golub–Pereyra's second part: −F (FᵀF)⁻¹ (∂F)ᵀ r, which the
                 // large residuals of a misfitting model make matter.
                 if let Some(inverse) = &gram_inverse {
-                    let v: Vec<f64> = mixes
-                        .iter()
-                        .map(|&m| dot(&mixed(d, m), &residuals))
-                        .collect();
+                    let (sr, ur) = (dot(ds, &weighted_residuals), dot(du, &weighted_residuals));
+                    let v: Vec<f64> = mixes.iter().map(|&(ws, wu)| ws * sr + wu * ur).collect();
                     for (i, f) in free.iter().enumerate() {
                         let y: f64 = (0..v.len()).map(|l| inverse[i][l] * v[l]).sum();
                         for (x, fk) in col.iter_mut().zip(f) {
