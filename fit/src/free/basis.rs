@@ -91,10 +91,10 @@ impl Held {
 /// at one (σ/T, n), with what their σ/T derivatives need.
 #[derive(Debug, Clone)]
 struct LayeredTerms {
-    s: Vec<f64>,
     base: Vec<f64>,
-    /// `x = (T/σ)² v_xy²/v_z²` at each measurement (surface, refracted).
-    x: Vec<f64>,
+    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`.
+    t: f64,
+    /// `x′`, the argument below the boundary, at each measurement.
     x_refracted: Vec<f64>,
     /// The interfaces at n, when they were built for this point (not held:
     /// a held n needs no derivative in n).
@@ -132,20 +132,27 @@ fn log_n_derivative(
     x_refracted: f64,
 ) -> f64 {
     let refracted = &interface.refracted;
-    let d_cos = |sin2: f64, c: f64| sin2 / (n * n * n * c);
+    let inv_n = 1.0 / n;
     let (ci, cs) = (refracted.cos_i, refracted.cos_s);
-    let (dci, dcs) = (d_cos(g.sin2_i, ci), d_cos(g.sin2_s, cs));
-    let ell = -2.0 / n - 2.0 * (dci + dcs) / (ci + cs);
+    // `∂cos θ′/∂n / cos θ′ = sin²θ/(n³ cos²θ′)`, and the derivative itself.
+    let rel = |sin2: f64, c: f64| sin2 * inv_n * inv_n * inv_n / (c * c);
+    let (ri, rs) = (rel(g.sin2_i, ci), rel(g.sin2_s, cs));
+    let (dci, dcs) = (ri * ci, rs * cs);
+    let ell = -2.0 * inv_n - 2.0 * (dci + dcs) / (ci + cs);
     // The elasticity of the shape in x′ is half that in σ/T with the sign
     // turned, as x ∝ (σ/T)⁻².
     let elasticity = -0.5 * log_slope_derivative(corr, x_refracted);
-    let transmission = |c: f64, c2: f64, dc2: f64| {
+    // `∂ ln t/∂n = 1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`,
+    // the last term as `2 (s_n p³ + p_n s³)/(s p (s² + p²))`.
+    let transmission = |c: f64, c2: f64, dc2: f64, rel2: f64| {
         let (s, p) = (c + n * c2, n * c + c2);
-        let (is2, ip2) = (1.0 / (s * s), 1.0 / (p * p));
         let (ds, dp) = (c2 + n * dc2, c + dc2);
-        1.0 / n + dc2 / c2 - 2.0 * (ds * is2 / s + dp * ip2 / p) / (is2 + ip2)
+        let (s2, p2) = (s * s, p * p);
+        inv_n + rel2 - 2.0 * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
     };
-    (1.0 + elasticity) * ell + transmission(g.cos_i, ci, dci) + transmission(g.cos_s, cs, dcs)
+    (1.0 + elasticity) * ell
+        + transmission(g.cos_i, ci, dci, ri)
+        + transmission(g.cos_s, cs, dcs, rs)
 }
 
 impl Basis {
@@ -259,10 +266,8 @@ impl Basis {
         (1.0 - a * ci[k]) * (1.0 - a * cs[k])
     }
 
-    fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> LayeredTerms {
-        let Self::Layered { geometry, .. } = self else {
-            unreachable!("layered models only")
-        };
+    /// The surface term and the rest of [`LayeredTerms`] at (σ/T, n).
+    fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> (Vec<f64>, LayeredTerms) {
         let owned = match held.at(n) {
             Some(_) => None,
             None => Some(self.interfaces(n)),
@@ -272,13 +277,13 @@ impl Basis {
             .or_else(|| held.at(n))
             .expect("built here or held");
         let t = inverse_slope_squared(slope);
-        LayeredTerms {
-            s: self.surface(slope),
+        let terms = LayeredTerms {
             base: self.base(slope, interfaces),
-            x: geometry.iter().map(|g| g.ratio * t).collect(),
+            t,
             x_refracted: interfaces.iter().map(|i| i.refracted.ratio * t).collect(),
             interfaces: owned,
-        }
+        };
+        (self.surface(slope), terms)
     }
 
     /// The model's parameters from the nonlinear values `theta` (internal
@@ -315,15 +320,12 @@ impl Basis {
         match self {
             Self::Layered { .. } => {
                 let (slope, n, a) = self.slope_n_a(theta);
-                let terms = self.layered_terms(slope, n, held);
+                let (s, terms) = self.layered_terms(slope, n, held);
                 let u = (0..terms.base.len())
                     .map(|k| terms.base[k] * self.attenuation(k, a))
                     .collect();
                 Evaluated {
-                    columns: Columns {
-                        s: terms.s.clone(),
-                        u,
-                    },
+                    columns: Columns { s, u },
                     terms: Some(terms),
                 }
             }
@@ -390,10 +392,10 @@ impl Basis {
             (Self::Layered { corr, geometry, .. }, Some(terms)) => {
                 let (_, n, a) = self.slope_n_a(theta);
                 let len = terms.base.len();
-                let u = at.columns.u;
+                let Columns { s, u } = at.columns;
                 let d_slope = Columns {
                     s: (0..len)
-                        .map(|k| terms.s[k] * log_slope_derivative(*corr, terms.x[k]))
+                        .map(|k| s[k] * log_slope_derivative(*corr, geometry[k].ratio * terms.t))
                         .collect(),
                     u: (0..len)
                         .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
@@ -440,7 +442,7 @@ impl Basis {
                 } else if self.dim() == 3 {
                     out.push(None);
                 }
-                (Columns { s: terms.s, u }, out)
+                (Columns { s, u }, out)
             }
             _ => {
                 let at = at.columns;
