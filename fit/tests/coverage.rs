@@ -216,3 +216,29 @@ fn an_estimate_on_the_box_face_says_what_releasing_the_bound_gives() {
         assert!(lo <= p.value() && p.value() <= hi, "{p:?}");
     }
 }
+
+/// The paper objective's rates on the same data and seed: the "before"
+/// column of docs/conventions.md §11b. Printed, not asserted (they fail
+/// their bands, which is why the free objective is the default): run with
+/// `-- --ignored --nocapture`.
+#[test]
+#[ignore = "prints the paper objective's rates for the docs (about 10 s)"]
+fn paper_objective_rates_for_the_docs() {
+    let paper = Fitter::new(Grid::user())
+        .unwrap()
+        .objective(Objective::Paper);
+    for model in [Model::Exp, Model::Gauss] {
+        for noise in SETTINGS {
+            let c = coverage(&paper, model, TRIALS, noise, 2016);
+            for p in &c.parameters {
+                eprintln!(
+                    "paper objective {model} | {} | {}: 68.27% {:.3}, 95% {:.3}",
+                    noise.label(),
+                    p.name,
+                    c.rate(&p.name, 0).unwrap(),
+                    c.rate(&p.name, 1).unwrap()
+                );
+            }
+        }
+    }
+}
