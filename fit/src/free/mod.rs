@@ -1,7 +1,8 @@
 //! Fits under the free-amplitude objective (docs/conventions.md §4b, §11b),
 //! a one-way pipeline, each module knowing only those before it:
 //!
-//! 1. [`basis`]: the model's columns at given nonlinear parameters;
+//! 1. [`basis`]: the model's columns at given nonlinear parameters
+//!    ([`sums`]: the inner products every step uses);
 //! 2. [`linear`]: β and the amplitude in closed form (variable projection);
 //! 3. [`problem`]: the weighted objective of one (scene, model, box);
 //! 4. [`search`]: the objective on a grid of the nonlinear parameters, and
@@ -20,5 +21,6 @@ pub mod problem;
 pub mod refine;
 pub mod report;
 pub mod search;
+pub mod sums;
 
 pub use report::{fit, fit_batch};

@@ -11,6 +11,7 @@
 
 use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
+use super::sums::dot;
 use crate::model::Model;
 use crate::scene::Scene;
 
@@ -159,7 +160,7 @@ impl Problem {
     ) -> (Point, Vec<f64>) {
         let linear = self.moments(columns).solve(beta);
         let residuals = self.residuals(columns, &linear);
-        let sse = residuals.iter().map(|r| r * r).sum();
+        let sse = dot(&residuals, &residuals);
         let point = Point {
             theta: theta.to_vec(),
             linear,
@@ -222,7 +223,6 @@ impl Problem {
                 .collect()
         };
         let free: Vec<Vec<f64>> = mixes.iter().map(|&m| mixed(&columns, m)).collect();
-        let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(a, b)| a * b).sum::<f64>();
         // `(FᵀF)⁻¹` of the free columns F, when they are independent.
         let gram_inverse: Option<Vec<Vec<f64>>> = match free.as_slice() {
             [] => None,
@@ -292,16 +292,16 @@ impl Problem {
 fn orthonormal(columns: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
     let mut out: Vec<Vec<f64>> = Vec::new();
     for mut v in columns {
-        let norm0: f64 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let norm0 = dot(&v, &v).sqrt();
         for _ in 0..2 {
             for e in &out {
-                let c: f64 = e.iter().zip(&v).map(|(a, b)| a * b).sum();
+                let c = dot(e, &v);
                 for (x, y) in v.iter_mut().zip(e) {
                     *x -= c * y;
                 }
             }
         }
-        let norm: f64 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let norm = dot(&v, &v).sqrt();
         if norm > 1e-10 * norm0 && norm > 0.0 {
             v.iter_mut().for_each(|x| *x /= norm);
             out.push(v);

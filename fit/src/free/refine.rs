@@ -11,6 +11,7 @@
 //! than the start.
 
 use super::problem::{Point, Problem};
+use super::sums::dot;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -60,10 +61,7 @@ pub fn minimise(
     let mut nu = 2.0;
     'outer: for _ in 0..MAX_ITERATIONS {
         let m = x.len();
-        let gradient: Vec<f64> = jac
-            .iter()
-            .map(|col| col.iter().zip(&r).map(|(a, b)| a * b).sum::<f64>())
-            .collect();
+        let gradient: Vec<f64> = jac.iter().map(|col| dot(col, &r)).collect();
         let moving: Vec<usize> = (0..m)
             .filter(|&j| {
                 let (lo, hi) = bounds[j];
@@ -77,7 +75,7 @@ pub fn minimise(
         let mut h = DMatrix::<f64>::zeros(f, f);
         for (a, &i) in moving.iter().enumerate() {
             for (b, &j) in moving.iter().enumerate() {
-                h[(a, b)] = jac[i].iter().zip(&jac[j]).map(|(u, v)| u * v).sum();
+                h[(a, b)] = dot(&jac[i], &jac[j]);
             }
         }
         let g = DVector::from_iterator(f, moving.iter().map(|&j| -gradient[j]));

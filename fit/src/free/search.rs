@@ -11,6 +11,7 @@
 
 use super::linear::Moments;
 use super::problem::Problem;
+use super::sums::dots;
 use rayon::prelude::*;
 
 /// The grid axes of the nonlinear parameters, in the model's values (σ/T,
@@ -73,30 +74,6 @@ impl Quadratic {
             uu,
         }
     }
-}
-
-/// `Σ_k x_k y_k` for each of the `N` vectors `ys`, four partial sums per
-/// vector (a fixed order, so the same bits on every target) that the
-/// compiler keeps in vector registers.
-fn dots<const N: usize>(x: &[f64], ys: [&[f64]; N]) -> [f64; N] {
-    let len = x.len();
-    let body = len - len % 4;
-    let mut acc = [[0.0f64; 4]; N];
-    for k in (0..body).step_by(4) {
-        for (a, y) in acc.iter_mut().zip(&ys) {
-            for l in 0..4 {
-                a[l] += x[k + l] * y[k + l];
-            }
-        }
-    }
-    let mut out = [0.0; N];
-    for ((o, a), y) in out.iter_mut().zip(&acc).zip(&ys) {
-        *o = (a[0] + a[1]) + (a[2] + a[3]);
-        for k in body..len {
-            *o += x[k] * y[k];
-        }
-    }
-    out
 }
 
 /// The model side of the layered grid stage: per σ/T the surface term and
