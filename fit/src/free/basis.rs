@@ -96,9 +96,8 @@ struct LayeredTerms {
     t: f64,
     /// `x′`, the argument below the boundary, at each measurement.
     x_refracted: Vec<f64>,
-    /// The interfaces at n, when they were built for this point (not held:
-    /// a held n needs no derivative in n).
-    interfaces: Option<Vec<Interface<f64>>>,
+    /// `(cos θi′, cos θs′)` at each measurement, for the n derivative.
+    refracted_cos: Vec<(f64, f64)>,
 }
 
 /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
@@ -114,7 +113,8 @@ fn log_slope_derivative(corr: Correlation, x: f64) -> f64 {
 }
 
 /// `∂ ln B/∂n` of the Ragheb–Hancock base at one measurement (eqs. 3–7),
-/// analytically; `x_refracted` is eq. 1–2's argument below the boundary.
+/// analytically, from the refracted cosines `(cos θi′, cos θs′)`;
+/// `x_refracted` is eq. 1–2's argument below the boundary.
 ///
 /// Snell's `cos θ′ = √(n² − sin²θ)/n` gives `∂cos θ′/∂n = sin²θ/(n³ cos θ′)`.
 /// The leading factor `cos θi′/v_z′²`, the solid angle
@@ -127,13 +127,11 @@ fn log_slope_derivative(corr: Correlation, x: f64) -> f64 {
 fn log_n_derivative(
     corr: Correlation,
     g: &Geometry<f64>,
-    interface: &Interface<f64>,
+    (ci, cs): (f64, f64),
     n: f64,
     x_refracted: f64,
 ) -> f64 {
-    let refracted = &interface.refracted;
     let inv_n = 1.0 / n;
-    let (ci, cs) = (refracted.cos_i, refracted.cos_s);
     // `∂cos θ′/∂n / cos θ′ = sin²θ/(n³ cos²θ′)`, and the derivative itself.
     let rel = |sin2: f64, c: f64| sin2 * inv_n * inv_n * inv_n / (c * c);
     let (ri, rs) = (rel(g.sin2_i, ci), rel(g.sin2_s, cs));
@@ -267,22 +265,31 @@ impl Basis {
     }
 
     /// The surface term and the rest of [`LayeredTerms`] at (σ/T, n).
+    /// One pass over the measurements, each interface built (or taken
+    /// from `held`) and used at once.
     fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> (Vec<f64>, LayeredTerms) {
-        let owned = match held.at(n) {
-            Some(_) => None,
-            None => Some(self.interfaces(n)),
+        let Self::Layered { corr, geometry, .. } = self else {
+            unreachable!("layered models only")
         };
-        let interfaces = owned
-            .as_deref()
-            .or_else(|| held.at(n))
-            .expect("built here or held");
         let t = inverse_slope_squared(slope);
-        let terms = LayeredTerms {
-            base: self.base(slope, interfaces),
+        let len = geometry.len();
+        let mut terms = LayeredTerms {
+            base: Vec::with_capacity(len),
             t,
-            x_refracted: interfaces.iter().map(|i| i.refracted.ratio * t).collect(),
-            interfaces: owned,
+            x_refracted: Vec::with_capacity(len),
+            refracted_cos: Vec::with_capacity(len),
         };
+        let mut take = |i: &Interface<f64>| {
+            terms.base.push(subsurface_base(i, *corr, t));
+            terms.x_refracted.push(i.refracted.ratio * t);
+            terms
+                .refracted_cos
+                .push((i.refracted.cos_i, i.refracted.cos_s));
+        };
+        match held.at(n) {
+            Some(interfaces) => interfaces.iter().for_each(take),
+            None => geometry.iter().for_each(|g| take(&Interface::new(g, n))),
+        }
         (self.surface(slope), terms)
     }
 
@@ -401,34 +408,24 @@ impl Basis {
                         .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
                         .collect(),
                 };
-                let d_n = wanted[1].then(|| {
-                    let built;
-                    let interfaces = match &terms.interfaces {
-                        Some(interfaces) => interfaces,
-                        None => {
-                            built = self.interfaces(n);
-                            &built
-                        }
-                    };
-                    Columns {
-                        s: vec![0.0; len],
-                        u: (0..len)
-                            .map(|k| {
-                                let d = log_n_derivative(
-                                    *corr,
-                                    &geometry[k],
-                                    &interfaces[k],
-                                    n,
-                                    terms.x_refracted[k],
-                                );
-                                if u[k] == 0.0 {
-                                    0.0
-                                } else {
-                                    u[k] * d
-                                }
-                            })
-                            .collect(),
-                    }
+                let d_n = wanted[1].then(|| Columns {
+                    s: vec![0.0; len],
+                    u: (0..len)
+                        .map(|k| {
+                            let d = log_n_derivative(
+                                *corr,
+                                &geometry[k],
+                                terms.refracted_cos[k],
+                                n,
+                                terms.x_refracted[k],
+                            );
+                            if u[k] == 0.0 {
+                                0.0
+                            } else {
+                                u[k] * d
+                            }
+                        })
+                        .collect(),
                 });
                 let mut out = vec![wanted[0].then_some(d_slope), d_n];
                 if self.dim() == 3 && wanted[2] {
