@@ -1161,3 +1161,111 @@ fn fit_batch_equals_fit_per_row() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// An output path that is one of the command's own inputs is refused
+/// before any work, however it is spelled, and the input is left as it was
+/// (issue 24: `fit-batch`, `fit`, `export` and `predict` overwrote it).
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let d = tempfile::tempdir().unwrap();
+    let (geometry, data, fits) = eval_and_fit(d.path(), &SMALL_GRID);
+    // One set of the made radiance (the total column), a valid input.
+    let row: Vec<String> = std::fs::read_to_string(&data)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(9).unwrap().to_string())
+        .collect();
+    let values = write(d.path(), "values.csv", &(row.join(",") + "\n"));
+    let dot = |p: &Path| p.parent().unwrap().join(".").join(p.file_name().unwrap());
+    let cases: Vec<(Vec<String>, PathBuf)> = vec![
+        (
+            vec![
+                "fit-batch".into(),
+                "--geometry".into(),
+                s(&geometry).into(),
+                "--values".into(),
+                s(&values).into(),
+                "--out".into(),
+                s(&dot(&values)).into(),
+            ],
+            values.clone(),
+        ),
+        (
+            vec![
+                "fit-batch".into(),
+                "--geometry".into(),
+                s(&geometry).into(),
+                "--values".into(),
+                s(&values).into(),
+                "--out".into(),
+                s(&geometry).into(),
+            ],
+            geometry.clone(),
+        ),
+        (
+            vec![
+                "fit".into(),
+                "--measurements".into(),
+                s(&data).into(),
+                "--quantity".into(),
+                "radiance".into(),
+                "--out".into(),
+                s(&dot(&data)).into(),
+            ],
+            data.clone(),
+        ),
+        (
+            vec![
+                "export".into(),
+                "--fit".into(),
+                s(&fits).into(),
+                "--merl".into(),
+                s(&dot(&fits)).into(),
+            ],
+            fits.clone(),
+        ),
+        (
+            vec![
+                "predict".into(),
+                "--fit".into(),
+                s(&fits).into(),
+                "--geometry".into(),
+                s(&geometry).into(),
+                "--out".into(),
+                s(&fits).into(),
+            ],
+            fits.clone(),
+        ),
+    ];
+    for (args, input) in cases {
+        let before = std::fs::read(&input).unwrap();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (code, _, err) = laminar(&args);
+        assert_ne!(code, 0, "laminar {}: exit 0", args.join(" "));
+        assert!(
+            err.contains("is also the input") && err.contains("nothing was written"),
+            "laminar {}: {err}",
+            args.join(" ")
+        );
+        assert_eq!(
+            std::fs::read(&input).unwrap(),
+            before,
+            "{} changed",
+            input.display()
+        );
+    }
+    // A hard link is the same file under another name.
+    let linked = d.path().join("linked.csv");
+    std::fs::hard_link(&values, &linked).unwrap();
+    let (code, _, err) = laminar(&[
+        "fit-batch",
+        "--geometry",
+        s(&geometry),
+        "--values",
+        s(&values),
+        "--out",
+        s(&linked),
+    ]);
+    assert!(code != 0 && err.contains("is also the input"), "{err}");
+}

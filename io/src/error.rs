@@ -36,6 +36,15 @@ pub enum ReadError {
         /// Why.
         source: MeasurementError,
     },
+    /// An output path that names one of the command's own inputs (however
+    /// the two are spelled): writing would destroy the input.
+    #[error("{}: is also the input {}; choose another output path (nothing was written)", out.display(), input.display())]
+    OutputIsInput {
+        /// The output path as given.
+        out: PathBuf,
+        /// The input path as given.
+        input: PathBuf,
+    },
     /// A fitted model that cannot predict.
     #[error("{}: {source}", file.display())]
     Model {

@@ -615,6 +615,37 @@ impl Drop for AtomicFile {
     }
 }
 
+/// Refuses `out` when it is the same file as one of `inputs`, however the
+/// paths are spelled (`./v.csv` and `v.csv`, symbolic or hard links): the
+/// file's identity is compared, not its name. An `out` that does not exist
+/// yet is none of them.
+///
+/// ```
+/// # let dir = std::env::temp_dir().join(format!("laminar-doc-{}", std::process::id()));
+/// # std::fs::create_dir_all(&dir).unwrap();
+/// let input = dir.join("values.csv");
+/// std::fs::write(&input, "1,2\n").unwrap();
+/// let spelled = dir.join(".").join("values.csv");
+/// assert!(laminar_io::check_not_an_input(&spelled, &[&input]).is_err());
+/// assert!(laminar_io::check_not_an_input(&dir.join("out.csv"), &[&input]).is_ok());
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+///
+/// # Errors
+/// [`ReadError::OutputIsInput`] naming both paths.
+pub fn check_not_an_input(out: &Path, inputs: &[&Path]) -> Result<(), ReadError> {
+    match inputs
+        .iter()
+        .find(|input| same_file::is_same_file(out, input).unwrap_or(false))
+    {
+        Some(input) => Err(ReadError::OutputIsInput {
+            out: out.to_path_buf(),
+            input: input.to_path_buf(),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Checks before any work that `path` can be written: its directory exists
 /// and accepts a new file (a probe file is created and removed; an existing
 /// `path` is left untouched).

@@ -30,7 +30,7 @@ pub struct ExportArgs {
 /// Runs `laminar export`.
 pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    check_out(Some(&args.merl))?;
+    check_out(Some(&args.merl), std::slice::from_ref(&args.fit.file))?;
     let sel = args.fit.selected()?;
     // Validate once, so that the per-bin evaluations cannot fail.
     sel.fitted.predict(&[])?;

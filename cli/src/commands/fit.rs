@@ -93,7 +93,13 @@ pub struct FitArgs {
 /// Runs `laminar fit`.
 pub fn run(args: &FitArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    check_out(args.out.as_ref())?;
+    let inputs: Vec<PathBuf> = args
+        .file
+        .inputs()
+        .into_iter()
+        .chain(args.curet.inputs())
+        .collect();
+    check_out(args.out.as_ref(), &inputs)?;
     let fitter = fitter(
         &args.grid,
         &args.threads,

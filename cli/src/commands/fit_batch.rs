@@ -78,7 +78,10 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
             )))
         }
     };
-    check_out(Some(&args.out))?;
+    check_out(
+        Some(&args.out),
+        &[args.values.clone(), args.geometry.clone()],
+    )?;
     let fitter = fitter(
         &args.grid,
         &args.threads,

@@ -11,7 +11,7 @@ use laminar_fit::search::Path as SearchPath;
 use laminar_fit::{Analysis, Axis, Fitter, Objective, Quantity, Uncertainty};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// A CUReT directory.
@@ -29,6 +29,14 @@ pub struct CuretArgs {
 }
 
 impl CuretArgs {
+    /// The files the command reads ([`curet_inputs`]; none without `--data`).
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        self.data
+            .as_deref()
+            .map(|dir| curet_inputs(dir, &self.brdf))
+            .unwrap_or_default()
+    }
+
     /// The jobs of the directory, or `None` without `--data`.
     pub fn jobs(&self) -> Result<Option<Vec<Job>>, CliError> {
         let Some(dir) = &self.data else {
@@ -71,6 +79,17 @@ pub struct FileArgs {
     /// measurement with θv = θi and |φv − φi| = π within it is left out.
     #[arg(long, default_value_t = laminar_fit::measurements::SPECULAR_TOLERANCE, requires = "measurements")]
     pub specular_tolerance: f64,
+}
+
+impl FileArgs {
+    /// The files the command reads: `--measurements` and `--sample-at`.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        self.measurements
+            .iter()
+            .chain(&self.sample_at)
+            .cloned()
+            .collect()
+    }
 }
 
 impl FileArgs {
@@ -302,12 +321,34 @@ pub fn report_time(command: &str, start: Instant, count: f64, unit: &str) {
     );
 }
 
-/// Checks `--out` before any work.
-pub fn check_out(out: Option<&PathBuf>) -> Result<(), CliError> {
+/// Checks `--out` before any work: it is none of the command's `inputs`
+/// ([`laminar_io::check_not_an_input`]) and its directory accepts a file.
+pub fn check_out(out: Option<&PathBuf>, inputs: &[PathBuf]) -> Result<(), CliError> {
     if let Some(p) = out {
+        let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
+        laminar_io::check_not_an_input(p, &inputs)?;
         laminar_io::check_writable(p)?;
     }
     Ok(())
+}
+
+/// The files a CUReT directory `dir` is read from: `table.txt` and the BRDF
+/// files (`brdf`, as given and inside `dir`; by default the four that
+/// [`laminar_io::curet::CuretDir::brdf_files`] looks for).
+pub fn curet_inputs(dir: &Path, brdf: &[PathBuf]) -> Vec<PathBuf> {
+    let mut inputs = vec![dir.join("table.txt")];
+    if brdf.is_empty() {
+        inputs.extend(
+            ["abrdf.dat", "rbrdf.dat", "gbrdf.dat", "bbrdf.dat"]
+                .iter()
+                .map(|f| dir.join(f)),
+        );
+    }
+    for b in brdf {
+        inputs.push(b.clone());
+        inputs.push(dir.join(b));
+    }
+    inputs
 }
 
 /// Writes `text` to `out` (whole or not at all), or prints it.

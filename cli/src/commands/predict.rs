@@ -91,7 +91,17 @@ fn scene_of(
 /// Runs `laminar predict`.
 pub fn run(args: &PredictArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    check_out(args.out.as_ref())?;
+    let mut inputs = vec![args.fit.file.clone()];
+    inputs.extend(
+        [&args.geometry, &args.measurements, &args.sample_at]
+            .into_iter()
+            .flatten()
+            .cloned(),
+    );
+    if let Some(dir) = &args.data {
+        inputs.extend(super::options::curet_inputs(dir, args.brdf.as_slice()));
+    }
+    check_out(args.out.as_ref(), &inputs)?;
     let sel = args.fit.selected()?;
     let (rows, angles, data): (Vec<usize>, Vec<Angles>, Option<Vec<f64>>) =
         if let Some(path) = &args.geometry {

@@ -85,7 +85,7 @@ pub fn run(kind: &ReportKind) -> Result<(), CliError> {
 
 fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    check_out(args.out.as_ref())?;
+    check_out(args.out.as_ref(), &[])?;
     global_threads(&args.threads)?;
     if args.ks.is_empty()
         || args.ks.contains(&0)
@@ -123,7 +123,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
 
 fn speed(args: &SpeedArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    check_out(args.out.as_ref())?;
+    check_out(args.out.as_ref(), &args.curet.inputs())?;
     global_threads(&args.threads)?;
     let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let jobs = args.curet.jobs()?.unwrap_or_else(synthetic_jobs);
