@@ -4,7 +4,7 @@
 
 use crate::error::ReadError;
 use std::fs::File;
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
 /// An N × K array of values, row-major.
@@ -61,9 +61,13 @@ pub struct ValueRows<R: BufRead> {
     source: Source<R>,
 }
 
+/// An `.npy` stream after [`checked_header`]: the bytes it read, then the
+/// rest.
+type NpyStream<R> = std::io::Chain<std::io::Cursor<Vec<u8>>, R>;
+
 enum Source<R: BufRead> {
-    F64(npyz::NpyReader<f64, R>),
-    F32(npyz::NpyReader<f32, R>),
+    F64(npyz::NpyReader<f64, NpyStream<R>>),
+    F32(npyz::NpyReader<f32, NpyStream<R>>),
     Csv {
         lines: std::io::Lines<R>,
         line_no: usize,
@@ -103,6 +107,7 @@ impl<R: BufRead> ValueRows<R> {
     /// As [`read_values`], for the header.
     pub fn npy(file: &Path, reader: R) -> Result<Self, ReadError> {
         let bad = |m: String| ReadError::format(file, 0, m);
+        let reader = checked_header(file, reader)?;
         let npy = npyz::NpyFile::new(reader).map_err(|e| bad(format!("not an .npy file: {e}")))?;
         let shape = npy.shape().to_vec();
         if shape.len() != 2 {
@@ -264,6 +269,64 @@ impl<R: BufRead> ValueRows<R> {
     }
 }
 
+/// Most bytes of an `.npy` header: numpy writes a few hundred; format 1.0
+/// allows 65,535.
+pub const MOST_HEADER_BYTES: usize = 65_535;
+
+/// Deepest nesting of brackets in an `.npy` header: `{'shape': (N, K)}` is
+/// 2, a structured dtype a few more.
+pub const MOST_HEADER_DEPTH: usize = 8;
+
+/// Reads the preamble and header of an `.npy` stream and refuses, before
+/// `npyz` parses it, a header longer than [`MOST_HEADER_BYTES`] or nested
+/// deeper than [`MOST_HEADER_DEPTH`] (the header parser's time doubles per
+/// level of nesting: 30 levels in 216 bytes never finish). Gives back the
+/// bytes read followed by the rest of the stream.
+fn checked_header<R: BufRead>(file: &Path, mut reader: R) -> Result<NpyStream<R>, ReadError> {
+    let bad = |m: String| ReadError::format(file, 0, m);
+    let mut read = |n: usize, what: &str| -> Result<Vec<u8>, ReadError> {
+        let mut bytes = vec![0u8; n];
+        reader
+            .read_exact(&mut bytes)
+            .map_err(|e| bad(format!("not an .npy file: {what}: {e}")))?;
+        Ok(bytes)
+    };
+    let mut prefix = read(8, "the preamble")?;
+    if &prefix[..6] != b"\x93NUMPY" {
+        return Err(bad("not an .npy file: no \\x93NUMPY magic string".into()));
+    }
+    let length_bytes = if prefix[6] == 1 { 2 } else { 4 };
+    let length = read(length_bytes, "the header length")?;
+    let len = length
+        .iter()
+        .rev()
+        .fold(0usize, |acc, &b| (acc << 8) | usize::from(b));
+    if len > MOST_HEADER_BYTES {
+        return Err(bad(format!(
+            "the header claims {len} bytes (at most {MOST_HEADER_BYTES})"
+        )));
+    }
+    let header = read(len, "the header")?;
+    let mut depth = 0usize;
+    for &b in &header {
+        match b {
+            b'(' | b'[' | b'{' => {
+                depth += 1;
+                if depth > MOST_HEADER_DEPTH {
+                    return Err(bad(format!(
+                        "the header nests brackets deeper than {MOST_HEADER_DEPTH} levels"
+                    )));
+                }
+            }
+            b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    prefix.extend(length);
+    prefix.extend(header);
+    Ok(std::io::Cursor::new(prefix).chain(reader))
+}
+
 /// The next row of `cols` values of an `.npy` data stream.
 fn npy_row<T: npyz::Deserialize, R: BufRead>(
     file: &Path,
@@ -339,6 +402,44 @@ mod tests {
         assert!(e.contains("v.npy") && e.contains("<f4"), "{e}");
         let e = parse_npy(f, b"not numpy").unwrap_err().to_string();
         assert!(e.contains("not an .npy file"), "{e}");
+    }
+
+    /// A 216-byte header nesting brackets 30 deep hung `npyz`'s parser
+    /// (issue 24): it is refused before parsing, as is a header claiming
+    /// more bytes than the format allows; a header nested as deep as
+    /// allowed still reaches the parser (and its dtype check).
+    #[test]
+    fn npy_headers_too_deep_or_too_long_are_refused_before_parsing() {
+        let f = Path::new("deep.npy");
+        let nested = |depth: usize| {
+            let header = format!(
+                "{{'descr': {}'<f8'{}, 'fortran_order': False, 'shape': (1, 1), }}\n",
+                "[".repeat(depth),
+                "]".repeat(depth)
+            );
+            let mut out = b"\x93NUMPY\x01\x00".to_vec();
+            out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+            out.extend_from_slice(header.as_bytes());
+            out.extend_from_slice(&[0; 8]);
+            out
+        };
+        let start = std::time::Instant::now();
+        let e = parse_npy(f, &nested(30)).unwrap_err().to_string();
+        assert!(e.contains("deep.npy") && e.contains("deeper than 8"), "{e}");
+        // Not parsed: refused at once (the parser needed hours).
+        assert!(start.elapsed().as_secs() < 5);
+        let e = parse_npy(f, &nested(MOST_HEADER_DEPTH - 1))
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("deeper"), "{e}");
+        let mut long = b"\x93NUMPY\x02\x00".to_vec();
+        long.extend_from_slice(&u32::MAX.to_le_bytes());
+        let e = parse_npy(f, &long).unwrap_err().to_string();
+        assert!(e.contains("4294967295 bytes") && e.contains("65535"), "{e}");
+        let e = parse_npy(f, b"\x93NUMPY\x01\x00\x10")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("the header length"), "{e}");
     }
 
     #[test]
