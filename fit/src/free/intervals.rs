@@ -238,7 +238,7 @@ pub const MOST_STEPS: usize = 12;
 
 /// A probe ends the search for a level when `sqrt(profile − min)` is within
 /// this fraction of its target; the end is then one Newton step from the
-/// probe ([`Side::local_slope`]), whose error is of the order of the square
+/// probe (its local slope of `sqrt(profile − min)`), whose error is of the order of the square
 /// of this fraction (10⁻³ of the end's distance, with the probe's own
 /// error from [`PROFILE_TOLERANCE`]).
 pub const END_TOLERANCE: f64 = 2e-2;
