@@ -238,9 +238,9 @@ pub const MOST_STEPS: usize = 12;
 
 /// A probe ends the search for a level when `sqrt(profile − min)` is within
 /// this fraction of its target; the end is then one Newton step from the
-/// probe (its local slope of `sqrt(profile − min)`), whose error is of the order of the square
-/// of this fraction (10⁻³ of the end's distance, with the probe's own
-/// error from [`PROFILE_TOLERANCE`]).
+/// probe (on the local slope of `sqrt(profile − min)`), whose error is of
+/// the order of the square of this fraction (10⁻³ of the end's distance,
+/// with the probe's own error from [`PROFILE_TOLERANCE`]).
 pub const END_TOLERANCE: f64 = 2e-2;
 
 /// One probe of a walk: the distance from the estimate, `sqrt(profile − min)`
