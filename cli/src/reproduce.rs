@@ -152,13 +152,18 @@ pub fn fit_jobs_shards(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> u64 {
 
 /// Checks before any work that `out` can be replaced by a reproduction: it
 /// is missing, or holds only files a reproduction writes, and its parent
-/// accepts new entries.
+/// accepts new entries (the parent and its own parents are created when
+/// missing, as `mkdir -p` would).
 ///
 /// # Errors
 /// [`CliError::Usage`] for a directory with other entries, [`CliError::Read`]
-/// when the parent cannot be written.
+/// when the parent cannot be created or written.
 pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
     previous_files(out)?;
+    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .map_err(|e| laminar_io::ReadError::io(parent, "create", e))?;
+    }
     laminar_io::check_writable(&sibling(out, "probe"))?;
     Ok(())
 }

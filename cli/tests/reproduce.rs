@@ -1,7 +1,7 @@
 //! `reproduce` end to end on a CUReT-format directory the test writes:
 //! tables, figures, given Oren–Nayar parameters, stale figures.
 
-use laminar_cli::reproduce::{reproduce, FITTED};
+use laminar_cli::reproduce::{prepare_out_dir, reproduce, FITTED};
 use laminar_cli::selection::curet_jobs;
 use laminar_fit::{Axis, Fitter, Grid, Model};
 use std::path::{Path as FsPath, PathBuf};
@@ -131,4 +131,17 @@ fn reproduce_refuses_a_directory_with_other_files() {
         .filter(|e| e.file_name().to_string_lossy().contains(".partial-"))
         .collect();
     assert!(leftovers.is_empty());
+}
+
+/// `reproduce --out` into a new nested directory creates its parents
+/// (issue 24: it was refused), and a parent that is a file is still refused.
+#[test]
+fn reproduce_creates_the_parents_of_a_new_out() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("runs").join("2026").join("out");
+    prepare_out_dir(&out).unwrap();
+    assert!(out.parent().unwrap().is_dir() && !out.exists());
+    let file = write(d.path(), "a-file", "x");
+    let e = prepare_out_dir(&file.join("out")).unwrap_err().to_string();
+    assert!(e.contains("a-file"), "{e}");
 }
