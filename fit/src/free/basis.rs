@@ -369,8 +369,9 @@ impl Basis {
     }
 
     /// The columns at `theta` and their derivatives with respect to each
-    /// nonlinear parameter: analytic for the layered models (`ln σ/T`, n, a), differences for the
-    /// baselines: central when `central` (one-sided at an end of `domain`),
+    /// nonlinear parameter: analytic for the layered models (`ln σ/T`, n,
+    /// a), differences for the baselines: central when `central`
+    /// (one-sided at an end of `domain`),
     /// else forward (one evaluation less, for the steps of a minimisation).
     pub fn derivatives(
         &self,
@@ -386,7 +387,7 @@ impl Basis {
 
     /// [`Basis::derivatives`] at a point already evaluated ([`Basis::evaluate`]
     /// at `theta`), with respect to the parameters marked `wanted` only
-    /// (`None` for the others: a held n costs no difference).
+    /// (`None` for the others: a held parameter costs nothing).
     pub fn derivatives_at(
         &self,
         theta: &[f64],
