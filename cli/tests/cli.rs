@@ -1269,3 +1269,41 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
     ]);
     assert!(code != 0 && err.contains("is also the input"), "{err}");
 }
+
+/// A fitted-model file whose constants overflow the prediction: `predict`
+/// and `export` refuse it, naming the file, and write nothing (issue 24:
+/// they printed or wrote inf at exit 0).
+#[test]
+fn predictions_that_overflow_are_refused_not_written() {
+    let d = tempfile::tempdir().unwrap();
+    // A paper-objective fit (max-normalised): a tiny, still positive and
+    // finite, maximum of the mix makes every prediction overflow.
+    let (geometry, _, fits) = eval_and_fit_paper(d.path(), "0.38:0.42:5");
+    let mut doc = json(&fits);
+    let fitted = &mut doc["fits"][0]["fitted"];
+    assert!(fitted["normalisation"]["mix_max"].is_number(), "{fitted}");
+    fitted["normalisation"]["mix_max"] = serde_json::json!(1e-320);
+    let huge = write(d.path(), "huge.json", &doc.to_string());
+    let out = d.path().join("p.csv");
+    let err = fails(
+        &[
+            "predict",
+            "--fit",
+            s(&huge),
+            "--geometry",
+            s(&geometry),
+            "--out",
+            s(&out),
+        ],
+        &["huge.json", "not a finite number"],
+    );
+    assert!(!out.exists(), "{err}");
+    let merl = d.path().join("m.binary");
+    let (code, _, err) = laminar(&["export", "--fit", s(&huge), "--merl", s(&merl)]);
+    assert_ne!(code, 0, "{err}");
+    assert!(
+        err.contains("huge.json") && err.contains("not a finite number"),
+        "{err}"
+    );
+    assert!(!merl.exists());
+}

@@ -209,6 +209,15 @@ pub enum ModelError {
     /// A parameter outside its domain.
     #[error("{0}")]
     OutOfDomain(InputError),
+    /// A prediction that is not a finite number: the model's constants
+    /// (amplitude, maxima, data scale) overflow or underflow it there.
+    #[error("prediction {index} is {value}, not a finite number (the fitted model's constants overflow it there)")]
+    NonFinitePrediction {
+        /// Its position among the geometries asked for (0-based).
+        index: usize,
+        /// The value.
+        value: f64,
+    },
     /// A normalisation constant that is negative, NaN or infinite.
     #[error("normalisation constant {name} = {value} is not a finite non-negative number")]
     BadConstant {

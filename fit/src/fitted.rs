@@ -264,6 +264,17 @@ fn raw(model: Model, params: &ModelParams, angles: &[Angles]) -> Result<Vec<[f64
 }
 
 /// `v / m`, or 0 for a term whose max was not positive (docs/conventions.md §4).
+/// `values`, or the first that is not a finite number as an error.
+fn finite(values: Vec<f64>) -> Result<Vec<f64>, ModelError> {
+    match values.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(ModelError::NonFinitePrediction {
+            index,
+            value: values[index],
+        }),
+        None => Ok(values),
+    }
+}
+
 fn scaled(v: f64, m: f64) -> f64 {
     if m > 0.0 {
         v / m
@@ -386,8 +397,20 @@ impl FittedModel {
     /// bit for bit the prediction the fit's Δ_RMS was computed from.
     ///
     /// # Errors
-    /// [`ModelError`] for parameters outside their domain or not the model's, and
-    /// [`ModelError::BadConstant`] for a negative or non-finite constant.
+    /// [`ModelError`] for parameters outside their domain or not the model's,
+    /// [`ModelError::BadConstant`] for a negative or non-finite constant, and
+    /// [`ModelError::NonFinitePrediction`] where the constants overflow the
+    /// prediction (no NaN or infinity is ever returned).
+    ///
+    /// ```
+    /// use laminar_fit::{FittedModel, Model, ModelParams};
+    /// let params = ModelParams::Layered { slope: 1.2, beta: 0.4, n: 1.4, a: 0.2 };
+    /// let angles = [laminar_core::Angles::new(0.3, 0.4, 0.5).unwrap()];
+    /// let fine = FittedModel::with_amplitude(Model::Exp, params, 1.0, 1.0);
+    /// assert!(fine.predict(&angles).unwrap()[0].is_finite());
+    /// let huge = FittedModel::with_amplitude(Model::Exp, params, 1e308, 1e10);
+    /// assert!(huge.predict_radiance(&angles).unwrap_err().to_string().contains("not a finite number"));
+    /// ```
     pub fn predict(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
         self.check_constants()?;
         self.predict_raw(&raw(self.model, &self.params, angles)?)
@@ -395,6 +418,10 @@ impl FittedModel {
 
     /// [`FittedModel::predict`] from the raw terms ([`Geometries::raw`]).
     pub(crate) fn predict_raw(&self, raw: &[[f64; 2]]) -> Result<Vec<f64>, ModelError> {
+        finite(self.predict_unchecked(raw)?)
+    }
+
+    fn predict_unchecked(&self, raw: &[[f64; 2]]) -> Result<Vec<f64>, ModelError> {
         Ok(match (self.normalisation, self.params) {
             (
                 NormalisationConstants::Layered {
@@ -441,11 +468,12 @@ impl FittedModel {
     /// # Errors
     /// As [`FittedModel::predict`].
     pub fn predict_radiance(&self, angles: &[Angles]) -> Result<Vec<f64>, ModelError> {
-        Ok(self
-            .predict(angles)?
-            .into_iter()
-            .map(|p| p * self.data_scale)
-            .collect())
+        finite(
+            self.predict(angles)?
+                .into_iter()
+                .map(|p| p * self.data_scale)
+                .collect(),
+        )
     }
 
     fn check_constants(&self) -> Result<(), ModelError> {

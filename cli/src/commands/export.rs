@@ -32,8 +32,11 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(Some(&args.merl), std::slice::from_ref(&args.fit.file))?;
     let sel = args.fit.selected()?;
-    // Validate once, so that the per-bin evaluations cannot fail.
+    // Validate once: the per-bin evaluations can then only fail by a value
+    // that is not finite, which is kept and refused before anything is
+    // written (MERL's -1 marks a bin without data, not an overflow).
     sel.fitted.predict(&[])?;
+    let overflow: std::cell::Cell<Option<(f64, f64, f64)>> = std::cell::Cell::new(None);
     let table = Merl::tabulate(|theta_i, phi_i, theta_v, phi_v| {
         let g = MeasurementAngles::Lab {
             theta_i,
@@ -41,14 +44,26 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
             theta_v,
             phi_v,
         };
-        let brdf = g
-            .paper()
-            .ok()
-            .and_then(|a| sel.fitted.predict_radiance(&[a]).ok())
-            .map(|r| r[0] / theta_i.cos())
-            .unwrap_or(-1.0);
+        let brdf = match g.paper() {
+            Ok(a) => match sel.fitted.predict_radiance(&[a]) {
+                Ok(r) => r[0] / theta_i.cos(),
+                Err(_) => f64::INFINITY,
+            },
+            Err(_) => -1.0,
+        };
+        if !brdf.is_finite() && overflow.get().is_none() {
+            overflow.set(Some((theta_i, theta_v, phi_v - phi_i)));
+        }
         [brdf; 3]
     });
+    if let Some((theta_i, theta_v, phi)) = overflow.get() {
+        return Err(CliError::Usage(format!(
+            "{} ({}): the BRDF at θi = {theta_i:.4}, θv = {theta_v:.4}, φv − φi = {phi:.4} is not a finite number (the fit's constants overflow it); nothing was written to {}",
+            args.fit.file.display(),
+            sel.label,
+            args.merl.display()
+        )));
+    }
     write_merl(&args.merl, &table)?;
     eprintln!(
         "export: {} tabulated into {} ({} bins per channel)",

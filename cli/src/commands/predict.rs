@@ -155,7 +155,12 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                 Some(scene.data().to_vec()),
             )
         };
-    let prediction = sel.fitted.predict(&angles)?;
+    let prediction = sel.fitted.predict(&angles).map_err(|source| {
+        CliError::Read(laminar_io::ReadError::Model {
+            file: args.fit.file.clone(),
+            source,
+        })
+    })?;
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["row", "theta_i", "theta_s", "phi_s", "prediction"];
     if data.is_some() {
