@@ -339,9 +339,9 @@ pub fn curet_inputs(dir: &Path, brdf: &[PathBuf]) -> Vec<PathBuf> {
     let mut inputs = vec![dir.join("table.txt")];
     if brdf.is_empty() {
         inputs.extend(
-            ["abrdf.dat", "rbrdf.dat", "gbrdf.dat", "bbrdf.dat"]
+            laminar_io::curet::Channel::ALL
                 .iter()
-                .map(|f| dir.join(f)),
+                .map(|c| dir.join(c.file_name())),
         );
     }
     for b in brdf {
