@@ -1177,70 +1177,47 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
         .map(|l| l.split(',').nth(9).unwrap().to_string())
         .collect();
     let values = write(d.path(), "values.csv", &(row.join(",") + "\n"));
+    // Each input also spelled with a `.` component: the same file.
     let dot = |p: &Path| p.parent().unwrap().join(".").join(p.file_name().unwrap());
-    let cases: Vec<(Vec<String>, PathBuf)> = vec![
+    let (dot_values, dot_data, dot_fits) = (dot(&values), dot(&data), dot(&fits));
+    let (g, v, m, f) = (s(&geometry), s(&values), s(&data), s(&fits));
+    let cases: Vec<(Vec<&str>, &Path)> = vec![
         (
             vec![
-                "fit-batch".into(),
-                "--geometry".into(),
-                s(&geometry).into(),
-                "--values".into(),
-                s(&values).into(),
-                "--out".into(),
-                s(&dot(&values)).into(),
+                "fit-batch",
+                "--geometry",
+                g,
+                "--values",
+                v,
+                "--out",
+                s(&dot_values),
             ],
-            values.clone(),
+            &values,
+        ),
+        (
+            vec!["fit-batch", "--geometry", g, "--values", v, "--out", g],
+            &geometry,
         ),
         (
             vec![
-                "fit-batch".into(),
-                "--geometry".into(),
-                s(&geometry).into(),
-                "--values".into(),
-                s(&values).into(),
-                "--out".into(),
-                s(&geometry).into(),
+                "fit",
+                "--measurements",
+                m,
+                "--quantity",
+                "radiance",
+                "--out",
+                s(&dot_data),
             ],
-            geometry.clone(),
+            &data,
         ),
+        (vec!["export", "--fit", f, "--merl", s(&dot_fits)], &fits),
         (
-            vec![
-                "fit".into(),
-                "--measurements".into(),
-                s(&data).into(),
-                "--quantity".into(),
-                "radiance".into(),
-                "--out".into(),
-                s(&dot(&data)).into(),
-            ],
-            data.clone(),
-        ),
-        (
-            vec![
-                "export".into(),
-                "--fit".into(),
-                s(&fits).into(),
-                "--merl".into(),
-                s(&dot(&fits)).into(),
-            ],
-            fits.clone(),
-        ),
-        (
-            vec![
-                "predict".into(),
-                "--fit".into(),
-                s(&fits).into(),
-                "--geometry".into(),
-                s(&geometry).into(),
-                "--out".into(),
-                s(&fits).into(),
-            ],
-            fits.clone(),
+            vec!["predict", "--fit", f, "--geometry", g, "--out", f],
+            &fits,
         ),
     ];
     for (args, input) in cases {
-        let before = std::fs::read(&input).unwrap();
-        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let before = std::fs::read(input).unwrap();
         let (code, _, err) = laminar(&args);
         assert_ne!(code, 0, "laminar {}: exit 0", args.join(" "));
         assert!(
@@ -1249,7 +1226,7 @@ fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
             args.join(" ")
         );
         assert_eq!(
-            std::fs::read(&input).unwrap(),
+            std::fs::read(input).unwrap(),
             before,
             "{} changed",
             input.display()
