@@ -633,14 +633,14 @@ impl Drop for AtomicFile {
 ///
 /// # Errors
 /// [`ReadError::OutputIsInput`] naming both paths.
-pub fn check_not_an_input(out: &Path, inputs: &[&Path]) -> Result<(), ReadError> {
+pub fn check_not_an_input<P: AsRef<Path>>(out: &Path, inputs: &[P]) -> Result<(), ReadError> {
     match inputs
         .iter()
         .find(|input| same_file::is_same_file(out, input).unwrap_or(false))
     {
         Some(input) => Err(ReadError::OutputIsInput {
             out: out.to_path_buf(),
-            input: input.to_path_buf(),
+            input: input.as_ref().to_path_buf(),
         }),
         None => Ok(()),
     }

@@ -325,8 +325,7 @@ pub fn report_time(command: &str, start: Instant, count: f64, unit: &str) {
 /// ([`laminar_io::check_not_an_input`]) and its directory accepts a file.
 pub fn check_out(out: Option<&PathBuf>, inputs: &[PathBuf]) -> Result<(), CliError> {
     if let Some(p) = out {
-        let inputs: Vec<&Path> = inputs.iter().map(PathBuf::as_path).collect();
-        laminar_io::check_not_an_input(p, &inputs)?;
+        laminar_io::check_not_an_input(p, inputs)?;
         laminar_io::check_writable(p)?;
     }
     Ok(())
