@@ -31,7 +31,9 @@ pub const SCREENING: f64 = 1e-6;
 pub struct Minimum {
     /// The point.
     pub point: Point,
-    /// Objective evaluations (each one pass over the measurements).
+    /// Points whose columns were evaluated (the start and every trial; the
+    /// derivatives' own passes, analytic for the layered models, are not
+    /// counted).
     pub evaluations: usize,
 }
 
@@ -55,7 +57,7 @@ pub fn minimise(
     let mut x = clamp(start);
     let held = problem.basis.held(&x, free);
     let (mut point, mut r, mut jac) = problem.jacobian(&x, beta, &held, free);
-    let mut evaluations = 2;
+    let mut evaluations = 1;
     let mut lambda = 1e-3;
     // Nielsen's factor for consecutive failures.
     let mut nu = 2.0;
@@ -125,7 +127,6 @@ pub fn minimise(
                 lambda = (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12);
                 nu = 2.0;
                 (point, r, jac) = problem.jacobian_at(&x, beta, evaluated, free);
-                evaluations += 1;
                 break;
             }
             lambda *= nu;
