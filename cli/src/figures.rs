@@ -4,7 +4,7 @@
 
 use laminar_core::energy_budget;
 use laminar_fit::profile::{DELTA_68, DELTA_95};
-use laminar_fit::uncertainty::ProfileCurve;
+use laminar_fit::ProfileCurve;
 use plotters::prelude::*;
 
 /// Absorption values drawn in Fig. 2.

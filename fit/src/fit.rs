@@ -1,239 +1,33 @@
-//! Fitting a scene with a model: the layered models by the grid search of
-//! [`crate::search`], the baselines by their own grids (docs/conventions.md §7).
+//! Fitting a scene with a model: [`Fitter`] runs the pipeline of the
+//! objective it is set to (docs/conventions.md §11). The paper's: the grid
+//! search of [`crate::search`] (the baselines by their own grids, §7), then
+//! [`crate::paper`]. The free amplitude's: [`crate::free`]. Both end in a
+//! [`Fit`] ([`crate::report`]).
 
-use crate::covariance::Covariance;
-use crate::error::{FitError, ModelError};
-use crate::fitted::{FittedModel, ModelParams};
-use crate::grid::{Axis, Grid};
+use crate::analysis::Analysis;
+use crate::error::FitError;
+use crate::estimate::Estimate;
+use crate::fitted::ModelParams;
+use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
 use crate::model::Model;
 use crate::objective::Objective;
+use crate::paper::intervals::cutoffs;
+use crate::paper::profiles::{profile_curves, ProfileCurve};
+use crate::paper::report::{analyse, Analysed};
+use crate::report::Fit;
 use crate::scene::Scene;
+use crate::search::baselines::{grid2, profile_of, sum_of_rms};
 use crate::search::batch::{search_batch, share_geometry};
-use crate::search::{grid_profile, point, search, GridProfile, Method, Path, SearchResult};
-use crate::uncertainty::{
-    analyse, cutoffs, profile_curves, Analysed, Analysis, Parameter, ProfileCurve, Searched,
+use crate::search::{
+    grid_profile, point, search, GridProfile, Method, Path, SearchResult, Searched,
 };
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
-use laminar_core::{chi_square_per_dof, normalise_by_max, rms_error, Angles, ChiSquare};
+use laminar_core::Angles;
 use rayon::prelude::*;
 use std::sync::Arc;
-
-/// A fitted model with its error measures on the scene it was fitted to
-/// (computed in f64 from [`FittedModel::predict`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Estimate {
-    /// The fitted model, portable.
-    pub fitted: FittedModel,
-    /// `Δ_RMS = 100·sqrt(Σ(D−P)²)/K` (eq. 15).
-    pub rms: f64,
-    /// `χ²/ν` (eq. 16), when there are degrees of freedom left.
-    pub chi2: Option<ChiSquare<f64>>,
-}
-
-impl Estimate {
-    /// Normalises `model` at `params` on `scene` and measures its error there.
-    ///
-    /// # Errors
-    /// [`ModelError`] when the parameters are outside their domain or not the model's.
-    pub fn new(scene: &Scene, model: Model, params: ModelParams) -> Result<Self, ModelError> {
-        let fitted = FittedModel::normalised_on(model, params, &scene.angles, scene.data_scale)?;
-        let prediction = fitted.predict(&scene.angles)?;
-        Ok(Self {
-            fitted,
-            rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
-            chi2: chi_square_per_dof(&scene.data, &prediction, model.parameter_count()).ok(),
-        })
-    }
-
-    /// The error measures of `fitted` on `scene`, `p` fitted parameters
-    /// counted in χ²/ν.
-    ///
-    /// # Errors
-    /// [`ModelError`] when the parameters are outside their domain or not the model's.
-    pub fn of_fitted(scene: &Scene, fitted: FittedModel, p: usize) -> Result<Self, ModelError> {
-        let prediction = fitted.predict(&scene.angles)?;
-        Ok(Self {
-            fitted,
-            rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
-            chi2: chi_square_per_dof(&scene.data, &prediction, p).ok(),
-        })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> &ModelParams {
-        &self.fitted.params
-    }
-
-    /// `name=value` pairs joined by `;` (the `params` column).
-    pub fn params_text(&self) -> String {
-        self.fitted.params.text()
-    }
-
-    /// The value of a named parameter.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        self.fitted.params.get(name)
-    }
-}
-
-/// The result of fitting one (sample, channel, model).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Fit {
-    /// Sample label ([`Scene::sample`]).
-    pub sample: String,
-    /// Channel name ([`Scene::channel`]).
-    pub channel: String,
-    /// Model fitted.
-    pub model: Model,
-    /// The best estimate.
-    pub best: Estimate,
-    /// For `exp` and `gauss`: the Ragheb–Hancock best of the same search (a = 0 slice).
-    pub rh: Option<Estimate>,
-    /// The search's own Δ_RMS at the best point (search precision).
-    pub search_rms: f64,
-    /// Kept measurements K.
-    pub measurements: usize,
-    /// Kept measurements with zero or negative value (docs/conventions.md §8).
-    pub nonpositive: usize,
-    /// Parameter sets evaluated.
-    pub evaluated: usize,
-    /// The refined estimate ([`crate::refine`]), when refined: never a
-    /// larger Δ_RMS than `best`, the grid's.
-    pub refined: Option<Estimate>,
-    /// Each searched parameter: grid value, refined value, intervals and
-    /// edge flags ([`crate::uncertainty`]); empty when nothing was searched
-    /// ([`Fitter::assess`]).
-    pub parameters: Vec<Parameter>,
-    /// The Jacobian's covariance and correlations at the refined optimum
-    /// (when asked for and no parameter is at a bound of its domain).
-    pub covariance: Option<Covariance>,
-    /// The objective minimised.
-    pub objective: Objective,
-    /// Free-amplitude fits: the fitted amplitude `c` of the estimate
-    /// (prediction `c · M` on the data divided by their max).
-    pub amplitude: Option<f64>,
-    /// Free-amplitude fits: the weighted `χ²/ν = Σ w (D − P)²/(K − p)` of
-    /// the estimate, `w = 1/σ²` (1 without uncertainties), p counting the
-    /// amplitude.
-    pub chi2_weighted: Option<f64>,
-}
-
-impl Fit {
-    /// The estimate to use: the refined one when there is one, else the grid's.
-    pub fn estimate(&self) -> &Estimate {
-        self.refined.as_ref().unwrap_or(&self.best)
-    }
-
-    /// The estimate a fit's main columns report (`rms`, `chi2_dof`,
-    /// `params`): the paper objective's best grid point, as in the paper's
-    /// tables; the free objective's [`Fit::estimate`] (its grid only places
-    /// the starts of the refinement).
-    pub fn reported(&self) -> &Estimate {
-        match self.objective {
-            Objective::Paper => &self.best,
-            Objective::Free => self.estimate(),
-        }
-    }
-}
-
-/// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
-pub fn jensen_grid() -> (Axis, Axis) {
-    (
-        Axis::stepped(0.01, 0.01, 100),
-        Axis::stepped(0.01, 0.01, 100),
-    )
-}
-
-/// Oren–Nayar grid (docs/conventions.md §7): σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
-pub fn oren_nayar_grid() -> (Axis, Axis) {
-    (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
-}
-
-/// Exhaustive 2-D search in f64 of a max-normalised baseline; ties keep the
-/// first point in row-major order. The best (Δ_RMS, x, y) and every
-/// point's Δ_RMS in row-major order.
-fn grid2<G: Sync, K>(
-    scene: &Scene,
-    outer: &Axis,
-    inner: &Axis,
-    geometry: &[G],
-    coefficients: impl Fn(f64, f64) -> K + Sync,
-    radiance: impl Fn(&G, &K) -> f64 + Sync,
-) -> ((f64, f64, f64), Vec<f64>) {
-    let rows: Vec<Vec<f64>> = outer
-        .values
-        .par_iter()
-        .map(|&x| {
-            inner
-                .values
-                .iter()
-                .map(|&y| {
-                    let k = coefficients(x, y);
-                    let mut p: Vec<f64> = geometry.iter().map(|g| radiance(g, &k)).collect();
-                    normalise_by_max(&mut p);
-                    rms_error(&scene.data, &p).unwrap_or(f64::INFINITY)
-                })
-                .collect()
-        })
-        .collect();
-    let surface: Vec<f64> = rows.concat();
-    // Starting from the first point keeps the result a grid point even if
-    // no error is finite.
-    let mut best = (surface[0], 0);
-    for (i, &rms) in surface.iter().enumerate() {
-        if rms < best.0 {
-            best = (rms, i);
-        }
-    }
-    let (x, y) = (
-        outer.values[best.1 / inner.len()],
-        inner.values[best.1 % inner.len()],
-    );
-    ((best.0, x, y), surface)
-}
-
-/// The [`GridProfile`] of a full surface of Δ_RMS over axes of lengths
-/// `lens` (row-major), on `k` measurements, to the cutoffs `(profile, near)`
-/// on the objective `Σ (D − P)²`.
-fn profile_of(
-    surface: &[f64],
-    lens: [usize; 2],
-    k: usize,
-    (cutoff, near): (f64, f64),
-) -> GridProfile {
-    let mut axes: Vec<Vec<(f64, usize)>> = lens
-        .iter()
-        .map(|&len| vec![(f64::INFINITY, usize::MAX); len])
-        .collect();
-    let mut near_points = Vec::new();
-    for (flat, &rms) in surface.iter().enumerate() {
-        let e = sum_of_rms(rms, k);
-        if e > cutoff {
-            continue;
-        }
-        for (axis, i) in axes.iter_mut().zip([flat / lens[1], flat % lens[1]]) {
-            if e < axis[i].0 {
-                axis[i] = (e, flat);
-            }
-        }
-        if e <= near {
-            near_points.push((flat, e));
-        }
-    }
-    GridProfile {
-        axes,
-        near: near_points,
-        cutoff,
-    }
-}
-
-/// `Σ (D − P)²` from `Δ_RMS = 100·sqrt(Σ(D − P)²)/K` (eq. 15).
-fn sum_of_rms(rms: f64, k: usize) -> f64 {
-    let root = rms * k as f64 / 100.0;
-    root * root
-}
 
 type Progress = Arc<dyn Fn() + Send + Sync>;
 

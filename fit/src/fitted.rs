@@ -22,6 +22,17 @@ use laminar_core::measures::max_of;
 use laminar_core::{components, Angles, Geometry, Params};
 use serde::{Deserialize, Serialize};
 
+/// The free parameters of `model` in output order: its parameters, without
+/// a of the Ragheb–Hancock variants (fixed at 0).
+pub fn free_names(model: Model) -> Vec<&'static str> {
+    ModelParams::from_values(model, |_| 0.0)
+        .pairs()
+        .into_iter()
+        .map(|(name, _)| name)
+        .filter(|&name| !(model.is_ragheb_hancock() && name == "a"))
+        .collect()
+}
+
 /// The parameters of a model, named as in every output.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
@@ -54,6 +65,26 @@ pub enum ModelParams {
 }
 
 impl ModelParams {
+    /// `model`'s parameters, each taken from `value(name)`.
+    pub fn from_values(model: Model, value: impl Fn(&str) -> f64) -> Self {
+        match model {
+            Model::Jensen => Self::Jensen {
+                sigma_a: value("sigma_a"),
+                sigma_s: value("sigma_s"),
+            },
+            Model::OrenNayar => Self::OrenNayar {
+                sigma: value("sigma"),
+                rho: value("rho"),
+            },
+            _ => Self::Layered {
+                slope: value("slope"),
+                beta: value("beta"),
+                n: value("n"),
+                a: value("a"),
+            },
+        }
+    }
+
     /// `(name, value)` pairs in output order.
     pub fn pairs(&self) -> Vec<(&'static str, f64)> {
         match *self {

@@ -184,11 +184,17 @@ impl Grid {
 
     /// The default box for a user's own data under the free-amplitude
     /// objective (docs/conventions.md §4b): σ/T log-spaced over [0.02, 20]
-    /// (40 values), n over [1, 2.5] (11), a over [0, 1] (21), β over [0, 1]
-    /// (β is solved in closed form: its axis gives only the range).
+    /// (40 values, a factor 1.19 apart), n over [1, 2.5] (11), a over
+    /// [0, 1] (21), β over [0, 1] (β is solved in closed form: its axis
+    /// gives only the range). The grid only has to place a start in the
+    /// optimum's basin: refinement is continuous.
     pub fn user() -> Self {
-        let [slope, n, a, beta] = crate::objective::user_axes();
-        Self { slope, n, a, beta }
+        Self {
+            slope: Axis::logspace(0.02, 20.0, 40),
+            n: Axis::linspace(1.0, 2.5, 11),
+            a: Axis::linspace(0.0, 1.0, 21),
+            beta: Axis::linspace(0.0, 1.0, 101),
+        }
     }
 
     /// The grid's axes as the core's search sees them.
@@ -276,6 +282,19 @@ impl fmt::Display for Grid {
             self.size()
         )
     }
+}
+
+/// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
+pub fn jensen_grid() -> (Axis, Axis) {
+    (
+        Axis::stepped(0.01, 0.01, 100),
+        Axis::stepped(0.01, 0.01, 100),
+    )
+}
+
+/// Oren–Nayar grid (docs/conventions.md §7): σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
+pub fn oren_nayar_grid() -> (Axis, Axis) {
+    (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
 }
 
 #[cfg(test)]

@@ -54,10 +54,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod analysis;
 pub mod covariance;
 pub mod coverage;
 pub mod edges;
 pub mod error;
+pub mod estimate;
 pub mod fit;
 pub mod fitted;
 pub mod free;
@@ -65,21 +67,24 @@ pub mod grid;
 pub mod measurements;
 pub mod model;
 pub mod objective;
+pub mod paper;
 pub mod profile;
-pub mod refine;
+pub mod report;
 pub mod scene;
 pub mod search;
 pub mod synthetic;
-pub mod uncertainty;
 
+pub use analysis::{Analysis, Uncertainty};
 pub use edges::Edge;
 pub use error::{FitError, GridError, MeasurementError, ModelError};
-pub use fit::{Estimate, Fit, Fitter};
+pub use estimate::Estimate;
+pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
 pub use grid::{Axis, Grid};
 pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::Model;
 pub use objective::Objective;
+pub use paper::profiles::ProfileCurve;
+pub use report::{Fit, Parameter};
 pub use scene::Scene;
 pub use search::Path;
-pub use uncertainty::{Analysis, Parameter, Uncertainty};

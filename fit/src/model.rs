@@ -1,8 +1,10 @@
 //! The models laminar fits (docs/conventions.md §3, §7).
 
 use crate::error::ModelError;
+use laminar_core::radiance::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
 use laminar_core::Correlation;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use std::f64::consts::FRAC_PI_2;
 use std::fmt;
 use std::str::FromStr;
 
@@ -76,6 +78,32 @@ impl Model {
             Self::RhExp | Self::RhGauss => 3,
             Self::Jensen | Self::OrenNayar => 2,
         }
+    }
+
+    /// The closed ends of parameter `name`'s domain (the checks of
+    /// `laminar-core`); an open end is NaN (Jensen's σa, σs′ > 0).
+    pub fn domain(self, name: &str) -> (f64, f64) {
+        match (self, name) {
+            (_, "slope") => (SLOPE_MIN, SLOPE_MAX),
+            (_, "beta" | "a" | "rho") => (0.0, 1.0),
+            (_, "n") => (1.0, INDEX_MAX),
+            (Self::OrenNayar, "sigma") => (0.0, FRAC_PI_2),
+            // Jensen's σa, σs′ ∈ (0, 100]: only the upper end is attainable.
+            _ => (f64::NAN, 100.0),
+        }
+    }
+
+    /// [`Model::domain`] with an open lower end replaced by the smallest
+    /// value a fit takes there (Jensen's σa, σs′ > 0: 10⁻⁹).
+    pub fn attainable_domain(self, name: &str) -> (f64, f64) {
+        let (lo, hi) = self.domain(name);
+        (if lo.is_nan() { 1e-9 } else { lo }, hi)
+    }
+
+    /// True when `value` is a bound of parameter `name`'s domain.
+    pub fn at_bound(self, name: &str, value: f64) -> bool {
+        let (lo, hi) = self.domain(name);
+        value == lo || value == hi
     }
 }
 

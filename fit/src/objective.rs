@@ -1,6 +1,6 @@
 //! Which objective a fit minimises (docs/conventions.md §4, §4b).
 
-use crate::grid::{Axis, Grid};
+use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -75,18 +75,4 @@ impl FromStr for Objective {
             .find(|o| o.name() == s)
             .ok_or_else(|| format!("unknown objective `{s}` (expected free or paper)"))
     }
-}
-
-/// The default box for user data (docs/conventions.md §4b), as grid axes:
-/// σ/T log-spaced over [0.02, 20] (40 values, a factor 1.19 apart), n over
-/// [1, 2.5] (11), a over [0, 1] (21), β over [0, 1] (closed form: only the
-/// range is used). The grid only has to place a start in the optimum's
-/// basin: refinement is continuous.
-pub(crate) fn user_axes() -> [Axis; 4] {
-    [
-        Axis::logspace(0.02, 20.0, 40),
-        Axis::linspace(1.0, 2.5, 11),
-        Axis::linspace(0.0, 1.0, 21),
-        Axis::linspace(0.0, 1.0, 101),
-    ]
 }

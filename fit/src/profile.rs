@@ -18,6 +18,9 @@ use std::collections::HashMap;
 pub const DELTA_68: f64 = 1.0;
 /// `Δχ²` of a 95% interval for one parameter (the 0.95 quantile of χ²₁).
 pub const DELTA_95: f64 = 3.841_458_820_694_124;
+/// The normal quantile of a two-sided 95% interval (Jacobian intervals are
+/// `θ ± Z_95 sd`).
+pub const Z_95: f64 = 1.959_963_984_540_054;
 
 /// A confidence interval of one parameter.
 #[derive(Debug, Clone, Copy, PartialEq)]

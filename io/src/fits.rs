@@ -10,9 +10,9 @@
 //! normalisation, see [`laminar_fit::FittedModel`]).
 
 use crate::error::ReadError;
-use laminar_fit::edges::edges_text;
 use laminar_fit::fitted::format_value;
 use laminar_fit::profile::Interval;
+use laminar_fit::report::edges_text;
 use laminar_fit::{Estimate, Fit, FittedModel, Model, Objective, Parameter};
 
 fn paper() -> Objective {

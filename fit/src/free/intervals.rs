@@ -12,7 +12,7 @@
 
 use super::problem::{Point, Problem};
 use super::refine::minimise;
-use crate::uncertainty::Z_95;
+use crate::profile::Z_95;
 use nalgebra::DMatrix;
 
 /// The two-sided normal quantiles of the 68.27% and 95% levels.

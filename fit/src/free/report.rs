@@ -6,18 +6,17 @@ use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::problem::{Point, Problem};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{grid_starts, grid_values, grid_values_with, GridAxes, GridValues, ModelSide};
+use crate::analysis::{Analysis, Uncertainty};
 use crate::covariance::Covariance;
-use crate::edges::attainable_domain;
 use crate::edges::Edge;
-use crate::fit::{jensen_grid, oren_nayar_grid, Estimate, Fit};
-use crate::fitted::{FittedModel, ModelParams};
-use crate::grid::{Axis, Grid};
+use crate::estimate::Estimate;
+use crate::fitted::{free_names, FittedModel, ModelParams};
+use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
 use crate::model::Model;
 use crate::objective::Objective;
 use crate::profile::Interval;
-use crate::refine::free_names;
+use crate::report::{Fit, Parameter, Released, Source};
 use crate::scene::Scene;
-use crate::uncertainty::{Analysis, Parameter, Released, Source, Uncertainty};
 use rayon::prelude::*;
 
 /// Most starts of the refinement: the best point of each of the grid's
@@ -95,7 +94,7 @@ impl Layout {
             reported: nonlinear.iter().map(|(_, axis)| axis.range()).collect(),
             domain: nonlinear
                 .iter()
-                .map(|(name, _)| internal(name, attainable_domain(model, name)))
+                .map(|(name, _)| internal(name, model.attainable_domain(name)))
                 .collect(),
             beta: if model.correlation().is_some() {
                 grid.beta.range()
@@ -274,7 +273,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
 /// The model's domain of reported parameter `i` (an open lower end at the
 /// smallest value a fit takes), exactly: not through σ/T's logarithm.
 fn domain_of(layout: &Layout, i: usize) -> (f64, f64) {
-    attainable_domain(layout.model, layout.names[i])
+    layout.model.attainable_domain(layout.names[i])
 }
 
 /// One local fit from `minimum` with the box's bound on the side where

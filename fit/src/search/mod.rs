@@ -16,6 +16,7 @@
 //! (scene, a); the normalised surface term once per σ/T; the subsurface base
 //! once per (σ/T, n); the normalised subsurface term once per (σ/T, n, a).
 
+pub mod baselines;
 pub mod batch;
 pub mod direct;
 pub mod envelope;
@@ -24,7 +25,7 @@ pub mod packed;
 pub mod sums;
 
 use crate::error::GridError;
-use crate::grid::Grid;
+use crate::grid::{Axis, Grid};
 use crate::scene::Scene;
 use laminar_core::{f32x8, Correlation, Lane};
 use packed::{Packed, Tables};
@@ -653,4 +654,13 @@ pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
         grid.a.values[a],
         grid.beta.values[b],
     )
+}
+
+/// One axis a fit searched: its index among the grid's axes (as in
+/// [`GridProfile::axes`]), the parameter's name, its grid value and the axis.
+pub(crate) struct Searched<'a> {
+    pub axis: usize,
+    pub name: &'static str,
+    pub value: f64,
+    pub values: &'a Axis,
 }

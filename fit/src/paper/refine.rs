@@ -14,160 +14,23 @@
 //! never replaces its best vertex by a worse one, so the refined objective
 //! is never above the start's.
 
-use crate::edges::attainable_domain;
-use crate::error::ModelError;
-use crate::fitted::{FittedModel, Geometries, ModelParams};
-use crate::model::Model;
-use crate::scene::Scene;
+use super::objective::SumOfSquares;
+use crate::grid::Axis;
+use crate::profile::basins;
+use crate::search::{GridProfile, Searched};
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;
 
-/// The objective of one (scene, model): the sum of squared residuals
-/// `Σ (D − P)²` (eq. 15 before the root) as a function of the model's free
-/// parameters, in f64, with the geometry built once.
-#[derive(Debug, Clone)]
-pub struct Objective<'a> {
-    scene: &'a Scene,
-    model: Model,
-    geometries: Geometries,
-    names: Vec<&'static str>,
-    bounds: Vec<(f64, f64)>,
-}
-
-impl<'a> Objective<'a> {
-    /// The objective of `model` on `scene`. Its free parameters are the
-    /// model's parameters in output order, without a of the Ragheb–Hancock
-    /// variants (fixed at 0).
-    pub fn new(scene: &'a Scene, model: Model) -> Self {
-        let names = free_names(model);
-        let bounds = names
-            .iter()
-            .map(|&name| attainable_domain(model, name))
-            .collect();
-        Self {
-            scene,
-            model,
-            geometries: Geometries::new(model, &scene.angles),
-            names,
-            bounds,
-        }
-    }
-
-    /// The free parameters' names.
-    pub fn names(&self) -> &[&'static str] {
-        &self.names
-    }
-
-    /// The closed domain `[lo, hi]` of each free parameter.
-    pub fn bounds(&self) -> &[(f64, f64)] {
-        &self.bounds
-    }
-
-    /// `x` moved onto the domain, coordinate by coordinate.
-    pub fn project(&self, x: &[f64]) -> Vec<f64> {
-        x.iter()
-            .zip(&self.bounds)
-            .map(|(&v, &(lo, hi))| v.clamp(lo, hi))
-            .collect()
-    }
-
-    /// The model's parameters at free values `x` (taken as they are).
-    pub fn params(&self, x: &[f64]) -> ModelParams {
-        let value = |name: &str| {
-            self.names
-                .iter()
-                .position(|&n| n == name)
-                .map_or(0.0, |i| x[i])
-        };
-        match template(self.model) {
-            ModelParams::Layered { .. } => ModelParams::Layered {
-                slope: value("slope"),
-                beta: value("beta"),
-                n: value("n"),
-                a: value("a"),
-            },
-            ModelParams::Jensen { .. } => ModelParams::Jensen {
-                sigma_a: value("sigma_a"),
-                sigma_s: value("sigma_s"),
-            },
-            ModelParams::OrenNayar { .. } => ModelParams::OrenNayar {
-                sigma: value("sigma"),
-                rho: value("rho"),
-            },
-        }
-    }
-
-    /// The free values of `params`, in [`Objective::names`] order.
-    pub fn values(&self, params: &ModelParams) -> Vec<f64> {
-        self.names
-            .iter()
-            .map(|&n| params.get(n).unwrap_or(f64::NAN))
-            .collect()
-    }
-
-    /// The normalised prediction `P` at every measurement at free values
-    /// `x` (inside the domain).
-    ///
-    /// # Errors
-    /// [`ModelError`] for values outside the domain.
-    pub fn prediction(&self, x: &[f64]) -> Result<Vec<f64>, ModelError> {
-        let params = self.params(x);
-        let raw = self.geometries.raw(self.model, &params)?;
-        FittedModel::from_raw(self.model, params, &raw, self.scene.data_scale).predict_raw(&raw)
-    }
-
-    /// `Σ (D − P)²` at `x` projected onto the domain (+∞ if the model
-    /// cannot be evaluated there).
-    pub fn sse(&self, x: &[f64]) -> f64 {
-        match self.prediction(&self.project(x)) {
-            Ok(p) => self
-                .scene
-                .data
-                .iter()
-                .zip(&p)
-                .map(|(d, p)| (d - p) * (d - p))
-                .sum(),
-            Err(_) => f64::INFINITY,
-        }
-    }
-}
-
-/// The free parameters of `model` in output order: its parameters, without
-/// a of the Ragheb–Hancock variants (fixed at 0).
-pub fn free_names(model: Model) -> Vec<&'static str> {
-    template(model)
-        .pairs()
-        .into_iter()
-        .map(|(name, _)| name)
-        .filter(|&name| !(model.is_ragheb_hancock() && name == "a"))
-        .collect()
-}
-
-/// A model's parameters (values unused) to read names and kind from.
-fn template(model: Model) -> ModelParams {
-    match model {
-        Model::Jensen => ModelParams::Jensen {
-            sigma_a: 0.0,
-            sigma_s: 0.0,
-        },
-        Model::OrenNayar => ModelParams::OrenNayar {
-            sigma: 0.0,
-            rho: 0.0,
-        },
-        _ => ModelParams::Layered {
-            slope: 0.0,
-            beta: 0.0,
-            n: 0.0,
-            a: 0.0,
-        },
-    }
-}
+/// Most starts of the refinement from the grid (the best grid point and
+/// the best points of other basins within `DELTA_68 · s²` of it); the
+/// Ragheb–Hancock best is one more.
+pub const MOST_STARTS: usize = 4;
 
 /// A refined point: free values (inside the domain) and objective.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Refined {
-    /// The free values, in [`Objective::names`] order.
+    /// The free values, in [`SumOfSquares::names`] order.
     pub x: Vec<f64>,
     /// `Σ (D − P)²` there.
     pub sse: f64,
@@ -278,7 +141,7 @@ fn nelder_mead(
 /// restarts once from the best with steps a tenth as long (a simplex can
 /// collapse before it reaches the minimum). The best point found; never
 /// worse than the first start.
-pub fn refine(objective: &Objective, starts: &[Vec<f64>], steps: &[f64]) -> Refined {
+pub fn refine(objective: &SumOfSquares, starts: &[Vec<f64>], steps: &[f64]) -> Refined {
     let cost = |x: &[f64]| objective.sse(x);
     let bounds = objective.bounds();
     // The starts run in parallel; the best is chosen in start order (the
@@ -311,7 +174,7 @@ pub fn refine(objective: &Objective, starts: &[Vec<f64>], steps: &[f64]) -> Refi
 /// (Nelder–Mead from `start`, whose `j`-th value is ignored, with first
 /// `steps`). The point found is returned whole, `x[j] = value`.
 pub fn profile_at(
-    objective: &Objective,
+    objective: &SumOfSquares,
     j: usize,
     value: f64,
     start: &[f64],
@@ -331,9 +194,86 @@ pub fn profile_at(
     Refined { x: full(&r.x), ..r }
 }
 
+/// The first simplex steps of each free parameter of `objective`: one
+/// grid step of its searched axis (0.01 when it was not searched or its
+/// axis has one value).
+pub(crate) fn grid_steps(objective: &SumOfSquares, searched: &[Searched]) -> Vec<f64> {
+    objective
+        .names()
+        .iter()
+        .map(|&n| {
+            searched
+                .iter()
+                .find(|s| s.name == n)
+                .map_or(0.01, |s| step(s.values))
+        })
+        .collect()
+}
+
+/// The spacing of an axis near its values (the first step; 0.01 for an axis
+/// of one value).
+fn step(axis: &Axis) -> f64 {
+    match axis.values.as_slice() {
+        [a, b, ..] => (b - a).abs(),
+        _ => 0.01,
+    }
+}
+
+/// The starts of the refinement, as free values of `objective`: the best
+/// grid point `x_grid`, the best point of each other basin of the grid's
+/// `profile` (over all the grid's axes, of lengths `lens`), at most
+/// [`MOST_STARTS`] in all, then `rh` (the Ragheb–Hancock best, a point of
+/// this model too and often in another basin). No start twice.
+pub(crate) fn starts(
+    x_grid: &[f64],
+    profile: Option<(&GridProfile, &[usize])>,
+    searched: &[Searched],
+    (objective, rh): (&SumOfSquares, Option<Vec<f64>>),
+) -> Vec<Vec<f64>> {
+    let mut starts = vec![x_grid.to_vec()];
+    if let Some((grid_profile, lens)) = profile {
+        for (flat, _) in basins(&grid_profile.near, lens, MOST_STARTS) {
+            let start = point_of(flat, lens, searched, objective.names(), x_grid);
+            if !starts.contains(&start) {
+                starts.push(start);
+            }
+        }
+        starts.truncate(MOST_STARTS);
+    }
+    if let Some(start) = rh {
+        if !starts.contains(&start) {
+            starts.push(start);
+        }
+    }
+    starts
+}
+
+/// The free values of the grid point `flat` (row-major over `lens`),
+/// taking parameters not searched from `fallback`.
+fn point_of(
+    flat: usize,
+    lens: &[usize],
+    searched: &[Searched],
+    names: &[&str],
+    fallback: &[f64],
+) -> Vec<f64> {
+    names
+        .iter()
+        .zip(fallback)
+        .map(|(&name, &f)| {
+            searched.iter().find(|s| s.name == name).map_or(f, |s| {
+                let stride: usize = lens[s.axis + 1..].iter().product();
+                s.values.values[(flat / stride) % lens[s.axis]]
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fitted::ModelParams;
+    use crate::model::Model;
     use crate::synthetic;
     use laminar_core::{Correlation, Params};
 
@@ -341,7 +281,7 @@ mod tests {
     fn refinement_finds_an_off_grid_truth_without_noise() {
         let truth = Params::new(1.234, 0.456, 1.417, 0.321).unwrap();
         let scene = synthetic::scene(Correlation::Exponential, &truth, 0.0, 1);
-        let objective = Objective::new(&scene, Model::Exp);
+        let objective = SumOfSquares::new(&scene, Model::Exp);
         assert_eq!(objective.names(), ["slope", "beta", "n", "a"]);
         let start = vec![1.24, 0.46, 1.42, 0.32];
         let r = refine(
@@ -359,7 +299,7 @@ mod tests {
     fn bounds_hold_and_ragheb_hancock_keeps_a_at_zero() {
         let truth = Params::new(0.8, 0.3, 1.05, 0.0).unwrap();
         let scene = synthetic::scene(Correlation::Gaussian, &truth, 0.0, 1);
-        let objective = Objective::new(&scene, Model::RhGauss);
+        let objective = SumOfSquares::new(&scene, Model::RhGauss);
         assert_eq!(objective.names(), ["slope", "beta", "n"]);
         // Starts pushed against n = 1: the answer stays in the domain.
         let r = refine(&objective, &[vec![0.9, 0.35, 1.0]], &[0.08, 0.01, 0.02]);

@@ -1,0 +1,189 @@
+//! What a fit reports (docs/conventions.md §11): the last stage of the
+//! pipeline. A [`Fit`] holds the search's best, the refined estimate, each
+//! searched parameter ([`Parameter`]: grid and refined value, intervals,
+//! flags, box) and the Jacobian's covariance. Both objectives fill it
+//! ([`crate::paper::report`], [`crate::free::report`]); every writer reads it.
+
+use crate::covariance::Covariance;
+use crate::edges::Edge;
+use crate::estimate::Estimate;
+use crate::model::Model;
+use crate::objective::Objective;
+use crate::profile::Interval;
+use std::fmt;
+
+/// The result of fitting one (sample, channel, model).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// Sample label ([`crate::Scene::sample`]).
+    pub sample: String,
+    /// Channel name ([`crate::Scene::channel`]).
+    pub channel: String,
+    /// Model fitted.
+    pub model: Model,
+    /// The best estimate.
+    pub best: Estimate,
+    /// For `exp` and `gauss`: the Ragheb–Hancock best of the same search (a = 0 slice).
+    pub rh: Option<Estimate>,
+    /// The search's own Δ_RMS at the best point (search precision).
+    pub search_rms: f64,
+    /// Kept measurements K.
+    pub measurements: usize,
+    /// Kept measurements with zero or negative value (docs/conventions.md §8).
+    pub nonpositive: usize,
+    /// Parameter sets evaluated.
+    pub evaluated: usize,
+    /// The refined estimate ([`crate::paper::refine`],
+    /// [`crate::free::refine`]), when refined: never a larger Δ_RMS than `best`, the grid's.
+    pub refined: Option<Estimate>,
+    /// Each searched parameter: grid value, refined value, intervals and
+    /// edge flags ([`crate::edges`]); empty when nothing was searched
+    /// ([`crate::Fitter::assess`]).
+    pub parameters: Vec<Parameter>,
+    /// The Jacobian's covariance and correlations at the refined optimum
+    /// (when asked for and no parameter is at a bound of its domain).
+    pub covariance: Option<Covariance>,
+    /// The objective minimised.
+    pub objective: Objective,
+    /// Free-amplitude fits: the fitted amplitude `c` of the estimate
+    /// (prediction `c · M` on the data divided by their max).
+    pub amplitude: Option<f64>,
+    /// Free-amplitude fits: the weighted `χ²/ν = Σ w (D − P)²/(K − p)` of
+    /// the estimate, `w = 1/σ²` (1 without uncertainties), p counting the
+    /// amplitude.
+    pub chi2_weighted: Option<f64>,
+}
+
+impl Fit {
+    /// The estimate to use: the refined one when there is one, else the grid's.
+    pub fn estimate(&self) -> &Estimate {
+        self.refined.as_ref().unwrap_or(&self.best)
+    }
+
+    /// The estimate a fit's main columns report (`rms`, `chi2_dof`,
+    /// `params`): the paper objective's best grid point, as in the paper's
+    /// tables; the free objective's [`Fit::estimate`] (its grid only places
+    /// the starts of the refinement).
+    pub fn reported(&self) -> &Estimate {
+        match self.objective {
+            Objective::Paper => &self.best,
+            Objective::Free => self.estimate(),
+        }
+    }
+}
+
+/// Where an interval comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// The profile of the error surface ([`crate::profile`]).
+    Profile,
+    /// The Jacobian at the refined optimum ([`crate::covariance`]).
+    Jacobian,
+}
+
+impl fmt::Display for Source {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::Profile => "profile",
+            Self::Jacobian => "jacobian",
+        })
+    }
+}
+
+/// One searched parameter of a fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    /// The parameter's name (as in [`crate::ModelParams`]).
+    pub name: String,
+    /// The chosen grid value.
+    pub grid: f64,
+    /// The refined value (when refined).
+    pub refined: Option<f64>,
+    /// The 68.27% interval.
+    pub interval68: Option<Interval>,
+    /// The 95% interval.
+    pub interval95: Option<Interval>,
+    /// Where both intervals come from.
+    pub source: Option<Source>,
+    /// The Jacobian's standard deviation (no bound active).
+    pub sd: Option<f64>,
+    /// Edge flags (empty for an interior value).
+    pub flags: Vec<Edge>,
+    /// The box the parameter was searched, refined and bounded in
+    /// (free-amplitude fits; `None` for the paper objective, whose grid
+    /// range is not a bound of the refinement).
+    pub bounds: Option<(f64, f64)>,
+    /// For an estimate on an edge of the box that is not a bound of the
+    /// model's domain: where one local fit with that bound released goes.
+    pub released: Option<Released>,
+}
+
+/// What releasing a bound of the box gives: a diagnostic, not an estimate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Released {
+    /// The parameter's value with its bound released (within the model's domain).
+    pub value: f64,
+    /// Δ_RMS (eq. 15) there.
+    pub rms: f64,
+    /// Δ_RMS of the fit in the box, to compare.
+    pub rms_in_box: f64,
+}
+
+impl Parameter {
+    /// A parameter with its grid value only.
+    pub fn new(name: &str, grid: f64) -> Self {
+        Self {
+            name: name.to_string(),
+            grid,
+            refined: None,
+            interval68: None,
+            interval95: None,
+            source: None,
+            sd: None,
+            flags: Vec::new(),
+            bounds: None,
+            released: None,
+        }
+    }
+
+    /// The refined value, or the grid value when not refined.
+    pub fn value(&self) -> f64 {
+        self.refined.unwrap_or(self.grid)
+    }
+}
+
+/// The flagged parameters as `name:flag[+flag]` joined by `;` (empty when
+/// every value is interior): the CSV column `edges`.
+pub fn edges_text(parameters: &[Parameter]) -> String {
+    parameters
+        .iter()
+        .filter(|e| !e.flags.is_empty())
+        .map(|e| {
+            let flags: Vec<String> = e.flags.iter().map(Edge::to_string).collect();
+            format!("{}:{}", e.name, flags.join("+"))
+        })
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flagged_parameters_are_listed_with_their_flags() {
+        let p = |name: &str, flags| Parameter {
+            flags,
+            ..Parameter::new(name, 0.0)
+        };
+        let list = [
+            p("slope", vec![Edge::RangeEdge]),
+            p("beta", vec![]),
+            p("a", vec![Edge::RangeEdge, Edge::DomainBound]),
+        ];
+        assert_eq!(
+            edges_text(&list),
+            "slope:range_edge;a:range_edge+domain_bound"
+        );
+    }
+}
