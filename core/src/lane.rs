@@ -1,4 +1,5 @@
-//! The lane trait: one numeric interface for `f32`, `f64` and `wide::f32x8`.
+//! The lane trait: one numeric interface for `f32`, `f64`, `wide::f32x8`
+//! and `wide::f64x4`.
 //!
 //! Every equation of the model is written once against [`Lane`]. The trait
 //! exposes only operations whose results are defined bit for bit by IEEE 754
@@ -6,10 +7,11 @@
 //! exact power-of-two scaling. It deliberately has no `mul_add` (fused only on
 //! some targets), no vendor `exp` and no horizontal reduction (their rounding
 //! differs between SIMD widths). That is what makes the `f32x8` path bitwise
-//! identical to the scalar `f32` path, lane by lane, on every target.
+//! identical to the scalar `f32` path, and the `f64x4` path to the scalar
+//! `f64` path, lane by lane, on every target.
 
 use core::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
-use wide::{f32x8, i32x8};
+use wide::{f32x8, f64x4, i32x8};
 
 /// A lane mask produced by comparisons and consumed by [`Lane::select`].
 pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> {}
@@ -18,17 +20,20 @@ impl Mask for bool {}
 
 impl Mask for f32x8 {}
 
-/// Seals [`Lane`]: its three implementations are the whole determinism
+impl Mask for f64x4 {}
+
+/// Seals [`Lane`]: its four implementations are the whole determinism
 /// policy, so no other type may join them.
 mod sealed {
     pub trait Sealed {}
     impl Sealed for f32 {}
     impl Sealed for f64 {}
     impl Sealed for wide::f32x8 {}
+    impl Sealed for wide::f64x4 {}
 }
 
 /// A vector of one or more floating-point lanes (see the module docs).
-/// Sealed: implemented for `f32`, `f64` and `wide::f32x8` only.
+/// Sealed: implemented for `f32`, `f64`, `wide::f32x8` and `wide::f64x4` only.
 pub trait Lane:
     sealed::Sealed
     + Copy
@@ -38,7 +43,8 @@ pub trait Lane:
     + Mul<Output = Self>
     + Div<Output = Self>
 {
-    /// The type of one lane (`f32` for `f32` and `f32x8`, `f64` for `f64`).
+    /// The type of one lane (`f32` for `f32` and `f32x8`, `f64` for `f64`
+    /// and `f64x4`).
     type Scalar: Real;
     /// The mask type returned by comparisons.
     type Mask: Mask;
@@ -312,6 +318,52 @@ impl Lane for f32x8 {
     #[allow(clippy::disallowed_methods)] // the one sanctioned use (clippy.toml)
     fn min(self, rhs: Self) -> Self {
         rhs.fast_min(self)
+    }
+}
+
+/// Four `f64` lanes (the host's f64 fits, four measurements at a time).
+/// `max` and `min` are the trait's compare + select.
+impl Lane for f64x4 {
+    type Scalar = f64;
+    type Mask = f64x4;
+    const LANES: usize = 4;
+    #[inline]
+    fn splat(s: f64) -> Self {
+        f64x4::splat(s)
+    }
+    #[inline]
+    fn from_f64_lanes(mut f: impl FnMut(usize) -> f64) -> Self {
+        f64x4::new([f(0), f(1), f(2), f(3)])
+    }
+    #[inline]
+    fn lane(self, i: usize) -> f64 {
+        self.to_array()[i.min(3)]
+    }
+    #[inline]
+    fn sqrt(self) -> Self {
+        f64x4::sqrt(self)
+    }
+    #[inline]
+    fn lt(self, rhs: Self) -> f64x4 {
+        self.simd_lt(rhs)
+    }
+    #[inline]
+    fn le(self, rhs: Self) -> f64x4 {
+        self.simd_le(rhs)
+    }
+    #[inline]
+    fn eq(self, rhs: Self) -> f64x4 {
+        self.simd_eq(rhs)
+    }
+    #[inline]
+    fn select(mask: f64x4, t: Self, f: Self) -> Self {
+        mask.select(t, f)
+    }
+    /// Lane by lane through the scalar `f64` bits (`exp` calls it once per
+    /// evaluation; wide has no f64 ↔ u64 bit cast without `bytemuck`).
+    #[inline]
+    fn pow2i(n: Self) -> Self {
+        f64x4::new(n.to_array().map(<f64 as Lane>::pow2i))
     }
 }
 

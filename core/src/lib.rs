@@ -22,13 +22,14 @@
 //! # Ok::<(), laminar_core::InputError>(())
 //! ```
 //!
-//! ## One implementation, three lane types
+//! ## One implementation, four lane types
 //! Every equation is written once against [`Lane`], implemented for `f32`,
-//! `f64` and `wide::f32x8` (eight measurement geometries per vector).
+//! `f64`, `wide::f32x8` (eight measurement geometries per vector) and
+//! `wide::f64x4` (four, for the host's f64 fits).
 //!
 //! ## Determinism policy
-//! * The `f32x8` path is **bitwise identical** to the scalar `f32` path, lane
-//!   by lane, on every target: only IEEE-exact operations are used
+//! * The `f32x8` path is **bitwise identical** to the scalar `f32` path, and
+//!   the `f64x4` path to the scalar `f64` path, lane by lane, on every target: only IEEE-exact operations are used
 //!   (`+ − × ÷ sqrt`, comparisons, selects, exact power-of-two scaling), never
 //!   `mul_add`, vendor `exp` or horizontal reductions. [`exp`](exp::exp) is our
 //!   own, written once generically. The workspace's `clippy.toml` forbids
@@ -114,4 +115,4 @@ pub use radiance::{
 };
 pub use subsurface::{absorption_factor, subsurface_base, subsurface_radiance, Interface};
 pub use surface::{inverse_slope_squared, surface_radiance, Correlation};
-pub use wide::f32x8;
+pub use wide::{f32x8, f64x4};

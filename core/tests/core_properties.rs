@@ -13,7 +13,7 @@ use laminar_core::{
     components, energy_budget, fresnel, subsurface_base, total_radiance, Angles, Components,
     Correlation, Geometry, Interface, Lane, Params,
 };
-use laminar_core::{f32x8, inverse_slope_squared};
+use laminar_core::{f32x8, f64x4, inverse_slope_squared};
 use proptest::prelude::*;
 
 fn fields<L: Copy>(c: &Components<L>) -> [L; 7] {
@@ -68,6 +68,58 @@ proptest! {
             prop_assert!(same_bits(ov, i, os), "oren-nayar lane {i}");
             prop_assert!(same_bits(ev, i, exp(xs[i])), "exp lane {i}");
             prop_assert!(js.is_finite() && js >= 0.0 && os.is_finite());
+        }
+    }
+
+    /// The f64x4 lanes (the host fits' four measurements at a time) against
+    /// scalar f64: the components, the interface and subsurface base at
+    /// any n, both baselines and exp.
+    #[test]
+    fn f64x4_equals_scalar_f64_bit_for_bit(
+        angles in common::angles8(),
+        corr in common::correlation(),
+        p in common::params(),
+        n in 1.0f64..=10.0, slope in 1e-3f64..=1e3,
+        sa in 0.01..=1.0f64, ss in 0.01..=1.0f64,
+        sigma in 0.0..=1.0f64, rho in 0.02..=1.0f64,
+        xs in proptest::array::uniform4(-745.0f64..=709.0),
+    ) {
+        let same = |v: f64x4, i: usize, s: f64| v.lane(i).to_bits() == s.to_bits();
+        let gv = Geometry::<f64x4>::from_lanes(|i| angles[i]);
+        let cv = fields(&components(&gv, corr, &p));
+        let t = inverse_slope_squared(slope);
+        let iv = Interface::new(&gv, f64x4::splat(n));
+        let bv = subsurface_base(&iv, corr, f64x4::splat(t));
+        let jk = JensenCoefficients::<f64>::new(sa, ss).unwrap();
+        let ok = OrenNayarCoefficients::<f64>::new(sigma, rho).unwrap();
+        let jv = jensen_radiance(&JensenGeometry::<f64x4>::from_lanes(|i| angles[i]), &jk);
+        let ov = oren_nayar_radiance(&OrenNayarGeometry::<f64x4>::from_lanes(|i| angles[i]), &ok);
+        let ev = exp(f64x4::new(xs));
+        for (i, a) in angles.iter().take(4).enumerate() {
+            let gs = Geometry::<f64>::splat(a);
+            let cs = fields(&components(&gs, corr, &p));
+            for k in 0..7 {
+                prop_assert!(same(cv[k], i, cs[k]), "{} lane {i}: {} vs {}", NAMES[k], cv[k].lane(i), cs[k]);
+            }
+            let is = Interface::new(&gs, n);
+            for (v, s) in [
+                (iv.transmit_in, is.transmit_in),
+                (iv.transmit_out, is.transmit_out),
+                (iv.fresnel_in, is.fresnel_in),
+                (iv.fresnel_out, is.fresnel_out),
+                (iv.solid_angle, is.solid_angle),
+                (iv.refracted.cos_i, is.refracted.cos_i),
+                (iv.refracted.cos_s, is.refracted.cos_s),
+                (iv.refracted.ratio, is.refracted.ratio),
+            ] {
+                prop_assert!(same(v, i, s), "interface lane {i}: {} vs {s}", v.lane(i));
+            }
+            prop_assert!(same(bv, i, subsurface_base(&is, corr, t)), "base lane {i}");
+            let js = jensen_radiance(&JensenGeometry::<f64>::from_lanes(|_| *a), &jk);
+            let os = oren_nayar_radiance(&OrenNayarGeometry::<f64>::from_lanes(|_| *a), &ok);
+            prop_assert!(same(jv, i, js), "jensen lane {i}");
+            prop_assert!(same(ov, i, os), "oren-nayar lane {i}");
+            prop_assert!(same(ev, i, exp(xs[i])), "exp lane {i}");
         }
     }
 

@@ -19,7 +19,7 @@ use laminar_core::baselines::oren_nayar::{
 };
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
 use laminar_core::{
-    inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
+    f64x4, inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
     Interface,
 };
 
@@ -47,6 +47,10 @@ pub enum Basis {
         corr: Correlation,
         /// Geometry of each measurement.
         geometry: Vec<Geometry<f64>>,
+        /// The same four measurements at a time ([`pack`]), which the
+        /// columns are computed from: the same bits as `geometry`, lane by
+        /// lane (the core's f64x4 path is bitwise its scalar f64 path).
+        packed: Vec<Geometry<f64x4>>,
         /// `cos²θi` of each measurement.
         cos2_i: Vec<f64>,
         /// `cos²θs` of each measurement.
@@ -74,12 +78,12 @@ pub struct Evaluated {
 /// columns at every σ/T and a reuse.
 #[derive(Debug, Clone, Default)]
 pub struct Held {
-    interfaces: Option<(f64, Vec<Interface<f64>>)>,
+    interfaces: Option<(f64, Vec<Interface<f64x4>>)>,
 }
 
 impl Held {
     /// The held interfaces, when they are those at `n`.
-    fn at(&self, n: f64) -> Option<&[Interface<f64>]> {
+    fn at(&self, n: f64) -> Option<&[Interface<f64x4>]> {
         match &self.interfaces {
             Some((at, interfaces)) if *at == n => Some(interfaces),
             _ => None,
@@ -153,6 +157,22 @@ fn log_n_derivative(
         + transmission(g.cos_s, cs, dcs, rs)
 }
 
+/// `angles` four at a time, the last group padded with its last
+/// measurement (whose lanes [`unpack`] drops).
+fn pack(angles: &[Angles]) -> Vec<Geometry<f64x4>> {
+    angles
+        .chunks(4)
+        .map(|group| Geometry::from_lanes(|i| group[i.min(group.len() - 1)]))
+        .collect()
+}
+
+/// The first `len` lanes of `groups`, in measurement order.
+fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
+    let mut out: Vec<f64> = groups.flat_map(|v| v.to_array()).collect();
+    out.truncate(len);
+    out
+}
+
 impl Basis {
     /// The basis of `model` at the measurements `angles`.
     pub fn new(model: Model, angles: &[Angles]) -> Self {
@@ -162,6 +182,7 @@ impl Basis {
                     angles.iter().map(Geometry::<f64>::splat).collect();
                 Self::Layered {
                     corr,
+                    packed: pack(angles),
                     cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
                     cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
                     geometry,
@@ -211,11 +232,13 @@ impl Basis {
         self.len() == 0
     }
 
-    /// The interfaces at refractive index `n` (layered models only).
-    pub fn interfaces(&self, n: f64) -> Vec<Interface<f64>> {
+    /// The interfaces at refractive index `n`, four measurements at a time
+    /// (layered models only).
+    pub fn interfaces(&self, n: f64) -> Vec<Interface<f64x4>> {
         match self {
-            Self::Layered { geometry, .. } => {
-                geometry.iter().map(|g| Interface::new(g, n)).collect()
+            Self::Layered { packed, .. } => {
+                let n = f64x4::splat(n);
+                packed.iter().map(|g| Interface::new(g, n)).collect()
             }
             _ => Vec::new(),
         }
@@ -224,26 +247,23 @@ impl Basis {
     /// The raw surface term at σ/T (layered models only).
     pub fn surface(&self, slope: f64) -> Vec<f64> {
         match self {
-            Self::Layered { corr, geometry, .. } => {
-                let t = inverse_slope_squared(slope);
-                geometry
-                    .iter()
-                    .map(|g| surface_radiance(g, *corr, t))
-                    .collect()
+            Self::Layered { corr, packed, .. } => {
+                let t = f64x4::splat(inverse_slope_squared(slope));
+                let groups = packed.iter().map(|g| surface_radiance(g, *corr, t));
+                unpack(groups, self.len())
             }
             _ => Vec::new(),
         }
     }
 
-    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on `interfaces`.
-    pub fn base(&self, slope: f64, interfaces: &[Interface<f64>]) -> Vec<f64> {
+    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on `interfaces`
+    /// ([`Basis::interfaces`]).
+    pub fn base(&self, slope: f64, interfaces: &[Interface<f64x4>]) -> Vec<f64> {
         match self {
             Self::Layered { corr, .. } => {
-                let t = inverse_slope_squared(slope);
-                interfaces
-                    .iter()
-                    .map(|i| subsurface_base(i, *corr, t))
-                    .collect()
+                let t = f64x4::splat(inverse_slope_squared(slope));
+                let groups = interfaces.iter().map(|i| subsurface_base(i, *corr, t));
+                unpack(groups, self.len())
             }
             _ => Vec::new(),
         }
@@ -268,28 +288,35 @@ impl Basis {
     /// One pass over the measurements, each interface built (or taken
     /// from `held`) and used at once.
     fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> (Vec<f64>, LayeredTerms) {
-        let Self::Layered { corr, geometry, .. } = self else {
+        let Self::Layered { corr, packed, .. } = self else {
             unreachable!("layered models only")
         };
         let t = inverse_slope_squared(slope);
-        let len = geometry.len();
+        let (len, t4) = (self.len(), f64x4::splat(t));
         let mut terms = LayeredTerms {
-            base: Vec::with_capacity(len),
+            base: Vec::with_capacity(len + 3),
             t,
-            x_refracted: Vec::with_capacity(len),
-            refracted_cos: Vec::with_capacity(len),
+            x_refracted: Vec::with_capacity(len + 3),
+            refracted_cos: Vec::with_capacity(len + 3),
         };
-        let mut take = |i: &Interface<f64>| {
-            terms.base.push(subsurface_base(i, *corr, t));
-            terms.x_refracted.push(i.refracted.ratio * t);
-            terms
-                .refracted_cos
-                .push((i.refracted.cos_i, i.refracted.cos_s));
+        let mut take = |i: &Interface<f64x4>| {
+            let base = subsurface_base(i, *corr, t4).to_array();
+            let x = (i.refracted.ratio * t4).to_array();
+            let (ci, cs) = (i.refracted.cos_i.to_array(), i.refracted.cos_s.to_array());
+            terms.base.extend_from_slice(&base);
+            terms.x_refracted.extend_from_slice(&x);
+            terms.refracted_cos.extend((0..4).map(|k| (ci[k], cs[k])));
         };
         match held.at(n) {
             Some(interfaces) => interfaces.iter().for_each(take),
-            None => geometry.iter().for_each(|g| take(&Interface::new(g, n))),
+            None => {
+                let n = f64x4::splat(n);
+                packed.iter().for_each(|g| take(&Interface::new(g, n)));
+            }
         }
+        terms.base.truncate(len);
+        terms.x_refracted.truncate(len);
+        terms.refracted_cos.truncate(len);
         (self.surface(slope), terms)
     }
 
