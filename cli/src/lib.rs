@@ -11,6 +11,7 @@ pub mod scaling;
 pub mod selection;
 pub mod speed;
 pub mod tables;
+pub mod terminal;
 
 use thiserror::Error;
 

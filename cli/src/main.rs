@@ -37,7 +37,19 @@ fn main() -> ExitCode {
     if std::env::var_os("CURET_DIR").is_some_and(|v| v.is_empty()) {
         std::env::remove_var("CURET_DIR");
     }
-    let cli = Cli::parse();
+    // clap's errors quote the arguments: they pass through the escaping
+    // every other message gets (help and version go to stdout unchanged).
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            eprint!(
+                "{}",
+                laminar_cli::terminal::escaped(&e.render().to_string())
+            );
+            return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
+        }
+        Err(e) => e.exit(),
+    };
     let result = match &cli.command {
         Command::Fit(args) => commands::fit::run(args).map(|_| true),
         Command::FitBatch(args) => commands::fit_batch::run(args).map(|_| true),
@@ -52,7 +64,7 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {
-            eprintln!("error: {e}");
+            laminar_cli::note!("error: {e}");
             ExitCode::from(2)
         }
     }

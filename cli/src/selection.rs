@@ -187,7 +187,7 @@ impl FileInput {
                 let table = merl::read_merl(&self.path)?;
                 let (set, missing) = merl::sample(&self.path, &table, &geometry)?;
                 if missing > 0 {
-                    eprintln!(
+                    crate::note!(
                         "{}: {missing} of {} geometries of {} fall in unmeasured bins and are left out",
                         self.path.display(),
                         geometry.len(),

@@ -517,6 +517,88 @@ fn predict_selects_one_fit() {
     );
 }
 
+/// A fit whose parameters are outside the model's domain is refused by
+/// every command that predicts with it, naming the file and the fit; a
+/// file's own rh-exp fit wins over the rh best of its exp fit (listed
+/// once); control characters in what a message echoes are escaped.
+#[test]
+fn bad_fits_name_file_and_fit_and_echoes_are_escaped() {
+    let d = tempfile::tempdir().unwrap();
+    let fits = d.path().join("fits.json");
+    let geometry = geometry_csv(d.path());
+    ok(&[
+        "fit",
+        "--models",
+        "exp,rh-exp",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+    ]);
+    let err = fails(
+        &["predict", "--fit", s(&fits), "--geometry", s(&geometry)],
+        &["holds 2 fits"],
+    );
+    assert_eq!(err.matches("synthetic/avg/rh-exp").count(), 1, "{err}");
+    let mut doc = json(&fits);
+    let own_rh = doc["fits"][1]["fitted"]["params"]["n"].as_f64().unwrap();
+    doc["fits"][0]["fitted"]["params"]["n"] = serde_json::json!(0.5);
+    doc["fits"][1]["fitted"]["params"]["n"] = serde_json::json!(own_rh + 0.125);
+    let edited = d.path().join("edited.json");
+    std::fs::write(&edited, doc.to_string()).unwrap();
+    let select = ["--select", "synthetic/avg/exp"];
+    let want = ["edited.json: fit synthetic/avg/exp: n = 0.5 is outside [1, 10]"];
+    let merl = d.path().join("m.binary");
+    fails(
+        &[
+            &["predict", "--fit", s(&edited), "--geometry", s(&geometry)][..],
+            &select,
+        ]
+        .concat(),
+        &want,
+    );
+    fails(
+        &[
+            &["export", "--fit", s(&edited), "--merl", s(&merl)][..],
+            &select,
+        ]
+        .concat(),
+        &want,
+    );
+    assert!(!merl.exists());
+    // The selected rh-exp is the file's own fit (its edited n predicts
+    // otherwise than the exp fit's rh best, whose n is unchanged).
+    let predict = |file: &Path| {
+        ok(&[
+            "predict",
+            "--fit",
+            s(file),
+            "--select",
+            "synthetic/avg/rh-exp",
+            "--geometry",
+            s(&geometry),
+        ])
+    };
+    assert_ne!(predict(&fits), predict(&edited));
+    let err = fails(
+        &[
+            "predict",
+            "--fit",
+            s(&fits),
+            "--select",
+            "a\u{1b}]0;title\u{7}b",
+            "--geometry",
+            s(&geometry),
+        ],
+        &["no fit `a\\u{1b}]0;title\\u{7}b`"],
+    );
+    assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{err:?}");
+    // clap's own errors (escaped, or stripped of escape sequences by its
+    // renderer) never carry the raw character either.
+    let err = fails(&["fit", "--models", "x\u{1b}[2J\u{7}"], &["unknown model"]);
+    assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{err:?}");
+}
+
 /// A CSV with degrees, lab-frame angles, comments, two channels and sigma.
 #[test]
 fn csv_measurements_are_fitted_by_channel_with_the_file_stem_as_sample() {

@@ -46,10 +46,12 @@ pub enum ReadError {
         input: PathBuf,
     },
     /// A fitted model that cannot predict.
-    #[error("{}: {source}", file.display())]
+    #[error("{}: fit {fit}: {source}", file.display())]
     Model {
         /// The file.
         file: PathBuf,
+        /// The fit's label, `sample/channel/model`.
+        fit: String,
         /// Why.
         source: ModelError,
     },

@@ -58,6 +58,8 @@ pub struct ValueRows<R: BufRead> {
     file: PathBuf,
     cols: usize,
     rows: Option<usize>,
+    /// Rows returned so far (an `.npy` error names the set after them).
+    read: usize,
     source: Source<R>,
 }
 
@@ -138,6 +140,7 @@ impl<R: BufRead> ValueRows<R> {
             file: file.to_path_buf(),
             cols,
             rows: usize::try_from(shape[0]).ok(),
+            read: 0,
             source,
         })
     }
@@ -152,6 +155,7 @@ impl<R: BufRead> ValueRows<R> {
             file: file.to_path_buf(),
             cols: 0,
             rows: None,
+            read: 0,
             source: Source::Csv {
                 lines: reader.lines(),
                 line_no: 0,
@@ -186,13 +190,21 @@ impl<R: BufRead> ValueRows<R> {
     pub fn next_rows(&mut self, n: usize) -> Result<Vec<Vec<f64>>, ReadError> {
         let mut out = Vec::with_capacity(n.min(1 << 16));
         while out.len() < n {
+            let at = NpyAt {
+                file: &self.file,
+                set: self.read + 1,
+                cols: self.cols,
+            };
             let row = match &mut self.source {
                 Source::Csv { .. } => self.csv_row()?,
-                Source::F64(data) => npy_row(&self.file, data, self.cols, |v| v)?,
-                Source::F32(data) => npy_row(&self.file, data, self.cols, f64::from)?,
+                Source::F64(data) => npy_row(at, data, |v| v)?,
+                Source::F32(data) => npy_row(at, data, f64::from)?,
             };
             match row {
-                Some(row) => out.push(row),
+                Some(row) => {
+                    out.push(row);
+                    self.read += 1;
+                }
                 None => break,
             }
         }
@@ -327,24 +339,55 @@ fn checked_header<R: BufRead>(file: &Path, mut reader: R) -> Result<NpyStream<R>
     Ok(std::io::Cursor::new(prefix).chain(reader))
 }
 
-/// The next row of `cols` values of an `.npy` data stream.
-fn npy_row<T: npyz::Deserialize, R: BufRead>(
-    file: &Path,
-    data: &mut npyz::NpyReader<T, R>,
+/// Where an `.npy` row is read: the file, the set's 1-based number and the
+/// values per set.
+#[derive(Clone, Copy)]
+struct NpyAt<'a> {
+    file: &'a Path,
+    set: usize,
     cols: usize,
+}
+
+/// Values a row reserves before any is read: a header may claim any K,
+/// so the row grows only as values arrive, each growth fallible.
+const FIRST_ROW_CAPACITY: usize = 1 << 12;
+
+/// The next row of an `.npy` data stream (set `at.set`, `at.cols` values).
+fn npy_row<T: npyz::Deserialize, R: BufRead>(
+    at: NpyAt,
+    data: &mut npyz::NpyReader<T, R>,
     widen: impl Fn(T) -> f64,
 ) -> Result<Option<Vec<f64>>, ReadError> {
-    let mut row = Vec::with_capacity(cols);
-    for value in data.by_ref().take(cols) {
-        let v = widen(
-            value.map_err(|e| ReadError::format(file, 0, format!("cannot read the data: {e}")))?,
-        );
+    let (file, set, cols) = (at.file, at.set, at.cols);
+    let mut row = Vec::new();
+    for (k, value) in data.by_ref().take(cols).enumerate() {
+        let v = widen(value.map_err(|e| {
+            ReadError::format(file, 0, format!("set {set}: cannot read the data: {e}"))
+        })?);
         if !v.is_finite() {
             return Err(ReadError::format(
                 file,
                 0,
-                format!("value {v} is not a finite number"),
+                format!(
+                    "set {set}, measurement {} (row {set}, column {} of the array): value {v} is not a finite number",
+                    k + 1,
+                    k + 1
+                ),
             ));
+        }
+        if row.len() == row.capacity() {
+            let more = if row.is_empty() {
+                cols.min(FIRST_ROW_CAPACITY)
+            } else {
+                row.len()
+            };
+            row.try_reserve(more).map_err(|_| {
+                ReadError::format(
+                    file,
+                    0,
+                    format!("set {set}: not enough memory for a row of {cols} values"),
+                )
+            })?;
         }
         row.push(v);
     }
@@ -354,7 +397,7 @@ fn npy_row<T: npyz::Deserialize, R: BufRead>(
         n => Err(ReadError::format(
             file,
             0,
-            format!("the data end inside a row ({n} of {cols} values)"),
+            format!("the data end inside set {set} ({n} of {cols} values)"),
         )),
     }
 }
@@ -408,6 +451,36 @@ mod tests {
     /// (issue 24): it is refused before parsing, as is a header claiming
     /// more bytes than the format allows; a header nested as deep as
     /// allowed still reaches the parser (and its dtype check).
+    /// A header claiming 2⁴⁰ values per set over a few bytes of data
+    /// reserved 8 TiB for the first row and aborted; rows now grow only as
+    /// values arrive. A non-finite value names its set and measurement.
+    #[test]
+    fn npy_claims_reserve_nothing_and_bad_values_say_where() {
+        let f = Path::new("huge.npy");
+        let bytes = npy("<f8", (1, 1 << 40), &1.0f64.to_le_bytes());
+        let e = parse_npy(f, &bytes).unwrap_err().to_string();
+        assert!(
+            e.starts_with("huge.npy: set 1: cannot read the data"),
+            "{e}"
+        );
+        let bytes = npy("<f8", (4, 1 << 30), &[]);
+        let e = parse_npy(f, &bytes).unwrap_err().to_string();
+        assert!(
+            e.starts_with("huge.npy: set 1: cannot read the data"),
+            "{e}"
+        );
+        let mut values = vec![1.0f64; 6];
+        values[4] = f64::NAN;
+        let payload: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
+        let e = parse_npy(Path::new("v.npy"), &npy("<f8", (2, 3), &payload))
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "v.npy: set 2, measurement 2 (row 2, column 2 of the array): value NaN is not a finite number"
+        );
+    }
+
     #[test]
     fn npy_headers_too_deep_or_too_long_are_refused_before_parsing() {
         let f = Path::new("deep.npy");

@@ -32,10 +32,10 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(Some(&args.merl), std::slice::from_ref(&args.fit.file))?;
     let sel = args.fit.selected()?;
-    // Validate once: the per-bin evaluations can then only fail by a value
-    // that is not finite, which is kept and refused before anything is
-    // written (MERL's -1 marks a bin without data, not an overflow).
-    sel.fitted.predict(&[])?;
+    // The parameters were validated by the selection: the per-bin
+    // evaluations can then only fail by a value that is not finite, which
+    // is kept and refused before anything is written (MERL's -1 marks a bin
+    // without data, not an overflow).
     let overflow: std::cell::Cell<Option<(f64, f64, f64)>> = std::cell::Cell::new(None);
     let table = Merl::tabulate(|theta_i, phi_i, theta_v, phi_v| {
         let g = MeasurementAngles::Lab {
@@ -65,7 +65,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         )));
     }
     write_merl(&args.merl, &table)?;
-    eprintln!(
+    laminar_cli::note!(
         "export: {} tabulated into {} ({} bins per channel)",
         sel.label,
         args.merl.display(),

@@ -143,7 +143,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         .ok()
         .and_then(|m| m.beta_eq8)
         .unwrap_or(f64::NAN);
-        eprintln!(
+        laminar_cli::note!(
             "synthetic scene: true parameters slope={s};beta={b};n={n};a={a} (exp model, paper normalisation; eq. 8's beta, the free objective's, is {beta_eq8:.4}), noise σ = {}",
             synthetic::NOISE
         );

@@ -165,7 +165,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         None => emit(Some(&args.out), &fits::json(&records))?,
     }
     let secs = start.elapsed().as_secs_f64();
-    eprintln!(
+    laminar_cli::note!(
         "fit-batch: {done} sets × {} models, {:.1} sets/s",
         args.models.len(),
         done as f64 / secs.max(1e-9)

@@ -315,7 +315,7 @@ pub const PAIRS: &str = "(parameter set, measurement) pairs";
 /// Prints elapsed time and throughput (`count` `unit` per second) on stderr.
 pub fn report_time(command: &str, start: Instant, count: f64, unit: &str) {
     let secs = start.elapsed().as_secs_f64();
-    eprintln!(
+    laminar_cli::note!(
         "{command}: {secs:.3} s elapsed, {:.3e} {unit}/s",
         count / secs.max(1e-9)
     );

@@ -155,12 +155,10 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                 Some(scene.data().to_vec()),
             )
         };
-    let prediction = sel.fitted.predict(&angles).map_err(|source| {
-        CliError::Read(laminar_io::ReadError::Model {
-            file: args.fit.file.clone(),
-            source,
-        })
-    })?;
+    let prediction = sel
+        .fitted
+        .predict(&angles)
+        .map_err(|source| args.fit.model_error(&sel.label, source))?;
     let mut w = csv::Writer::from_writer(Vec::new());
     let mut header = vec!["row", "theta_i", "theta_s", "phi_s", "prediction"];
     if data.is_some() {
@@ -188,7 +186,7 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
     emit(args.out.as_ref(), &String::from_utf8_lossy(&bytes))?;
     if let Some(d) = &data {
         let rms = rms_error(d, &prediction).unwrap_or(f64::NAN);
-        eprintln!(
+        laminar_cli::note!(
             "predict {}: Δ_RMS (eq. 15) = {rms:e} over {} measurements (the fit's own: {:e})",
             sel.label,
             d.len(),

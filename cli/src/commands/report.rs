@@ -117,7 +117,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
     if args.out.is_some() {
         emit(args.out.as_ref(), &text)?;
     }
-    eprintln!("report scaling: {:.1} s", start.elapsed().as_secs_f64());
+    laminar_cli::note!("report scaling: {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 

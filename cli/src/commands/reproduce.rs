@@ -59,12 +59,12 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let r = reproduce(&fitter, &jobs, &args.out)?;
     bar.finish_and_clear();
     for path in &r.removed {
-        eprintln!(
+        laminar_cli::note!(
             "reproduce: removed stale figure {} (earlier run)",
             path.display()
         );
     }
-    eprintln!(
+    laminar_cli::note!(
         "reproduce: {} fits of {} jobs, {} files written to {}",
         r.records.len(),
         jobs.len(),

@@ -33,8 +33,12 @@ pub struct Selected {
     pub rms: f64,
 }
 
+/// Every fit of the file, and the Ragheb–Hancock best of each exp or gauss
+/// fit under its `rh-` label unless the file holds a fit of that label
+/// itself (which is then the one selected).
 fn candidates(entries: &[FitEntry]) -> Vec<Selected> {
     let mut out = Vec::new();
+    let own: Vec<String> = entries.iter().map(FitEntry::label).collect();
     for e in entries {
         out.push(Selected {
             label: e.label(),
@@ -46,8 +50,12 @@ fn candidates(entries: &[FitEntry]) -> Vec<Selected> {
         if let (Some(rh), Some(rh_model), Some(rms)) =
             (e.rh_fitted, e.model.ragheb_hancock(), e.rh_rms)
         {
+            let label = format!("{}/{}/{}", e.sample, e.channel, rh_model);
+            if own.contains(&label) {
+                continue;
+            }
             out.push(Selected {
-                label: format!("{}/{}/{}", e.sample, e.channel, rh_model),
+                label,
                 sample: e.sample.clone(),
                 channel: e.channel.clone(),
                 fitted: rh,
@@ -93,6 +101,22 @@ impl FitFileArgs {
                 ))
             })?,
         };
-        Ok(all.swap_remove(index))
+        let selected = all.swap_remove(index);
+        // The model's parameters are checked here, once, for every command
+        // that predicts with it: an error names the file and the fit.
+        selected
+            .fitted
+            .predict(&[])
+            .map_err(|source| self.model_error(&selected.label, source))?;
+        Ok(selected)
+    }
+
+    /// `source`, a failure of the fit `label` of this file to predict.
+    pub fn model_error(&self, label: &str, source: laminar_fit::ModelError) -> CliError {
+        CliError::Read(laminar_io::ReadError::Model {
+            file: self.file.clone(),
+            fit: label.to_string(),
+            source,
+        })
     }
 }
