@@ -469,7 +469,7 @@ mod tests {
             e.starts_with("huge.npy: set 1: cannot read the data"),
             "{e}"
         );
-        let mut values = vec![1.0f64; 6];
+        let mut values = [1.0f64; 6];
         values[4] = f64::NAN;
         let payload: Vec<u8> = values.iter().flat_map(|x| x.to_le_bytes()).collect();
         let e = parse_npy(Path::new("v.npy"), &npy("<f8", (2, 3), &payload))
