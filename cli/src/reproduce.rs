@@ -52,19 +52,6 @@ fn is_ours(name: &str) -> bool {
         || name == "summary.md"
 }
 
-/// A sibling of `out` for this process: `.{name}.{what}-{pid}`.
-fn sibling(out: &Path, what: &str) -> PathBuf {
-    let name = out
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "reproduce".into());
-    let parent = out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    parent.join(format!(".{name}.{what}-{}", std::process::id()))
-}
-
 /// The names of the files in `out` (none if it does not exist), which must
 /// all be files a reproduction writes: the directory is replaced whole.
 fn previous_files(out: &Path) -> Result<Vec<String>, CliError> {
@@ -164,7 +151,7 @@ pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
         std::fs::create_dir_all(parent)
             .map_err(|e| laminar_io::ReadError::io(parent, "create", e))?;
     }
-    laminar_io::check_writable(&sibling(out, "probe"))?;
+    laminar_io::check_writable(&laminar_io::staging::sibling(out, "probe"))?;
     Ok(())
 }
 
@@ -173,7 +160,7 @@ pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
 fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
     let io = |p: &Path, e| CliError::Read(laminar_io::ReadError::io(p, "rename", e));
     if out.exists() {
-        let old = sibling(out, "old");
+        let old = laminar_io::staging::sibling(out, "old");
         std::fs::rename(out, &old).map_err(|e| io(out, e))?;
         std::fs::rename(staging, out).map_err(|e| io(staging, e))?;
         std::fs::remove_dir_all(&old)
@@ -192,13 +179,16 @@ fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
 /// # Errors
 /// [`CliError`] when a fit, a figure or a file write fails.
 pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproduction, CliError> {
+    // Staging directories of earlier killed runs go; this run's are kept
+    // from a concurrent run's sweep while it lives.
+    let _claim = laminar_io::staging::claim(out)?;
     let previous = previous_files(out)?;
     let records = fit_jobs(fitter, jobs, &FITTED)?;
     let pairs = records
         .iter()
         .map(|r| r.evaluated as f64 * r.measurements as f64)
         .sum();
-    let staging = sibling(out, "partial");
+    let staging = laminar_io::staging::sibling(out, "partial");
     std::fs::create_dir_all(&staging)
         .map_err(|e| laminar_io::ReadError::io(&staging, "create", e))?;
     let written = write_set(fitter, jobs, &records, &staging);

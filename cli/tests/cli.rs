@@ -517,6 +517,22 @@ fn predict_selects_one_fit() {
     );
 }
 
+/// A killed run's temporary file and staging directory (their process
+/// gone, their locks free) are removed by the next run writing the same
+/// output; another output's are left alone.
+#[test]
+fn the_next_run_removes_what_a_killed_run_left() {
+    let d = tempfile::tempdir().unwrap();
+    let out = d.path().join("fits.csv");
+    let stale = d.path().join(".fits.csv.tmp-999999999");
+    let other = d.path().join(".other.csv.tmp-999999999");
+    write(d.path(), ".fits.csv.tmp-999999999", "half a file");
+    write(d.path(), ".other.csv.tmp-999999999", "");
+    ok(&["fit", "--models", "rh-exp", "--out", s(&out)]);
+    assert!(out.exists() && !stale.exists() && other.exists());
+    // reproduce's staging directories: reproduce_reports_stale_figures.
+}
+
 /// A fit whose parameters are outside the model's domain is refused by
 /// every command that predicts with it, naming the file and the fit; a
 /// file's own rh-exp fit wins over the rh best of its exp fit (listed
@@ -756,6 +772,11 @@ fn reproduce_reports_stale_figures() {
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();
     write(&out, "fig_sample19_exp_avg.svg", "<svg/>");
+    // A killed run's staging directory, its lock free: swept.
+    let staging = dir.join(".out.partial-999999999");
+    std::fs::create_dir(&staging).unwrap();
+    write(&staging, "table2.md", "stale");
+    write(dir, ".out.lock-999999999", "");
     let (code, _, err) = laminar(
         &[
             "reproduce",
@@ -778,6 +799,12 @@ fn reproduce_reports_stale_figures() {
     );
     assert!(!out.join("fig_sample19_exp_avg.svg").exists());
     assert!(out.join("fig_sample21_exp_avg.svg").exists());
+    let left: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".out."))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }
 
 /// The specular test's tolerance is an option: a measurement 2e-4 rad off

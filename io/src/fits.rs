@@ -567,13 +567,13 @@ impl AtomicFile {
     /// # Errors
     /// [`ReadError::Io`] when it cannot be created.
     pub fn create(path: &Path) -> Result<Self, ReadError> {
-        let dir = path
-            .parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-        let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+        // Temporary files of earlier runs that were killed go first.
+        crate::staging::sweep(path);
+        let tmp = crate::staging::sibling(path, "tmp");
         let file = std::fs::File::create(&tmp).map_err(|e| ReadError::io(path, "write", e))?;
+        // Held while this process lives ([`crate::staging`]); a file system
+        // without locks still gets the file.
+        let _ = file.try_lock();
         Ok(Self {
             path: path.to_path_buf(),
             tmp,

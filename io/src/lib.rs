@@ -17,6 +17,7 @@ pub mod curet;
 pub mod error;
 pub mod fits;
 pub mod merl;
+pub mod staging;
 pub mod values;
 
 pub use csv_file::{read_csv, read_geometry, AngleUnit};
