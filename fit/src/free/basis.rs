@@ -47,7 +47,7 @@ pub enum Basis {
         corr: Correlation,
         /// Geometry of each measurement.
         geometry: Vec<Geometry<f64>>,
-        /// The same four measurements at a time ([`pack`]), which the
+        /// The same four measurements at a time (`pack`), which the
         /// columns are computed from: the same bits as `geometry`, lane by
         /// lane (the core's f64x4 path is bitwise its scalar f64 path).
         packed: Vec<Geometry<f64x4>>,
