@@ -18,6 +18,75 @@ pub enum Normalisation {
     Lsq,
 }
 
+/// The smallest positive value accepted in a set of measured values,
+/// relative to their max (docs/conventions.md §8): below it χ² (which
+/// divides by the value) and the free objective's weights could overflow.
+pub const MIN_RELATIVE_VALUE: f64 = 1e-100;
+
+/// Why a set of measured values cannot be fitted ([`check_data`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DataFault {
+    /// A value that is not a finite number.
+    NotFinite,
+    /// No value is positive (nothing to divide by the max).
+    NoPositiveValue,
+    /// A negative value larger in magnitude than the largest positive one.
+    NegativeBeyondMax,
+    /// A positive value below [`MIN_RELATIVE_VALUE`] of the max.
+    TinyPositive,
+}
+
+impl DataFault {
+    /// What is wrong, for a message.
+    #[must_use]
+    pub fn why(self) -> &'static str {
+        match self {
+            Self::NotFinite => "a value that is not a finite number",
+            Self::NoPositiveValue => "no positive value",
+            Self::NegativeBeyondMax => {
+                "a negative value larger in magnitude than the largest positive one"
+            }
+            Self::TinyPositive => "a positive value below 1e-100 of the max (χ² divides by it)",
+        }
+    }
+}
+
+/// The data rule every front end shares (docs/conventions.md §8): the
+/// measured radiance of one fit must be finite, have a positive value, no
+/// negative value beyond the max in magnitude and no positive value below
+/// [`MIN_RELATIVE_VALUE`] of it. The first fault, and the index of the value
+/// (0 for [`DataFault::NoPositiveValue`]).
+///
+/// ```
+/// use laminar_core::measures::{check_data, DataFault};
+/// assert_eq!(check_data(&[0.5, 1.0, 0.0]), Ok(()));
+/// assert_eq!(check_data(&[0.5, f64::NAN]), Err((1, DataFault::NotFinite)));
+/// assert_eq!(check_data(&[0.0, -1.0]), Err((0, DataFault::NoPositiveValue)));
+/// assert_eq!(check_data(&[1.0, -2.0]), Err((1, DataFault::NegativeBeyondMax)));
+/// assert_eq!(check_data(&[1.0, 1e-101]), Err((1, DataFault::TinyPositive)));
+/// ```
+///
+/// # Errors
+/// The first fault found, with its index.
+pub fn check_data(values: &[f64]) -> Result<(), (usize, DataFault)> {
+    if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+        return Err((k, DataFault::NotFinite));
+    }
+    let max = values.iter().fold(0.0f64, |m, &v| m.max(v));
+    if max <= 0.0 {
+        return Err((0, DataFault::NoPositiveValue));
+    }
+    for (k, &v) in values.iter().enumerate() {
+        if v < -max {
+            return Err((k, DataFault::NegativeBeyondMax));
+        }
+        if v > 0.0 && v < max * MIN_RELATIVE_VALUE {
+            return Err((k, DataFault::TinyPositive));
+        }
+    }
+    Ok(())
+}
+
 /// The largest value of a slice (`−∞` for an empty slice; NaN is skipped).
 #[must_use]
 pub fn max_of<T: Real>(values: &[T]) -> T {

@@ -17,6 +17,7 @@
 
 use crate::error::InputError;
 use crate::geometry::Geometry;
+use crate::measures::{check_data, DataFault};
 use crate::onepass::{self, normalise, DataSums, Layout, Terms, Widened};
 use crate::radiance::Params;
 use crate::subsurface::{absorption_factor, subsurface_base, Interface};
@@ -203,10 +204,12 @@ pub enum SmallFitError {
         /// Data values given.
         data: usize,
     },
-    /// A datum that is not finite, or no positive datum.
+    /// Data that break the library's data rule ([`check_data`]).
     Data {
         /// Index of the bad datum (the first one, or 0 when none is positive).
         index: usize,
+        /// What is wrong with it.
+        fault: DataFault,
     },
     /// An empty axis, or a value outside the model's domain.
     Axis(AxisError),
@@ -234,13 +237,8 @@ pub fn fit<G: Copy + Into<Geometry<f32>>>(
             data: data.len(),
         });
     }
-    if let Some(index) = data.iter().position(|d| !d.is_finite()) {
-        return Err(SmallFitError::Data { index });
-    }
+    check_data(data).map_err(|(index, fault)| SmallFitError::Data { index, fault })?;
     let max = data.iter().fold(0.0f64, |m, &d| m.max(d));
-    if max <= 0.0 {
-        return Err(SmallFitError::Data { index: 0 });
-    }
     axes.validate().map_err(SmallFitError::Axis)?;
     let layout = Layout::new(k);
     let chunks = layout.chunks::<f32>();

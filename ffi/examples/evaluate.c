@@ -5,6 +5,7 @@
  * f32 parameters) and a fit on a small grid. Build: cc -I ffi/include ffi/examples/evaluate.c
  * target/release/liblaminar_ffi.a -lm -lpthread -ldl */
 
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -85,5 +86,27 @@ int main(void) {
   LaminarStatus status_fit = laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
   printf("fit: status %d slope %.2f beta %.2f n %.2f a %.2f rms %.1e\n", (int)status_fit,
          fit.slope, fit.beta, fit.n, fit.a, fit.rms);
+
+  /* The library's data rule: a negative datum beyond the max and a positive
+   * one below 1e-100 of it are refused (the fit is left untouched). */
+  LaminarFitResult kept = fit;
+  double saved = data[5];
+  data[5] = -2.0;
+  int negative = (int)laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  data[5] = 1e-101;
+  int tiny = (int)laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  data[5] = saved;
+  printf("bad data: %d %d, fit untouched: %s\n", negative, tiny,
+         memcmp(&kept, &fit, sizeof fit) == 0 ? "yes" : "no");
+  /* The header's limit is a constant C can use. */
+  static double most[LAMINAR_FIT_MAX_MEASUREMENTS];
+  printf("max measurements: %zu, too many: %d\n", sizeof most / sizeof most[0],
+         (int)laminar_fit(0, geometry, data, LAMINAR_FIT_MAX_MEASUREMENTS + 1, grid, &scratch, &fit));
+  /* A count no buffer can hold: refused before any pointer is read. */
+  printf("huge count: %d\n",
+         (int)laminar_total_radiance_f32(0, params, angles, SIZE_MAX / 2, out));
+  /* φs in double: any finite value (periodic); in float: [−π, π]. */
+  LaminarAngles wide_phi = {.theta_i = 0.1, .theta_s = 0.2, .phi_s = 7.0};
+  printf("phi_s 7 (double): %d\n", (int)laminar_validate_angles(wide_phi));
   return 0;
 }

@@ -1,3 +1,21 @@
+/* laminar: the C ABI of the absorptive scattering model (Dahlan & Hancock,
+ * ICPR 2016). No function allocates, panics or keeps a pointer after it
+ * returns.
+ *
+ * Buffers are (pointer, count) pairs owned by the caller. A count of 0 takes
+ * any pointer; otherwise the pointer must be non-null
+ * (LAMINAR_STATUS_NULL_POINTER) and the count's bytes at most PTRDIFF_MAX
+ * (LAMINAR_STATUS_BAD_LENGTH, checked before any pointer is read).
+ *
+ * Aliasing: an output buffer of a call must not overlap any input buffer of
+ * that call, nor another of its outputs; inputs are only read. A
+ * LaminarFitScratch serves one call at a time (two threads fitting at once
+ * need two scratches).
+ *
+ * Every function returns a LaminarStatus and writes its outputs only when it
+ * returns LAMINAR_STATUS_OK: on any error they are left untouched.
+ */
+
 #ifndef LAMINAR_H
 #define LAMINAR_H
 
@@ -14,8 +32,10 @@
 // term, subsurface term, total (eq. 8).
 #define LAMINAR_COMPONENTS 7
 
-// Most measurements [`crate::laminar_fit`] takes.
-#define LAMINAR_FIT_MAX_MEASUREMENTS MAX_MEASUREMENTS
+// Most measurements `laminar_fit` takes: a literal, so that the header's
+// macro is a number C can use (equal to the core's `MAX_MEASUREMENTS`,
+// checked at compile time).
+#define LAMINAR_FIT_MAX_MEASUREMENTS 64
 
 // 64-bit words of [`LaminarFitScratch`].
 #define LAMINAR_FIT_SCRATCH_WORDS 640
@@ -40,14 +60,20 @@ typedef enum LaminarStatus {
   LAMINAR_STATUS_BAD_THETA_I = 7,
   // θs outside [0, π/2] or not finite.
   LAMINAR_STATUS_BAD_THETA_S = 8,
-  // φs outside [−π, π] or not finite.
+  // φs not finite (`LaminarAngles`, in `double`: any finite φs, it is
+  // periodic), or outside [−π, π] (`LaminarAnglesF32`).
   LAMINAR_STATUS_BAD_PHI_S = 9,
   // A fit's measurement count was 0 or above `LAMINAR_FIT_MAX_MEASUREMENTS`.
   LAMINAR_STATUS_BAD_COUNT = 10,
-  // A fit's datum was not finite, or no datum was positive.
+  // A fit's data break the library's data rule: a datum that is not
+  // finite, no positive datum, a negative datum beyond the max in
+  // magnitude, or a positive datum below 1e-100 of the max.
   LAMINAR_STATUS_BAD_DATA = 11,
   // A fit's grid had an axis with no value.
   LAMINAR_STATUS_EMPTY_AXIS = 12,
+  // A count whose values span more bytes than any buffer can (count ×
+  // element size above `PTRDIFF_MAX`); refused before any pointer is read.
+  LAMINAR_STATUS_BAD_LENGTH = 13,
 } LaminarStatus;
 
 // The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -63,7 +89,8 @@ typedef struct LaminarParams {
   double a;
 } LaminarParams;
 
-// A geometry in the paper's frame (radians).
+// A geometry in the paper's frame (radians): θi, θs ∈ [0, π/2], φs any
+// finite value (periodic).
 typedef struct LaminarAngles {
   // Incidence angle θi.
   double theta_i;

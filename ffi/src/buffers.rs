@@ -6,12 +6,24 @@
 
 use crate::Status;
 
+/// [`Status::BadLength`] unless `count` values of `T` fit in one object
+/// (at most `isize::MAX` bytes, what a slice may span): checked before any
+/// slice is made from the count.
+fn fits<T>(count: usize) -> Result<(), Status> {
+    match count.checked_mul(core::mem::size_of::<T>()) {
+        Some(bytes) if bytes <= isize::MAX as usize => Ok(()),
+        _ => Err(Status::BadLength),
+    }
+}
+
 /// The `count` values at `ptr` as a slice, or [`Status::NullPointer`] for a
 /// null pointer with a positive count.
 ///
 /// # Errors
+/// [`Status::BadLength`] for a count no buffer can hold,
 /// [`Status::NullPointer`].
 pub fn input<'a, T>(ptr: *const T, count: usize) -> Result<&'a [T], Status> {
+    fits::<T>(count)?;
     if count == 0 {
         return Ok(&[]);
     }
@@ -20,7 +32,8 @@ pub fn input<'a, T>(ptr: *const T, count: usize) -> Result<&'a [T], Status> {
     }
     // SAFETY: the C contract of every function taking `(ptr, count)`: `ptr`
     // points to `count` initialised values that stay valid and unchanged
-    // for the call.
+    // for the call (no output of the call overlaps them: the header's
+    // aliasing rule); `count` values span at most isize::MAX bytes (`fits`).
     Ok(unsafe { core::slice::from_raw_parts(ptr, count) })
 }
 
@@ -28,8 +41,10 @@ pub fn input<'a, T>(ptr: *const T, count: usize) -> Result<&'a [T], Status> {
 /// [`Status::NullPointer`] for a null pointer with a positive count.
 ///
 /// # Errors
+/// [`Status::BadLength`] for a count no buffer can hold,
 /// [`Status::NullPointer`].
 pub fn output<'a, T>(ptr: *mut T, count: usize) -> Result<&'a mut [T], Status> {
+    fits::<T>(count)?;
     if count == 0 {
         return Ok(&mut []);
     }
@@ -37,7 +52,8 @@ pub fn output<'a, T>(ptr: *mut T, count: usize) -> Result<&'a mut [T], Status> {
         return Err(Status::NullPointer);
     }
     // SAFETY: the C contract: `ptr` points to `count` writable slots that
-    // no other pointer of the call aliases, valid for the call.
+    // no other pointer of the call aliases (the header's aliasing rule),
+    // valid for the call; they span at most isize::MAX bytes (`fits`).
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, count) })
 }
 

@@ -6,8 +6,12 @@ use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
 use laminar_core::onepass::rms_of_sum;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError, MAX_MEASUREMENTS};
 
-/// Most measurements [`crate::laminar_fit`] takes.
-pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = MAX_MEASUREMENTS;
+/// Most measurements `laminar_fit` takes: a literal, so that the header's
+/// macro is a number C can use (equal to the core's `MAX_MEASUREMENTS`,
+/// checked at compile time).
+pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = 64;
+
+const _: () = assert!(LAMINAR_FIT_MAX_MEASUREMENTS == MAX_MEASUREMENTS);
 
 /// 64-bit words of [`LaminarFitScratch`].
 pub const LAMINAR_FIT_SCRATCH_WORDS: usize = 640;

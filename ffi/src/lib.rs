@@ -8,8 +8,10 @@
 //! file by cbindgen (`ffi/tests/header.rs` fails when it is stale);
 //! `examples/evaluate.c` is a C program that uses it.
 //!
-//! Angles are in the paper's frame, in radians (θi, θs ∈ [0, π/2],
-//! φs ∈ [−π, π]; the repository's docs/conventions.md §1). Parameters are
+//! Angles are in the paper's frame, in radians (θi, θs ∈ [0, π/2]; φs any
+//! finite value in `double`, in [−π, π] in `float`; the repository's
+//! docs/conventions.md §1). The header's opening comment states the rules
+//! for buffers, counts and aliasing. Parameters are
 //! checked as `laminar_core::Params::new` checks them.
 //!
 //! On targets without SIMD (Cortex-M) the scalar f32 path is the one to
@@ -61,14 +63,20 @@ pub enum Status {
     BadThetaI = 7,
     /// θs outside [0, π/2] or not finite.
     BadThetaS = 8,
-    /// φs outside [−π, π] or not finite.
+    /// φs not finite (`LaminarAngles`, in `double`: any finite φs, it is
+    /// periodic), or outside [−π, π] (`LaminarAnglesF32`).
     BadPhiS = 9,
     /// A fit's measurement count was 0 or above `LAMINAR_FIT_MAX_MEASUREMENTS`.
     BadCount = 10,
-    /// A fit's datum was not finite, or no datum was positive.
+    /// A fit's data break the library's data rule: a datum that is not
+    /// finite, no positive datum, a negative datum beyond the max in
+    /// magnitude, or a positive datum below 1e-100 of the max.
     BadData = 11,
     /// A fit's grid had an axis with no value.
     EmptyAxis = 12,
+    /// A count whose values span more bytes than any buffer can (count ×
+    /// element size above `PTRDIFF_MAX`); refused before any pointer is read.
+    BadLength = 13,
 }
 
 /// The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -101,7 +109,8 @@ pub struct LaminarParamsF32 {
     pub a: f32,
 }
 
-/// A geometry in the paper's frame (radians).
+/// A geometry in the paper's frame (radians): θi, θs ∈ [0, π/2], φs any
+/// finite value (periodic).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LaminarAngles {
@@ -201,10 +210,10 @@ fn evaluate<L: Lane>(
     Ok(())
 }
 
-/// `count · width` output slots, or [`Status::NullPointer`] when that
+/// `count · width` output slots, or [`Status::BadLength`] when that
 /// overflows (no buffer can hold it).
 fn slots(count: usize, width: usize) -> Result<usize, Status> {
-    count.checked_mul(width).ok_or(Status::NullPointer)
+    count.checked_mul(width).ok_or(Status::BadLength)
 }
 
 /// Evaluates `each` at the `count` prebuilt `f32` geometries at

@@ -94,4 +94,13 @@ fn c_example_prints_the_cores_bits() {
     );
     let rms: f64 = fit[12].parse().unwrap();
     assert!(rms < 1e-3, "{}", lines[17]);
+    // BAD_DATA (11) for data the library refuses, nothing written; the
+    // header's constant compiles; BAD_COUNT (10) above it; BAD_LENGTH (13)
+    // for a count no buffer holds; a finite φs outside [−π, π] is valid in
+    // double, as the header says.
+    assert_eq!(lines[18], "bad data: 11 11, fit untouched: yes");
+    assert_eq!(lines[19], "max measurements: 64, too many: 10");
+    assert_eq!(lines[20], "huge count: 13");
+    assert_eq!(lines[21], "phi_s 7 (double): 0");
+    assert_eq!(lines.len(), 22, "{text}");
 }

@@ -12,6 +12,7 @@
 
 use crate::error::MeasurementError;
 use crate::scene::Scene;
+use laminar_core::measures::{check_data, DataFault};
 use laminar_core::{wrap_pi, Angles, InputError};
 use std::f64::consts::PI;
 use std::fmt;
@@ -20,10 +21,7 @@ use std::str::FromStr;
 /// Default tolerance of the specular test, radians (docs/conventions.md §1).
 pub const SPECULAR_TOLERANCE: f64 = 1e-4;
 
-/// The smallest positive radiance accepted, relative to the channel's max
-/// (docs/conventions.md §8): below it χ² (which divides by the value) could
-/// overflow.
-pub const MIN_RELATIVE_VALUE: f64 = 1e-100;
+pub use laminar_core::measures::MIN_RELATIVE_VALUE;
 
 /// What a measured value is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -415,30 +413,27 @@ impl MeasurementSet {
             .as_ref()
             .map(|s| kept.iter().map(|&k| s[k] * factor(k)).collect());
         let nonpositive = kept.iter().filter(|&&k| c.values[k] <= 0.0).count();
-        if radiance.iter().all(|&v| v <= 0.0) {
-            return Err(MeasurementError::NoPositiveValue {
-                set: self.name.clone(),
-                channel: c.name.clone(),
-                kept: kept.len(),
-            });
+        // The data rule every front end shares (the C ABI's small fit too).
+        match check_data(&radiance) {
+            Ok(()) => {}
+            Err((_, DataFault::NoPositiveValue)) => {
+                return Err(MeasurementError::NoPositiveValue {
+                    set: self.name.clone(),
+                    channel: c.name.clone(),
+                    kept: kept.len(),
+                })
+            }
+            Err((i, fault)) => {
+                return Err(MeasurementError::OutOfScale {
+                    set: self.name.clone(),
+                    row: self.rows[kept[i]],
+                    channel: c.name.clone(),
+                    value: c.values[kept[i]],
+                    why: fault.why(),
+                })
+            }
         }
         let max = radiance.iter().copied().fold(0.0, f64::max);
-        for (&v, &k) in radiance.iter().zip(&kept) {
-            let why = if v < -max {
-                "a negative value larger in magnitude than the largest positive one"
-            } else if v > 0.0 && v < max * MIN_RELATIVE_VALUE {
-                "a positive value below 1e-100 of the max (χ² divides by it)"
-            } else {
-                continue;
-            };
-            return Err(MeasurementError::OutOfScale {
-                set: self.name.clone(),
-                row: self.rows[k],
-                channel: c.name.clone(),
-                value: c.values[k],
-                why,
-            });
-        }
         // The free objective weighs by 1/σ²: an uncertainty below 1e-100 of
         // the max would make a weight overflow.
         if let (Some(sigma), Some(given)) = (&sigma, &c.sigma) {

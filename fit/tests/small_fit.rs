@@ -4,6 +4,7 @@
 //! path; against the default path (envelope, `f32x8`), the same Δ_RMS to
 //! `f32` rounding (on near-ties the two may pick different points).
 
+use laminar_core::measures::DataFault;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
 use laminar_core::{Correlation, Geometry};
 use laminar_fit::search::{self, Arith, Method};
@@ -69,9 +70,32 @@ fn small_fit_refuses_bad_input_by_kind() {
     let mut data = vec![0.5; 8];
     data[3] = f64::NAN;
     let e = small_fit::fit(corr, &g[..8], &data, &axes, &mut scratch).unwrap_err();
-    assert_eq!(e, SmallFitError::Data { index: 3 });
+    assert_eq!(
+        e,
+        SmallFitError::Data {
+            index: 3,
+            fault: DataFault::NotFinite
+        }
+    );
     let e = small_fit::fit(corr, &g[..8], &[0.0; 8], &axes, &mut scratch).unwrap_err();
-    assert_eq!(e, SmallFitError::Data { index: 0 });
+    assert_eq!(
+        e,
+        SmallFitError::Data {
+            index: 0,
+            fault: DataFault::NoPositiveValue
+        }
+    );
+    // The library's rule, not a weaker one: what a MeasurementSet refuses,
+    // the small fit refuses (it returned rms inf or 0 for these).
+    for (bad, index, fault) in [
+        (-2.0, 5, DataFault::NegativeBeyondMax),
+        (1e-101, 5, DataFault::TinyPositive),
+    ] {
+        let mut data = vec![0.5; 8];
+        data[5] = bad;
+        let e = small_fit::fit(corr, &g[..8], &data, &axes, &mut scratch).unwrap_err();
+        assert_eq!(e, SmallFitError::Data { index, fault });
+    }
     let bad = Axes { n: &[0.9], ..axes };
     let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &bad, &mut scratch).unwrap_err();
     assert!(
