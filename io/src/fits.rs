@@ -435,9 +435,18 @@ impl FitEntry {
     }
 }
 
-/// Fits as the fitted-model file (pretty JSON).
+/// Fits as the fitted-model file (pretty JSON): [`JsonFits`] into memory.
 pub fn json(records: &[Fit]) -> String {
-    let file = FitsFile {
+    let mut out = JsonFits::new(Vec::new()).expect("in-memory write");
+    for r in records {
+        out.write(r).expect("in-memory write");
+    }
+    String::from_utf8(out.finish().expect("in-memory write")).expect("utf-8")
+}
+
+/// The fitted-model file's fields before its fits.
+fn empty_file() -> FitsFile {
+    FitsFile {
         format: FORMAT.into(),
         version: VERSION,
         quantities: serde_json::json!({
@@ -457,9 +466,73 @@ pub fn json(records: &[Fit]) -> String {
             "correlations": "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹",
             "trade_offs": "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one",
         }),
-        fits: records.iter().map(FitEntry::new).collect(),
-    };
-    serde_json::to_string_pretty(&file).expect("serialisable") + "\n"
+        fits: Vec::new(),
+    }
+}
+
+/// The fitted-model file written one fit at a time, byte for byte what
+/// [`json`] gives, without holding every record (`fit-batch` of any N in
+/// constant memory): the document's head, then [`JsonFits::write`] per fit,
+/// then [`JsonFits::finish`].
+pub struct JsonFits<W: Write> {
+    out: W,
+    written: usize,
+}
+
+/// Indentation of a fit inside the document (`serde_json`'s pretty
+/// printer indents by two spaces; fits are at depth 2).
+const FIT_INDENT: &str = "    ";
+
+impl<W: Write> JsonFits<W> {
+    /// Writes the document's head (format, version, quantities) to `out`.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn new(mut out: W) -> std::io::Result<Self> {
+        let head = serde_json::to_string_pretty(&empty_file()).map_err(std::io::Error::other)?;
+        // The empty document ends in `"fits": []\n}`: keep up to the `[`.
+        let open = head.strip_suffix("[]\n}").ok_or_else(|| {
+            std::io::Error::other("the fitted-model file's head has an unexpected form")
+        })?;
+        out.write_all(open.as_bytes())?;
+        out.write_all(b"[")?;
+        Ok(Self { out, written: 0 })
+    }
+
+    /// Writes one fit.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write(&mut self, record: &Fit) -> std::io::Result<()> {
+        let entry =
+            serde_json::to_string_pretty(&FitEntry::new(record)).map_err(std::io::Error::other)?;
+        self.out
+            .write_all(if self.written == 0 { b"\n" } else { b",\n" })?;
+        for (k, line) in entry.lines().enumerate() {
+            if k > 0 {
+                self.out.write_all(b"\n")?;
+            }
+            self.out.write_all(FIT_INDENT.as_bytes())?;
+            self.out.write_all(line.as_bytes())?;
+        }
+        self.written += 1;
+        Ok(())
+    }
+
+    /// Closes the document and returns the writer, flushed.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn finish(mut self) -> std::io::Result<W> {
+        let close: &[u8] = if self.written == 0 {
+            b"]\n}\n"
+        } else {
+            b"\n  ]\n}\n"
+        };
+        self.out.write_all(close)?;
+        self.out.flush()?;
+        Ok(self.out)
+    }
 }
 
 /// Reads a fitted-model file written by [`json`].
@@ -674,6 +747,29 @@ pub fn check_writable(path: &Path) -> Result<(), ReadError> {
 mod tests {
     use super::*;
     use laminar_fit::{synthetic, Fitter, Grid, NormalisationConstants};
+
+    /// The streamed file is byte for byte the whole document serialised
+    /// at once, for no, one and several fits.
+    #[test]
+    fn streamed_json_is_the_document_serialised_whole() {
+        let records = [
+            fit(Objective::Free),
+            fit(Objective::Paper),
+            fit(Objective::Free),
+        ];
+        for n in 0..=records.len() {
+            let whole = FitsFile {
+                fits: records[..n].iter().map(FitEntry::new).collect(),
+                ..empty_file()
+            };
+            let want = serde_json::to_string_pretty(&whole).unwrap() + "\n";
+            assert_eq!(json(&records[..n]), want, "{n} fits");
+            assert_eq!(
+                parse_fits(Path::new("f.json"), &want).unwrap().fits.len(),
+                n
+            );
+        }
+    }
 
     fn fit(objective: Objective) -> Fit {
         let grid = Grid {

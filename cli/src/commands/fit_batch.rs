@@ -1,7 +1,7 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
 use super::options::{
-    check_out, counter, emit, fitter, progress, report_time, AnalysisArgs, GridArgs, ObjectiveArgs,
+    check_out, counter, fitter, progress, report_time, AnalysisArgs, GridArgs, ObjectiveArgs,
     PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
@@ -116,17 +116,15 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         Some(n) => progress(n as u64, "fit-batch (sets)"),
         None => counter("fit-batch (sets)"),
     };
-    // CSV rows are written as each block is fitted; the JSON file is one
-    // document, so its records are kept until the end.
-    let mut csv_out = if json {
-        None
+    // Records are written as each block is fitted (CSV rows, or the JSON
+    // document's fits one by one), into a temporary file renamed into place
+    // at the end: memory stays flat whatever the number of sets.
+    let file = AtomicFile::create(&args.out)?;
+    let mut out = if json {
+        Records::Json(fits::JsonFits::new(file).map_err(|e| io_error(&args.out, e))?)
     } else {
-        Some(
-            fits::CsvRows::new(AtomicFile::create(&args.out)?, &args.models)
-                .map_err(|e| io_error(&args.out, e))?,
-        )
+        Records::Csv(fits::CsvRows::new(file, &args.models).map_err(|e| io_error(&args.out, e))?)
     };
-    let mut records = Vec::new();
     let (mut pairs, mut done) = (0.0, 0);
     loop {
         let block = values.next_rows(BLOCK)?;
@@ -147,23 +145,14 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
             for fits in &by_model {
                 let fit = &fits[row];
                 pairs += fit.evaluated as f64 * fit.measurements as f64;
-                match &mut csv_out {
-                    Some(out) => out.write(fit).map_err(|e| io_error(&args.out, e))?,
-                    None => records.push(fit.clone()),
-                }
+                out.write(fit).map_err(|e| io_error(&args.out, e))?;
             }
         }
         done += scenes.len();
         bar.inc(scenes.len() as u64);
     }
     bar.finish_and_clear();
-    match csv_out {
-        Some(out) => out
-            .into_inner()
-            .map_err(|e| io_error(&args.out, e))?
-            .commit()?,
-        None => emit(Some(&args.out), &fits::json(&records))?,
-    }
+    out.finish().map_err(|e| io_error(&args.out, e))?.commit()?;
     let secs = start.elapsed().as_secs_f64();
     laminar_cli::note!(
         "fit-batch: {done} sets × {} models, {:.1} sets/s",
@@ -172,4 +161,27 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     );
     report_time("fit-batch", start, pairs, PAIRS);
     Ok(())
+}
+
+/// Where `fit-batch` writes its records, one at a time.
+enum Records {
+    Csv(fits::CsvRows<AtomicFile>),
+    Json(fits::JsonFits<AtomicFile>),
+}
+
+impl Records {
+    fn write(&mut self, fit: &laminar_fit::Fit) -> std::io::Result<()> {
+        match self {
+            Self::Csv(out) => out.write(fit),
+            Self::Json(out) => out.write(fit),
+        }
+    }
+
+    /// The file, complete, to commit.
+    fn finish(self) -> std::io::Result<AtomicFile> {
+        match self {
+            Self::Csv(out) => out.into_inner(),
+            Self::Json(out) => out.finish(),
+        }
+    }
 }
