@@ -123,7 +123,9 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     let mut out = if json {
         Records::Json(fits::JsonFits::new(file).map_err(|e| io_error(&args.out, e))?)
     } else {
-        Records::Csv(fits::CsvRows::new(file, &args.models).map_err(|e| io_error(&args.out, e))?)
+        Records::Csv(Box::new(
+            fits::CsvRows::new(file, &args.models).map_err(|e| io_error(&args.out, e))?,
+        ))
     };
     let (mut pairs, mut done) = (0.0, 0);
     loop {
@@ -165,7 +167,8 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
 
 /// Where `fit-batch` writes its records, one at a time.
 enum Records {
-    Csv(fits::CsvRows<AtomicFile>),
+    /// Boxed: the CSV writer holds its buffers inline.
+    Csv(Box<fits::CsvRows<AtomicFile>>),
     Json(fits::JsonFits<AtomicFile>),
 }
 
