@@ -247,6 +247,27 @@ fn packed_package_imports_in_typescript() {
             "options.objective: unknown objective `max` (expected free or paper)",
         ]
     );
+    // Wrong types are TypeErrors naming the argument (a number for a model
+    // name trapped; '1.2' for a number was coerced).
+    let type_errors: Vec<String> =
+        serde_json::from_value(v["typeErrors"].clone()).expect("typeErrors");
+    assert_eq!(
+        type_errors,
+        [
+            "TypeError: model: give a string (got the number 3)",
+            "TypeError: slope: give a number (got the string \"1.2\")",
+            "TypeError: angles: give a Float64Array (or an array of numbers) (got the string \"angles\")",
+            "TypeError: angles[1]: give a number (got the string \"0.2\")",
+            "TypeError: select: give a string (got the number 7)",
+            "TypeError: bytes: give a Uint8Array (got the string \"text\")",
+            "TypeError: channel: give a string (got the number 5)",
+        ]
+    );
+    assert_eq!(v["fromArray"], v["total"][0], "an array of numbers as a Float64Array");
+    // A fit from its own onProgress: it runs, the outer fit gets all its
+    // three shards' calls, and the Measurements object is not left borrowed.
+    assert_eq!((&v["inner"], &v["outerCalls"]), (&"rh-exp".into(), &3.into()));
+    assert_eq!(v["afterNested"], "value");
     // The options reach the fitter: a one-point σ/T, n, a grid, one shard.
     let custom = &v["custom"];
     assert_eq!(

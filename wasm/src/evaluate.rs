@@ -1,4 +1,5 @@
-//! The model at arrays of geometries (eqs. 1–14, total eq. 8).
+//! The model at arrays of geometries (eqs. 1–14, total eq. 8); exported
+//! to JavaScript by [`crate::js`], which checks the arguments' types.
 
 use crate::{correlation, error, geometries};
 use laminar_core::{
@@ -12,7 +13,6 @@ use wasm_bindgen::prelude::*;
 /// # Errors
 /// An `Error` naming the first parameter out of its domain and its value,
 /// e.g. `beta = 1.5 is outside [0, 1]`.
-#[wasm_bindgen(js_name = validateParams)]
 pub fn validate_params(slope: f64, beta: f64, n: f64, a: f64) -> Result<(), JsError> {
     params(slope, beta, n, a).map(|_| ())
 }
@@ -27,7 +27,6 @@ fn params(slope: f64, beta: f64, n: f64, a: f64) -> Result<Params, JsError> {
 /// # Errors
 /// For an unknown model, parameters out of their domain, or a geometry out
 /// of range (the message names it).
-#[wasm_bindgen(js_name = totalRadiance)]
 pub fn total_radiance_f64(
     model: &str,
     angles: &[f64],
@@ -49,7 +48,6 @@ pub fn total_radiance_f64(
 ///
 /// # Errors
 /// As [`total_radiance_f64`].
-#[wasm_bindgen(js_name = totalRadianceF32)]
 pub fn total_radiance_f32(
     model: &str,
     angles: &[f64],
@@ -124,7 +122,6 @@ impl Components {
 ///
 /// # Errors
 /// As [`total_radiance_f64`].
-#[wasm_bindgen]
 pub fn components(
     model: &str,
     angles: &[f64],

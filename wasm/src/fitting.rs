@@ -19,18 +19,24 @@ thread_local! {
     static PROGRESS: RefCell<Option<(js_sys::Function, u64, u64)>> = const { RefCell::new(None) };
 }
 
+/// One shard done: counts it, then calls the callback with the slot
+/// released (the callback may start a fit of its own, which takes the slot
+/// for its duration; a borrow held across the call made that trap).
 fn tick() {
-    PROGRESS.with(|slot| {
-        if let Some((f, done, total)) = slot.borrow_mut().as_mut() {
+    let call = PROGRESS.with(|slot| {
+        slot.borrow_mut().as_mut().map(|(f, done, total)| {
             *done += 1;
-            // A throwing callback must not stop the fit: its error is dropped.
-            let _ = f.call2(
-                &JsValue::NULL,
-                &JsValue::from(*done as f64),
-                &JsValue::from(*total as f64),
-            );
-        }
+            (f.clone(), *done, *total)
+        })
     });
+    if let Some((f, done, total)) = call {
+        // A throwing callback must not stop the fit: its error is dropped.
+        let _ = f.call2(
+            &JsValue::NULL,
+            &JsValue::from(done as f64),
+            &JsValue::from(total as f64),
+        );
+    }
 }
 
 #[wasm_bindgen(typescript_custom_section)]
@@ -94,7 +100,7 @@ impl Default for Settings {
 impl Settings {
     /// Settings and progress callback from a JavaScript options object;
     /// each wrong field is an error naming it.
-    fn from_js(options: &JsValue) -> Result<(Self, Option<js_sys::Function>), JsError> {
+    pub(crate) fn from_js(options: &JsValue) -> Result<(Self, Option<js_sys::Function>), JsError> {
         let mut s = Self::default();
         if options.is_undefined() || options.is_null() {
             return Ok((s, None));
@@ -154,36 +160,12 @@ impl Settings {
 }
 
 /// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
-/// `oren-nayar`) to `channel` of `measurements` as `laminar fit` does (the
-/// free objective on its grid, refinement and both uncertainties, unless
-/// `options` says otherwise) and returns the fitted-model file
-/// (`laminar fit --format json`) of that one fit: parameters, Δ_RMS, χ²/ν,
-/// the refined parameters with their 68%/95% intervals and box, and the
-/// fitted model that [`predict`] uses. `options.onProgress(done, total)` is
-/// called after each grid shard (paper objective: one σ/T value, 50 for a
-/// layered model on the paper grid; free objective: once per fit).
+/// `oren-nayar`) to `channel` of `measurements` with `settings` (JavaScript:
+/// [`crate::js::fit`]) and returns the fitted-model file of that one fit;
+/// `progress(done, total)` is called after each grid shard.
 ///
 /// # Errors
-/// For an unknown model, a wrong option (named), or a channel the set
-/// lacks or that cannot be fitted.
-#[wasm_bindgen(js_name = fit)]
-pub fn fit_js(
-    measurements: &Measurements,
-    channel: &str,
-    model: &str,
-    options: Option<FitOptions>,
-) -> Result<String, JsError> {
-    let (settings, progress) = match options {
-        Some(o) => Settings::from_js(&o)?,
-        None => (Settings::default(), None),
-    };
-    fit(measurements, channel, model, &settings, progress)
-}
-
-/// [`fit_js`] from Rust: [`Settings`], and an optional progress callback.
-///
-/// # Errors
-/// As [`fit_js`].
+/// For an unknown model, or a channel the set lacks or that cannot be fitted.
 pub fn fit(
     measurements: &Measurements,
     channel: &str,
@@ -200,30 +182,27 @@ pub fn fit(
         .objective(settings.objective)
         .on_progress(tick);
     let total = fitter.shards(model);
-    PROGRESS.with(|slot| *slot.borrow_mut() = progress.map(|f| (f, 0, total)));
+    // A fit started from another fit's callback keeps the outer fit's
+    // progress aside and gives it back when done.
+    let outer = PROGRESS.with(|slot| slot.replace(progress.map(|f| (f, 0, total))));
     let fit = fitter.fit(&scene, model);
-    PROGRESS.with(|slot| *slot.borrow_mut() = None);
+    PROGRESS.with(|slot| *slot.borrow_mut() = outer);
     Ok(fits::json(&[fit]))
 }
 
 /// The normalised prediction of a fitted model at each geometry of
 /// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
-/// predicted at its own geometries (`laminar predict`). `fitsJson` is a
-/// fitted-model file (from [`fit_js`] or `laminar fit --format json`);
+/// predicted at its own geometries (`laminar predict`). `fits_json` is a
+/// fitted-model file (from [`fit`] or `laminar fit --format json`);
 /// `select` (`sample/channel/model`) picks a fit when it holds several.
 ///
 /// # Errors
 /// When the file is not a fitted-model file, `select` matches no fit (or is
 /// missing with several fits), or a geometry is out of range.
-#[wasm_bindgen]
-pub fn predict(
-    #[wasm_bindgen(js_name = fitsJson)] fits_json: &str,
-    select: Option<String>,
-    angles: &[f64],
-) -> Result<Vec<f64>, JsError> {
+pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<Vec<f64>, JsError> {
     let file = fits::parse_fits(Path::new("fitted-model file"), fits_json).map_err(error)?;
     let labels: Vec<String> = file.fits.iter().map(|e| e.label()).collect();
-    let entry = match (select.as_deref(), file.fits.as_slice()) {
+    let entry = match (select, file.fits.as_slice()) {
         (None, [one]) => one,
         (None, _) => {
             return Err(error(format_args!(

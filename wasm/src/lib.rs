@@ -15,9 +15,13 @@
 //!   fitted-model file of `laminar fit --format json`; prediction with a
 //!   fitted model.
 //!
+//! * [`js`]: the exports, each argument's type checked first (a
+//!   `TypeError` naming it).
+//!
 //! Angles are in the paper's frame (θi, θs, φs) in radians, passed as one
-//! flat array of triples. Every error is a JavaScript `Error` whose message
-//! names the parameter, the geometry, or the file's line and column.
+//! flat array of triples. An argument of the wrong type is a `TypeError`;
+//! every other error is a JavaScript `Error` whose message names the
+//! parameter, the geometry, or the file's line and column.
 //! "§N" refers to the repository's `docs/conventions.md`.
 //!
 //! The exports are plain Rust functions too (JavaScript names in the
@@ -47,6 +51,7 @@
 
 pub mod evaluate;
 pub mod fitting;
+pub mod js;
 pub mod measurements;
 
 use laminar_core::{Angles, Correlation};

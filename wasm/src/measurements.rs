@@ -35,7 +35,6 @@ fn curet_rows(
 ///
 /// # Errors
 /// When either file has a defect (the message names file, line, column and value).
-#[wasm_bindgen(js_name = curetSamples)]
 pub fn curet_samples(table: &[u8], brdf_name: &str, brdf: &[u8]) -> Result<Vec<u32>, JsError> {
     Ok(curet_rows(table, brdf_name, brdf)?
         .1
@@ -44,7 +43,8 @@ pub fn curet_samples(table: &[u8], brdf_name: &str, brdf: &[u8]) -> Result<Vec<u
         .collect())
 }
 
-#[wasm_bindgen]
+/// The Rust side of the constructors; JavaScript calls them through
+/// [`crate::js`], which checks the arguments' types.
 impl Measurements {
     /// A long-format CSV (the `laminar fit --measurements` format: geometry
     /// columns `theta_i, phi_i, theta_v, phi_v` or `theta_i, theta_s,
@@ -54,7 +54,6 @@ impl Measurements {
     ///
     /// # Errors
     /// For a defect, naming the file, line, column and value.
-    #[wasm_bindgen(js_name = fromCsv)]
     pub fn from_csv(
         name: &str,
         bytes: &[u8],
@@ -77,7 +76,6 @@ impl Measurements {
     ///
     /// # Errors
     /// For a defect in either file, or a sample the file lacks.
-    #[wasm_bindgen(js_name = fromCuret)]
     pub fn from_curet(
         table: &[u8],
         brdf_name: &str,
@@ -99,6 +97,27 @@ impl Measurements {
         Ok(Self { set })
     }
 
+    /// What a fit of `channel` sees: the kept (non-specular) measurements'
+    /// paper-frame angles and their radiance divided by its max (§4).
+    ///
+    /// # Errors
+    /// For a channel the set lacks, or one that cannot be fitted (no positive value).
+    pub fn scene(&self, channel: &str) -> Result<SceneData, JsError> {
+        let scene = self.set.scene(channel).map_err(error)?;
+        Ok(SceneData {
+            angles: scene
+                .angles()
+                .iter()
+                .flat_map(|a| [a.theta_i(), a.theta_s(), a.phi_s()])
+                .collect(),
+            data: scene.data().to_vec(),
+            data_scale: scene.data_scale(),
+        })
+    }
+}
+
+#[wasm_bindgen]
+impl Measurements {
     /// The set's name (the file's stem, or the CUReT sample number).
     #[wasm_bindgen(getter)]
     pub fn name(&self) -> String {
@@ -119,24 +138,6 @@ impl Measurements {
     #[wasm_bindgen(getter)]
     pub fn length(&self) -> usize {
         self.set.len()
-    }
-
-    /// What a fit of `channel` sees: the kept (non-specular) measurements'
-    /// paper-frame angles and their radiance divided by its max (§4).
-    ///
-    /// # Errors
-    /// For a channel the set lacks, or one that cannot be fitted (no positive value).
-    pub fn scene(&self, channel: &str) -> Result<SceneData, JsError> {
-        let scene = self.set.scene(channel).map_err(error)?;
-        Ok(SceneData {
-            angles: scene
-                .angles()
-                .iter()
-                .flat_map(|a| [a.theta_i(), a.theta_s(), a.phi_s()])
-                .collect(),
-            data: scene.data().to_vec(),
-            data_scale: scene.data_scale(),
-        })
     }
 }
 

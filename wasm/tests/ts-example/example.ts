@@ -49,7 +49,47 @@ errors.push(
   thrown(() => L.fit(m, 'value', 'exp', { refine: 'yes' } as unknown as FitOptions)),
   thrown(() => L.fit(m, 'value', 'exp', { objective: 'max' } as unknown as FitOptions)),
 );
+// Wrong types from JavaScript (casts past the types): TypeErrors naming
+// the argument, never a trap or a silent coercion.
+const loose = L as unknown as Record<string, (...args: unknown[]) => unknown>;
+/** The class and message of what `f` throws. */
+function kind(f: () => unknown): string {
+  try {
+    f();
+  } catch (e) {
+    return `${(e as Error).constructor.name}: ${(e as Error).message}`;
+  }
+  return 'nothing thrown';
+}
+const typeErrors = [
+  kind(() => loose.fit(m, 'value', 3)),
+  kind(() => loose.totalRadiance('exp', angles, '1.2', 0.4, 1.4, 0.3)),
+  kind(() => loose.totalRadiance('exp', 'angles', 1.2, 0.4, 1.4, 0.3)),
+  kind(() => loose.totalRadiance('exp', [0.3, '0.2', 0.5], 1.2, 0.4, 1.4, 0.3)),
+  kind(() => loose.predict(json, 7, scene.angles)),
+  kind(() => (L.Measurements as unknown as Record<string, (...a: unknown[]) => unknown>).fromCsv('x.csv', 'text', 'rad', 'brdf')),
+  kind(() => m.scene(5 as unknown as string)),
+];
+// An array of numbers is taken as a Float64Array.
+const fromArray = L.totalRadiance('exp', [0.3, 0.2, 0.5] as unknown as Float64Array, 1.2, 0.4, 1.4, 0.3)[0];
+// A fit started from a fit's own onProgress runs, and the outer fit ends
+// with its own progress; the Measurements object stays usable.
+let outerCalls = 0;
+let inner = '';
+L.fit(m, 'value', 'exp', {
+  objective: 'paper', refine: false, uncertainty: 'off', slope: '1.4:1.56:3',
+  onProgress: (done) => {
+    outerCalls++;
+    if (done === 1) inner = JSON.parse(L.fit(m, 'value', 'rh-exp', { refine: false, uncertainty: 'off' })).fits[0].model;
+  },
+});
+const afterNested = m.channels.join(',');
 console.log(JSON.stringify({
+  typeErrors,
+  fromArray,
+  outerCalls,
+  inner,
+  afterNested,
   simd: L.simd,
   simdSupported: simdSupported(),
   total: Array.from(total),
