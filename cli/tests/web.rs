@@ -263,10 +263,16 @@ fn packed_package_imports_in_typescript() {
             "TypeError: channel: give a string (got the number 5)",
         ]
     );
-    assert_eq!(v["fromArray"], v["total"][0], "an array of numbers as a Float64Array");
+    assert_eq!(
+        v["fromArray"], v["total"][0],
+        "an array of numbers as a Float64Array"
+    );
     // A fit from its own onProgress: it runs, the outer fit gets all its
     // three shards' calls, and the Measurements object is not left borrowed.
-    assert_eq!((&v["inner"], &v["outerCalls"]), (&"rh-exp".into(), &3.into()));
+    assert_eq!(
+        (&v["inner"], &v["outerCalls"]),
+        (&"rh-exp".into(), &3.into())
+    );
     assert_eq!(v["afterNested"], "value");
     // The options reach the fitter: a one-point σ/T, n, a grid, one shard.
     let custom = &v["custom"];

@@ -16,7 +16,7 @@ use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::fits::FitEntry;
 use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
@@ -25,9 +25,28 @@ use std::path::PathBuf;
 /// Sets per batch search in [`fit_batch`] (as `laminar fit-batch`).
 const BLOCK: usize = 256;
 
-/// The values of a 1-D array, whatever its strides.
-fn vec1(a: &PyReadonlyArray1<'_, f64>) -> Vec<f64> {
-    a.as_array().iter().copied().collect()
+/// The values of a 1-D array, whatever its strides (a broadcast array may
+/// claim more elements than memory holds: [`reserve`]).
+fn vec1(a: &PyReadonlyArray1<'_, f64>) -> PyResult<Vec<f64>> {
+    let a = a.as_array();
+    let mut out = reserve(a.len(), "an array")?;
+    out.extend(a.iter().copied());
+    Ok(out)
+}
+
+/// An empty vector with room for `len` values, or `MemoryError` naming
+/// `what` and the size: a size that comes from the caller's arrays is never
+/// allocated infallibly (that aborted the interpreter).
+fn reserve<T>(len: usize, what: &str) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| {
+        let bytes = len as f64 * std::mem::size_of::<T>() as f64;
+        PyMemoryError::new_err(format!(
+            "not enough memory for {what} of {len} values ({:.3} GiB)",
+            bytes / f64::from(1u32 << 30)
+        ))
+    })?;
+    Ok(v)
 }
 
 fn value_error(e: impl std::fmt::Display) -> PyErr {
@@ -88,43 +107,42 @@ fn evaluate<'py>(
             )))
         }
     };
-    let columns = [
-        vec1(&theta_i),
-        vec1(&theta_s),
-        vec1(&phi_s),
-        vec1(&slope),
-        vec1(&beta),
-        vec1(&n),
-        vec1(&a),
-    ];
+    let columns = [&theta_i, &theta_s, &phi_s, &slope, &beta, &n, &a].map(|c| c.as_array());
     let len = columns[0].len();
     if columns.iter().any(|c| c.len() != len) {
         return Err(value_error("all arrays must have the same length"));
     }
+    // The seven output columns, each reserved before any work: read in
+    // place, nothing else grows with the length.
+    let mut out: Vec<Vec<f64>> = Vec::with_capacity(7);
+    for _ in 0..7 {
+        out.push(reserve(len, "an output column")?);
+    }
     let rh = model.is_ragheb_hancock();
-    let out = py.detach(|| -> Result<Vec<[f64; 7]>, String> {
-        (0..len)
-            .map(|i| {
-                let [ti, ts, ps, s, b, n, a] = [0, 1, 2, 3, 4, 5, 6].map(|c| columns[c][i]);
-                if rh && a != 0.0 {
-                    return Err(format!("a: element {i} is {a}; {model} is the a = 0 model"));
-                }
-                let p = Params::new(s, b, n, a).map_err(|e| format!("element {i}: {e}"))?;
-                let g = Angles::new(ti, ts, ps).map_err(|e| format!("element {i}: {e}"))?;
-                Ok(if single {
-                    components(&Geometry::<f32>::splat(&g), corr, &p)
-                        .to_array()
-                        .map(f64::from)
-                } else {
-                    components(&Geometry::<f64>::splat(&g), corr, &p).to_array()
-                })
-            })
-            .collect()
-    });
-    let out = out.map_err(PyValueError::new_err)?;
+    py.detach(|| -> Result<(), String> {
+        for i in 0..len {
+            let [ti, ts, ps, s, b, n, a] = columns.each_ref().map(|c| c[i]);
+            if rh && a != 0.0 {
+                return Err(format!("a: element {i} is {a}; {model} is the a = 0 model"));
+            }
+            let p = Params::new(s, b, n, a).map_err(|e| format!("element {i}: {e}"))?;
+            let g = Angles::new(ti, ts, ps).map_err(|e| format!("element {i}: {e}"))?;
+            let values = if single {
+                components(&Geometry::<f32>::splat(&g), corr, &p)
+                    .to_array()
+                    .map(f64::from)
+            } else {
+                components(&Geometry::<f64>::splat(&g), corr, &p).to_array()
+            };
+            for (column, v) in out.iter_mut().zip(values) {
+                column.push(v);
+            }
+        }
+        Ok(())
+    })
+    .map_err(PyValueError::new_err)?;
     let dict = PyDict::new(py);
-    for (c, name) in laminar_core::Components::<f64>::NAMES.iter().enumerate() {
-        let column: Vec<f64> = out.iter().map(|v| v[c]).collect();
+    for (name, column) in laminar_core::Components::<f64>::NAMES.iter().zip(out) {
         dict.set_item(*name, column.into_pyarray(py))?;
     }
     Ok(dict)
@@ -203,14 +221,14 @@ impl Measurements {
         name: &str,
     ) -> PyResult<Self> {
         let angles = lab_angles(
-            &vec1(&theta_i),
-            &vec1(&phi_i),
-            &vec1(&theta_v),
-            &vec1(&phi_v),
+            &vec1(&theta_i)?,
+            &vec1(&phi_i)?,
+            &vec1(&theta_v)?,
+            &vec1(&phi_v)?,
         )?;
         let quantity: Quantity = parse("quantity", quantity)?;
-        let sigma = sigma.map(|s| vec1(&s));
-        let values = vec1(&values);
+        let sigma = sigma.map(|s| vec1(&s)).transpose()?;
+        let values = vec1(&values)?;
         let set = MeasurementSet::new(name, angles, quantity)
             .and_then(|s| s.with_channel("value", values, sigma))
             .map_err(value_error)?;
@@ -521,10 +539,10 @@ impl FitResult {
         radiance: bool,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let angles = lab_angles(
-            &vec1(&theta_i),
-            &vec1(&phi_i),
-            &vec1(&theta_v),
-            &vec1(&phi_v),
+            &vec1(&theta_i)?,
+            &vec1(&phi_i)?,
+            &vec1(&theta_v)?,
+            &vec1(&phi_v)?,
         )?
         .iter()
         .enumerate()
@@ -697,29 +715,29 @@ fn fit_batch<'py>(
             angles.len()
         )));
     }
-    let rows: Vec<Vec<f64>> = v.rows().into_iter().map(|r| r.to_vec()).collect();
-    let out = py.detach(|| -> Result<Vec<[f64; 21]>, String> {
-        let mut out = Vec::with_capacity(rows.len());
-        for (b, block) in rows.chunks(BLOCK).enumerate() {
-            let scenes = block
-                .iter()
-                .enumerate()
-                .map(|(i, row)| {
-                    let r = b * BLOCK + i;
+    // The sets are read a block at a time from the caller's array; what
+    // grows with N (the result rows) is reserved first.
+    let sets = v.nrows();
+    let mut out: Vec<[f64; 21]> = reserve(sets, "the results")?;
+    py.detach(|| -> Result<(), String> {
+        for start in (0..sets).step_by(BLOCK) {
+            let scenes = (start..(start + BLOCK).min(sets))
+                .map(|r| {
                     MeasurementSet::new(r.to_string(), angles.clone(), quantity)
-                        .and_then(|s| s.with_channel("value", row.clone(), None))
+                        .and_then(|s| s.with_channel("value", v.row(r).to_vec(), None))
                         .and_then(|s| s.scene("value"))
                         .map_err(|e| format!("values row {r}: {e}"))
                 })
                 .collect::<Result<Vec<_>, _>>()?;
             out.extend(fitter.fit_batch(&scenes, model).iter().map(batch_row));
         }
-        Ok(out)
-    });
-    let out = out.map_err(PyValueError::new_err)?;
+        Ok(())
+    })
+    .map_err(PyValueError::new_err)?;
     let dict = PyDict::new(py);
     for (c, name) in BATCH_COLUMNS.iter().enumerate() {
-        let column: Vec<f64> = out.iter().map(|r| r[c]).collect();
+        let mut column = reserve(out.len(), "an output column")?;
+        column.extend(out.iter().map(|r| r[c]));
         dict.set_item(*name, column.into_pyarray(py))?;
     }
     Ok(dict)

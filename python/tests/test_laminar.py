@@ -161,3 +161,43 @@ def test_the_gil_is_released_while_fitting():
 def test_package_ships_type_stubs():
     root = Path(laminar.__file__).parent
     assert (root / "py.typed").exists() and (root / "__init__.pyi").exists() and (root / "_laminar.pyi").exists()
+
+
+_MEMORY_SCRIPT = """
+import re, resource, sys
+import numpy as np
+import laminar
+
+def limit(extra):
+    # The address space used now, plus `extra` bytes.
+    size = int(re.search(r"VmSize:\\s+(\\d+) kB", open("/proc/self/status").read()).group(1)) * 1024
+    resource.setrlimit(resource.RLIMIT_AS, (size + extra, size + extra))
+
+g = np.array([[0.1, 0.0, 0.2, 3.0], [0.3, 0.0, 0.4, 3.0], [0.5, 0.0, 0.2, 1.0], [0.2, 0.0, 0.6, 2.0]])
+laminar.fit_batch(g, np.full((2, 4), 0.5), "exp", refine=False, uncertainty="off")  # threads up first
+try:
+    if sys.argv[1] == "evaluate":
+        theta_i = np.full(20_000_000, 0.3)
+        limit(1_500 << 20)  # the inputs fit (7 × 160 MB), the outputs do not
+        laminar.evaluate("exp", theta_i, 0.2, 0.5, 1.2, 0.4, 1.4, 0.3)
+    else:
+        values = np.full((10_000_000, 4), 0.5)
+        limit(1 << 30)  # the input fits (320 MB), the results (1.6 GB) do not
+        laminar.fit_batch(g, values, "exp")
+    print("no error")
+except MemoryError as e:
+    print("MemoryError:", e)
+"""
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="needs Linux's /proc to limit memory")
+@pytest.mark.parametrize("call", ["evaluate", "fit_batch"])
+def test_too_little_memory_raises_memory_error(call):
+    """A size the caller's arrays imply is reserved fallibly: MemoryError,
+    not an interpreter killed by SIGABRT."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", _MEMORY_SCRIPT, call], capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.startswith("MemoryError: not enough memory for"), run.stdout + run.stderr
