@@ -29,7 +29,7 @@ const MEASUREMENTS: &[u8] =
 /// then `payload`.
 fn npy(dict: &str, payload: &[u8]) -> Vec<u8> {
     let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
