@@ -191,6 +191,35 @@ fn npm_package_gives_the_native_bits() {
     );
 }
 
+/// Every export of the package, both builds, called with 3,000 seeded
+/// draws of arguments of every JavaScript type (`wasm/tests/arguments.mjs`):
+/// each call returns or throws an `Error`, never traps, and leaves the
+/// module working.
+#[test]
+fn npm_package_survives_arguments_of_every_type() {
+    let package = match package() {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let out = stdout(
+        Command::new("node")
+            .arg(root().join("wasm/tests/arguments.mjs"))
+            .arg(&package.dir)
+            .arg("3000"),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let got: serde_json::Value = serde_json::from_str(&out).expect("arguments.mjs prints JSON");
+    for build in ["plain", "simd"] {
+        let t = &got[build];
+        assert_eq!(t["calls"], 3000, "{build}: {t}");
+        // The draws reach both sides of the boundary.
+        for key in ["returned", "typeErrors", "errors"] {
+            assert!(t[key].as_u64().unwrap_or(0) > 0, "{build}: no {key}: {t}");
+        }
+    }
+    let _ = writeln!(std::io::stderr(), "npm arguments: {got}");
+}
+
 #[test]
 fn packed_package_imports_in_typescript() {
     let package = match package().and_then(|p| web_tools().map(|t| (p, t))) {

@@ -201,3 +201,51 @@ def test_too_little_memory_raises_memory_error(call):
     run = subprocess.run([sys.executable, "-c", _MEMORY_SCRIPT, call], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert run.stdout.startswith("MemoryError: not enough memory for"), run.stdout + run.stderr
+
+
+_ARGUMENTS_SCRIPT = """
+import random, sys
+import numpy as np
+import laminar
+
+rng = random.Random(24)
+g = np.array([[0.1, 0.0, 0.2, 3.0], [0.3, 0.0, 0.4, 3.0], [0.5, 0.0, 0.2, 1.0], [0.2, 0.0, 0.6, 2.0]])
+m = laminar.Measurements.from_arrays(*g.T, np.array([0.5, 0.4, 0.3, 0.2]), quantity="radiance")
+pool = [
+    None, True, 0, -1, 0.3, 1.48, 1e308, float("nan"), float("inf"), 2**70, "", "exp", "rh-gauss",
+    "1.2", "radiance", "x" * 10_000, "\\x00\\x1b[2J", [], [0.3, 0.2], ["0.3"], {}, {"slope": 3}, {"slope": "1:2:x"},
+    np.zeros(0), np.zeros(3), np.full((2, 4), 0.5), np.full((2, 3), np.nan), np.zeros((2, 2, 2)),
+    np.array(["a"]), np.arange(4, dtype=np.int8), g, m, object(), b"bytes", 1j,
+]
+functions = [
+    (laminar.evaluate, 8), (laminar.fit, 2), (laminar.fit_batch, 3), (laminar.paper_angles, 4),
+    (laminar.Measurements.from_arrays, 5), (laminar.Measurements.from_csv, 1),
+    (laminar.Measurements.from_merl, 2), (laminar.Measurements.from_curet, 2),
+]
+tally = {"calls": 0, "returned": 0, "raised": 0}
+for _ in range(int(sys.argv[1])):
+    f, arity = rng.choice(functions)
+    args = [rng.choice(pool) for _ in range(arity)]
+    tally["calls"] += 1
+    try:
+        f(*args)
+        tally["returned"] += 1
+    except (TypeError, ValueError, OverflowError, OSError, MemoryError, KeyError, IndexError):
+        tally["raised"] += 1
+# Still working after every call.
+assert laminar.evaluate("exp", 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.3)["total"].shape == ()
+print(tally)
+"""
+
+
+def test_every_function_takes_arguments_of_any_type():
+    """Seeded draws of arguments of every type into every function: each
+    returns or raises a Python exception (a panic or an abort would end the
+    subprocess), and the module keeps working."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", _ARGUMENTS_SCRIPT, "3000"], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-3000:]
+    tally = eval(run.stdout)
+    assert tally["calls"] == 3000 and tally["returned"] > 0 and tally["raised"] > 0, tally
