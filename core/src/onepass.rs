@@ -80,13 +80,16 @@ impl Layout {
         c * WIDTH + stream * L::LANES + lane
     }
 
-    /// The lane values of `values` widened to `f64`, in measurement order.
+    /// The lane values of `values` widened to `f64`, in measurement order
+    /// (slots past the end of `out` are skipped: no panic path).
     pub fn widen<L: Lane>(&self, values: &[L], out: &mut [f64]) {
         for (s, stream) in values.chunks_exact(self.per_stream).enumerate() {
             for (c, v) in stream.iter().enumerate() {
                 let first = c * WIDTH + s * L::LANES;
                 for lane in 0..L::LANES.min(self.k.saturating_sub(first)) {
-                    out[first + lane] = v.lane(lane).to_f64();
+                    if let Some(slot) = out.get_mut(first + lane) {
+                        *slot = v.lane(lane).to_f64();
+                    }
                 }
             }
         }
@@ -142,6 +145,12 @@ pub fn normalise<L: Lane>(values: &mut [L]) {
             L::c(0.0)
         };
     }
+}
+
+/// The chunks `range` of `values` (empty past its end: never reached by a
+/// layout's own ranges, and no panic path in the embedded library).
+fn part<'a, L>(values: &'a [L], range: &Range<usize>) -> &'a [L] {
+    values.get(range.clone()).unwrap_or(&[])
 }
 
 /// `Σ x_k y_k` in measurement order.
@@ -261,7 +270,9 @@ pub fn sweep<L: Lane>(
         *d = *u - *s;
     }
     layout.widen(delta, delta_f64);
-    let hoisted = DeltaSums::new(wide.s, wide.d, &delta_f64[..layout.k]);
+    // `get`, not indexing: the same slices for every layout the callers
+    // build, and no panic path in the embedded library.
+    let hoisted = DeltaSums::new(wide.s, wide.d, delta_f64.get(..layout.k).unwrap_or(&[]));
     let delta = &*delta;
     let mut c = one;
     for (i_b, &beta) in betas.iter().enumerate() {
@@ -274,10 +285,10 @@ pub fn sweep<L: Lane>(
         }; WIDTH];
         for (stream, a) in acc.iter_mut().take(layout.streams::<L>()).enumerate() {
             let range = layout.stream(stream);
-            for ((s, dl), d) in surface[range.clone()]
+            for ((s, dl), d) in part(surface, &range)
                 .iter()
-                .zip(&delta[range.clone()])
-                .zip(&data[range])
+                .zip(part(delta, &range))
+                .zip(part(data, &range))
             {
                 let x = *s + b * *dl;
                 let r = *d - shift * x;

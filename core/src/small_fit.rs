@@ -131,20 +131,30 @@ impl Axes<'_> {
     }
 
     /// The axis indices (σ/T, n, a, β) of a flattened index ([`Axes::flat`]).
+    /// An empty axis counts as one value (no division by zero: the small
+    /// fit has no panic path).
     #[must_use]
     pub fn indices(&self, flat: usize) -> (usize, usize, usize, usize) {
-        let b = flat % self.beta.len();
-        let rest = flat / self.beta.len();
-        let a = rest % self.a.len();
-        let rest = rest / self.a.len();
-        (rest / self.n.len(), rest % self.n.len(), a, b)
+        let len = |axis: &[f64]| axis.len().max(1);
+        let b = flat % len(self.beta);
+        let rest = flat / len(self.beta);
+        let a = rest % len(self.a);
+        let rest = rest / len(self.a);
+        (rest / len(self.n), rest % len(self.n), a, b)
     }
 
-    /// The point of flattened index `flat` as (σ/T, β, n, a).
+    /// The point of flattened index `flat` as (σ/T, β, n, a); NaN for an
+    /// index past an axis's end (or an empty axis).
     #[must_use]
     pub fn point(&self, flat: usize) -> (f64, f64, f64, f64) {
         let (s, n, a, b) = self.indices(flat);
-        (self.slope[s], self.beta[b], self.n[n], self.a[a])
+        let at = |axis: &[f64], i: usize| axis.get(i).copied().unwrap_or(f64::NAN);
+        (
+            at(self.slope, s),
+            at(self.beta, b),
+            at(self.n, n),
+            at(self.a, a),
+        )
     }
 
     /// Checks that no axis is empty and every value lies in the model's
@@ -241,7 +251,9 @@ pub fn fit<G: Copy + Into<Geometry<f32>>>(
     let max = data.iter().fold(0.0f64, |m, &d| m.max(d));
     axes.validate().map_err(SmallFitError::Axis)?;
     let layout = Layout::new(k);
-    let chunks = layout.chunks::<f32>();
+    // At most MAX_MEASUREMENTS chunks (one lane each at worst), which also
+    // tells the compiler every index below is in bounds: no panic path.
+    let chunks = layout.chunks::<f32>().min(MAX_MEASUREMENTS);
     // Pack: padding lanes repeat the last geometry with weight and datum 0.
     for c in 0..chunks {
         let m = layout.measurement::<f32>(c, 0);

@@ -3,7 +3,7 @@
 //! `include/laminar.h` and the thumbv7em static library, run in QEMU
 //! (`mps2-an386`, a Cortex-M4F); the same source built by the host's `cc`
 //! against the host's static library. Both must print the same lines, bit
-//! for bit. Needs `arm-none-eabi-gcc` with `libnewlib-arm-none-eabi`,
+//! for bit, and the linked C image must hold no panic symbol. Needs `arm-none-eabi-gcc` with `libnewlib-arm-none-eabi`,
 //! `qemu-system-arm` and `cc`; skips as `common` says (CI requires it).
 
 mod common;
@@ -166,6 +166,17 @@ fn gcc_firmware_prints_the_hosts_bits() {
         d[19..],
         ["fit bad data: 11", "fit too many: 10 (at most 64)", "done"]
     );
+    // The link-time proof that the shipped library has no panic path: the
+    // C image, linked with --gc-sections from everything the firmware
+    // calls (evaluation, geometry, the fit), holds no panic symbol.
+    let symbols = common::symbols(&image);
+    assert!(symbols.len() > 50, "read no symbols");
+    let panics: Vec<&String> = symbols
+        .iter()
+        .map(|(name, _)| name)
+        .filter(|n| n.contains("panic") || n.contains("slice_index_fail") || n.contains("unwind"))
+        .collect();
+    assert!(panics.is_empty(), "panic paths in the C image: {panics:?}");
     let _ = writeln!(
         std::io::stderr(),
         "C firmware (arm-none-eabi-gcc, newlib, QEMU mps2-an386): {} lines, the host's bits; image {} bytes of flash",
