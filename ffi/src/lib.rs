@@ -155,6 +155,7 @@ fn params(p: &LaminarParams) -> Result<Params, Status> {
     Params::new(p.slope, p.beta, p.n, p.a).map_err(status_of)
 }
 
+#[inline(always)] // built in place: no copy of the parameters (a memcpy at "s")
 fn params_f32(p: &LaminarParamsF32) -> Result<LaneParams<f32>, Status> {
     LaneParams::new(p.slope, p.beta, p.n, p.a).map_err(status_of)
 }
