@@ -517,6 +517,41 @@ fn predict_selects_one_fit() {
     );
 }
 
+/// A parameter the data do not determine (Oren–Nayar's ρ under the free
+/// amplitude, a pure scale) is reported as `not_identified`, not a number,
+/// in CSV and JSON; the fitted model still predicts.
+#[test]
+fn an_unidentified_parameter_is_reported_as_such() {
+    let d = tempfile::tempdir().unwrap();
+    let csv = ok(&["fit", "--models", "oren-nayar"]);
+    let (header, row) = (csv.lines().next().unwrap(), csv.lines().nth(1).unwrap());
+    let cell = |name: &str| {
+        let k = header.split(',').position(|h| h == name).unwrap();
+        row.split(',').nth(k).unwrap().to_string()
+    };
+    assert!(cell("params").ends_with(";rho=not_identified"), "{row}");
+    assert_eq!(cell("rho_refined"), "not_identified");
+    assert!(cell("edges").contains("rho:") && cell("edges").contains("not_identified"));
+    assert!(cell("sigma_refined").parse::<f64>().is_ok(), "{row}");
+    let fits = d.path().join("fits.json");
+    ok(&[
+        "fit",
+        "--models",
+        "oren-nayar",
+        "--format",
+        "json",
+        "--out",
+        s(&fits),
+    ]);
+    let f = &json(&fits)["fits"][0];
+    assert_eq!(f["params"]["rho"], "not_identified");
+    assert_eq!(f["parameters"]["rho"]["refined"], "not_identified");
+    assert!(f["fitted"]["params"]["rho"].is_number());
+    let geometry = geometry_csv(d.path());
+    let out = ok(&["predict", "--fit", s(&fits), "--geometry", s(&geometry)]);
+    assert_eq!(out.lines().count(), 201);
+}
+
 /// A killed run's temporary file and staging directory (their process
 /// gone, their locks free) are removed by the next run writing the same
 /// output; another output's are left alone.

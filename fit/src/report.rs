@@ -70,7 +70,41 @@ impl Fit {
             Objective::Free => self.estimate(),
         }
     }
+
+    /// True when the data do not determine parameter `name`
+    /// ([`Edge::NotIdentified`], e.g. Oren–Nayar's ρ under a free
+    /// amplitude, a pure scale): every output then says so instead of a
+    /// value. The fitted model keeps a value, which predicts the same.
+    pub fn not_identified(&self, name: &str) -> bool {
+        self.parameters
+            .iter()
+            .any(|p| p.name == name && p.flags.contains(&Edge::NotIdentified))
+    }
+
+    /// The reported estimate's `name=value` pairs joined by `;` (the
+    /// `params` column), [`NOT_IDENTIFIED`] for a value the data do not
+    /// determine.
+    pub fn params_text(&self) -> String {
+        self.reported()
+            .fitted
+            .params
+            .pairs()
+            .iter()
+            .map(|&(k, v)| {
+                if self.not_identified(k) {
+                    format!("{k}={NOT_IDENTIFIED}")
+                } else {
+                    format!("{k}={}", crate::fitted::format_value(v))
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(";")
+    }
 }
+
+/// What every output says in place of a parameter's value when the data do
+/// not determine it ([`Fit::not_identified`]).
+pub const NOT_IDENTIFIED: &str = "not_identified";
 
 /// Where an interval comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -12,8 +12,8 @@
 use crate::error::ReadError;
 use laminar_fit::fitted::format_value;
 use laminar_fit::profile::Interval;
-use laminar_fit::report::edges_text;
-use laminar_fit::{Estimate, Fit, FittedModel, Model, Objective, Parameter};
+use laminar_fit::report::{edges_text, NOT_IDENTIFIED};
+use laminar_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter};
 
 fn paper() -> Objective {
     Objective::Paper
@@ -134,8 +134,13 @@ fn parameter_cells(p: Option<&Parameter>) -> Vec<String> {
     let ends = |i: Option<Interval>| (value(i.map(|i| i.lo)), value(i.map(|i| i.hi)));
     let (lo68, hi68) = ends(p.interval68);
     let (lo95, hi95) = ends(p.interval95);
+    let refined = if p.flags.contains(&Edge::NotIdentified) {
+        NOT_IDENTIFIED.to_string()
+    } else {
+        value(p.refined)
+    };
     vec![
-        value(p.refined),
+        refined,
         lo68,
         hi68,
         lo95,
@@ -161,7 +166,7 @@ fn row(r: &Fit, names: &[&str]) -> Vec<String> {
         opt(chi.map(|c| c.per_dof)),
         chi.map(|c| c.used.to_string()).unwrap_or_default(),
         chi.map(|c| c.left_out.to_string()).unwrap_or_default(),
-        reported.params_text(),
+        r.params_text(),
         opt(rh.map(|e| e.rms)),
         opt(rh.and_then(|e| e.chi2).map(|c| c.per_dof)),
         rh.map(Estimate::params_text).unwrap_or_default(),
@@ -332,16 +337,23 @@ pub struct FitsFile {
     pub fits: Vec<FitEntry>,
 }
 
-fn params_object(e: &Estimate) -> serde_json::Map<String, serde_json::Value> {
+/// `e`'s parameters as a JSON object, [`NOT_IDENTIFIED`] in place of the
+/// value of each parameter `unidentified` names.
+fn params_object(
+    e: &Estimate,
+    unidentified: impl Fn(&str) -> bool,
+) -> serde_json::Map<String, serde_json::Value> {
     e.fitted
         .params
         .pairs()
         .iter()
-        .map(|(k, v)| {
-            (
-                k.to_string(),
-                serde_json::json!(format_value(*v).parse::<f64>().unwrap_or(*v)),
-            )
+        .map(|&(k, v)| {
+            let value = if unidentified(k) {
+                serde_json::json!(NOT_IDENTIFIED)
+            } else {
+                serde_json::json!(format_value(v).parse::<f64>().unwrap_or(v))
+            };
+            (k.to_string(), value)
         })
         .collect()
 }
@@ -353,7 +365,11 @@ fn parameter_object(p: &Parameter) -> serde_json::Value {
     let (lo95, hi95) = ends(p.interval95);
     serde_json::json!({
         "grid": p.grid,
-        "refined": p.refined,
+        "refined": if p.flags.contains(&Edge::NotIdentified) {
+            serde_json::json!(NOT_IDENTIFIED)
+        } else {
+            serde_json::json!(p.refined)
+        },
         "lo68": lo68,
         "hi68": hi68,
         "lo95": lo95,
@@ -383,10 +399,10 @@ impl FitEntry {
             chi2_dof: reported.chi2.map(|c| c.per_dof),
             chi2_used: reported.chi2.map(|c| c.used),
             chi2_left_out: reported.chi2.map(|c| c.left_out),
-            params: params_object(reported),
+            params: params_object(reported, |name| r.not_identified(name)),
             rh_rms: r.rh.as_ref().map(|e| e.rms),
             rh_chi2_dof: r.rh.as_ref().and_then(|e| e.chi2).map(|c| c.per_dof),
-            rh_params: r.rh.as_ref().map(params_object),
+            rh_params: r.rh.as_ref().map(|e| params_object(e, |_| false)),
             measurements: r.measurements,
             nonpositive: r.nonpositive,
             search_rms: r.search_rms,
@@ -455,7 +471,7 @@ fn empty_file() -> FitsFile {
             "chi2_dof": "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p",
             "chi2w_dof": "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)",
             "amplitude": "free: the fitted amplitude c (P = c·M on the data divided by their max)",
-            "params": "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper)",
+            "params": "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper); not_identified in place of a value the data do not determine (the parameter's flags hold not_identified; fitted keeps a value, which predicts the same)",
             "fitted": "the model to predict with: full-precision params; normalisation = {amplitude} (free: P = amplitude·(beta·L_sb + (1−beta)·L_sf)), or the maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (paper; baselines: of the raw radiance; P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max)",
             "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
             "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",

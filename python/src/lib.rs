@@ -412,10 +412,19 @@ impl FitResult {
         self.fit.model.name()
     }
 
-    /// The fitted parameters (full precision): refined when refined.
+    /// The fitted parameters (full precision): refined when refined; the
+    /// string `"not_identified"` for a parameter the data do not determine
+    /// (its flags hold `not_identified`, e.g. Oren–Nayar's ρ under the free
+    /// amplitude).
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        params_dict(py, &self.fit.estimate().fitted.params)
+        let d = params_dict(py, &self.fit.estimate().fitted.params)?;
+        for (name, _) in self.fit.estimate().fitted.params.pairs() {
+            if self.fit.not_identified(name) {
+                d.set_item(name, laminar_fit::report::NOT_IDENTIFIED)?;
+            }
+        }
+        Ok(d)
     }
 
     /// The best grid point's parameters.
@@ -571,7 +580,7 @@ impl FitResult {
         format!(
             "FitResult(model={:?}, params={}, rms={})",
             self.fit.model.name(),
-            self.fit.estimate().params_text(),
+            self.fit.params_text(),
             self.fit.estimate().rms
         )
     }

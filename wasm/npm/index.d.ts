@@ -31,8 +31,9 @@ export interface Released {
 export interface FitParameter {
   /** The best grid point's value. */
   grid: number;
-  /** After refinement (null when not refined). */
-  refined: number | null;
+  /** After refinement (null when not refined); `'not_identified'` when the
+   * data do not determine the parameter (its flags hold `not_identified`). */
+  refined: number | 'not_identified' | null;
   /** 68.27% and 95% interval ends (null when not computed or open). */
   lo68: number | null;
   hi68: number | null;
@@ -78,8 +79,9 @@ export interface FitEntry {
   chi2_dof: number | null;
   chi2_used: number | null;
   chi2_left_out: number | null;
-  /** The reported estimate's parameters (as `rms`). */
-  params: Record<string, number>;
+  /** The reported estimate's parameters (as `rms`); `'not_identified'` in
+   * place of a value the data do not determine. */
+  params: Record<string, number | 'not_identified'>;
   rh_rms: number | null;
   rh_params: Record<string, number> | null;
   measurements: number;

@@ -8,7 +8,9 @@ const L = await load();
 const $ = (id) => document.getElementById(id);
 const DEG = Math.PI / 180;
 /** How the page shows a number (the browser test formats the CLI's the same way). */
-export const fmt = (v) => (v === null || v === undefined ? '–' : Number(v).toPrecision(5));
+// A number to 5 digits; a word (`not_identified`) as words; '–' for none.
+export const fmt = (v) =>
+  v === null || v === undefined ? '–' : typeof v === 'string' ? v.replace(/_/g, ' ') : Number(v).toPrecision(5);
 
 $('build').textContent = `laminar-wasm ${L.version()}, ${L.simd ? 'SIMD (+simd128)' : 'plain'} build`;
 
