@@ -418,8 +418,17 @@ fn free_objective_recovers_eq8_parameters() {
     assert_eq!(f["objective"], "free");
     for (name, truth) in [("slope", 1.48), ("beta", 0.4), ("n", 1.44), ("a", 0.2)] {
         let p = &f["parameters"][name];
-        let v = p["refined"].as_f64().unwrap();
+        let v = p["refined"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("{name}: {p}"));
         assert!((v - truth).abs() < 1e-6, "{name} = {v}");
+        // Fitted to rounding: the profile cannot resolve its levels, so the
+        // intervals are the Jacobian's (not the whole box, not_identified).
+        assert_eq!(p["interval"], "jacobian", "{name}: {p}");
+        assert!(
+            p["hi95"].as_f64().unwrap() - p["lo95"].as_f64().unwrap() < 1e-6,
+            "{name}: {p}"
+        );
         let b = p["box"].as_array().unwrap();
         assert!(b[0].as_f64().unwrap() <= v && v <= b[1].as_f64().unwrap());
         assert_eq!(

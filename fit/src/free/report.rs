@@ -207,7 +207,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
             analysis.uncertainty,
             Uncertainty::Profile | Uncertainty::Both
         );
-        if !wants_profile {
+        if !wants_profile || fitted_to_rounding(problem, &levels) {
             return Analysed {
                 minimum,
                 levels: Some(levels),
@@ -557,6 +557,24 @@ fn release_faces(
 fn chi2_weighted(problem: &Problem, point: &Point) -> Option<f64> {
     let nu = problem.data.len().checked_sub(problem.parameter_count())?;
     (nu > 0).then(|| point.sse / nu as f64)
+}
+
+/// Below this fraction of `Σ w D²`, a level's height is too close to the
+/// objective's rounding (about 10⁻¹⁶ of it) for a profile to resolve.
+const RESOLVABLE_LEVEL: f64 = 1e-13;
+
+/// True when the data are fitted to rounding (noise-free data): the 68%
+/// level lies below [`RESOLVABLE_LEVEL`] of `Σ w D²`, where the profile's
+/// heights are rounding noise (its walks would end at the box's faces). The
+/// intervals then come from the Jacobian (docs/conventions.md §11b).
+fn fitted_to_rounding(problem: &Problem, levels: &Levels) -> bool {
+    let dd: f64 = problem
+        .data
+        .iter()
+        .zip(&problem.root_weight)
+        .map(|(d, w)| (d * w) * (d * w))
+        .sum();
+    levels.heights[0] < RESOLVABLE_LEVEL * dd
 }
 
 /// The covariance of the parameters that have one (the amplitude left out).
