@@ -412,19 +412,13 @@ impl FitResult {
         self.fit.model.name()
     }
 
-    /// The fitted parameters (full precision): refined when refined; the
-    /// string `"not_identified"` for a parameter the data do not determine
-    /// (its flags hold `not_identified`, e.g. Oren–Nayar's ρ under the free
-    /// amplitude).
+    /// The fitted model's parameters (full precision; the file's
+    /// `fitted.params`): refined when refined. A parameter the data do not
+    /// determine keeps its value here, which the model predicts with;
+    /// `parameters[name]["refined"]` and its flags say `not_identified`.
     #[getter]
     fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = params_dict(py, &self.fit.estimate().fitted.params)?;
-        for (name, _) in self.fit.estimate().fitted.params.pairs() {
-            if self.fit.not_identified(name) {
-                d.set_item(name, laminar_fit::report::NOT_IDENTIFIED)?;
-            }
-        }
-        Ok(d)
+        params_dict(py, &self.fit.estimate().fitted.params)
     }
 
     /// The best grid point's parameters.
