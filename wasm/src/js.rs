@@ -115,6 +115,20 @@ fn params(values: [&JsValue; 4]) -> Result<[f64; 4], JsValue> {
     ])
 }
 
+/// The arguments every evaluation takes: the model name, the flat angles
+/// and the four parameters, each type-checked.
+fn evaluation(
+    model: &JsValue,
+    angles: &JsValue,
+    values: [&JsValue; 4],
+) -> Result<(String, Vec<f64>, [f64; 4]), JsValue> {
+    Ok((
+        string(model, "model")?,
+        numbers(angles, "angles")?,
+        params(values)?,
+    ))
+}
+
 /// Checks the parameters: σ/T > 0, β and a in [0, 1], n ≥ 1 (finite).
 ///
 /// # Errors
@@ -148,8 +162,7 @@ pub fn total_radiance(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Vec<f64>, JsValue> {
-    let (model, angles) = (string(&model, "model")?, numbers(&angles, "angles")?);
-    let [s, b, n, a] = params([&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
     Ok(evaluate::total_radiance_f64(&model, &angles, s, b, n, a)?)
 }
 
@@ -168,8 +181,7 @@ pub fn total_radiance_f32(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Vec<f32>, JsValue> {
-    let (model, angles) = (string(&model, "model")?, numbers(&angles, "angles")?);
-    let [s, b, n, a] = params([&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
     Ok(evaluate::total_radiance_f32(&model, &angles, s, b, n, a)?)
 }
 
@@ -186,8 +198,7 @@ pub fn components(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Components, JsValue> {
-    let (model, angles) = (string(&model, "model")?, numbers(&angles, "angles")?);
-    let [s, b, n, a] = params([&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
     Ok(evaluate::components(&model, &angles, s, b, n, a)?)
 }
 
