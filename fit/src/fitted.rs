@@ -107,9 +107,21 @@ impl ModelParams {
     /// `name=value` pairs joined by `;`, values rounded to 10 decimals
     /// (the `params` column).
     pub fn text(&self) -> String {
+        self.text_masked(|_| false, "")
+    }
+
+    /// [`ModelParams::text`] with `mask` in place of the value of each
+    /// parameter `masked` names.
+    pub fn text_masked(&self, masked: impl Fn(&str) -> bool, mask: &str) -> String {
         self.pairs()
             .iter()
-            .map(|(k, v)| format!("{k}={}", format_value(*v)))
+            .map(|&(k, v)| {
+                if masked(k) {
+                    format!("{k}={mask}")
+                } else {
+                    format!("{k}={}", format_value(v))
+                }
+            })
             .collect::<Vec<_>>()
             .join(";")
     }

@@ -88,17 +88,7 @@ impl Fit {
         self.reported()
             .fitted
             .params
-            .pairs()
-            .iter()
-            .map(|&(k, v)| {
-                if self.not_identified(k) {
-                    format!("{k}={NOT_IDENTIFIED}")
-                } else {
-                    format!("{k}={}", crate::fitted::format_value(v))
-                }
-            })
-            .collect::<Vec<_>>()
-            .join(";")
+            .text_masked(|k| self.not_identified(k), NOT_IDENTIFIED)
     }
 }
 
