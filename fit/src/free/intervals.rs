@@ -230,7 +230,7 @@ pub struct Side<'a> {
 
 /// The minimisations of a profile stop when a step gains less than this
 /// fraction of the 68.27% level's height `Δ s²`: `sqrt(profile − min)` is
-/// then known to about half of it, ten times inside [`END_TOLERANCE`].
+/// then known to about half of it, fifty times inside [`END_TOLERANCE`].
 pub const PROFILE_TOLERANCE: f64 = 1e-3;
 
 /// Most profile evaluations per end.
@@ -239,9 +239,15 @@ pub const MOST_STEPS: usize = 12;
 /// A probe ends the search for a level when `sqrt(profile − min)` is within
 /// this fraction of its target; the end is then one Newton step from the
 /// probe (on the local slope of `sqrt(profile − min)`), whose error is of
-/// the order of the square of this fraction (10⁻³ of the end's distance,
-/// with the probe's own error from [`PROFILE_TOLERANCE`]).
-pub const END_TOLERANCE: f64 = 2e-2;
+/// the order of the square of this fraction (a few 10⁻³ of the end's
+/// distance, with the probe's own error from [`PROFILE_TOLERANCE`]).
+pub const END_TOLERANCE: f64 = 5e-2;
+
+/// A walk ends when its bracket of the crossing is narrower than this
+/// fraction of the crossing's distance, even with no probe within
+/// [`END_TOLERANCE`] of the level: where the profile jumps across the level
+/// (its minimum moves to another valley), no probe comes near it.
+pub const BRACKET_TOLERANCE: f64 = 1e-2;
 
 /// One probe of a walk: the distance from the estimate, `sqrt(profile − min)`
 /// there, and the profile's minimising parameters.
@@ -343,6 +349,22 @@ impl Side<'_> {
         }
     }
 
+    /// The farthest probe below `target` (the origin at least), and the
+    /// nearest probe beyond it at or above `target`, when there is one: the
+    /// crossing of the level lies between them.
+    fn bracket(probes: &[Probe], target: f64) -> (&Probe, Option<&Probe>) {
+        let near = probes
+            .iter()
+            .filter(|p| p.height < target)
+            .max_by(|p, q| p.distance.total_cmp(&q.distance))
+            .expect("the origin is below every level");
+        let above = probes
+            .iter()
+            .filter(|p| p.height >= target && p.distance > near.distance)
+            .min_by(|p, q| p.distance.total_cmp(&q.distance));
+        (near, above)
+    }
+
     /// The next distance to probe for `target`. With the Jacobian's slope
     /// `alpha` of `sqrt(profile − min)` at the estimate (`√s² / sd`), the
     /// model `h(d) = α d + γ d²` through the probe nearest the target, kept
@@ -351,19 +373,33 @@ impl Side<'_> {
     /// − min)` is nearly linear in the distance); beyond every probe, the
     /// secant of the two farthest (the origin among them). Never more than
     /// four times as far as the farthest probe below the target.
-    fn next_distance(probes: &[Probe], target: f64, alpha: Option<f64>) -> f64 {
+    ///
+    /// Inside a bracket, when the last two of this walk's `fresh` probes
+    /// fell on one side of the target, neither the model nor false position
+    /// is used (false position creeps towards the crossing from that side
+    /// when the far end sits where the profile is steep, at a face or
+    /// across a jump): the secant through those two probes when it lands
+    /// inside the bracket, else the bracket's midpoint, so that the bracket
+    /// at least halves.
+    fn next_distance(probes: &[Probe], fresh: usize, target: f64, alpha: Option<f64>) -> f64 {
         let mut below: Vec<&Probe> = probes.iter().filter(|p| p.height < target).collect();
         below.sort_by(|p, q| p.distance.total_cmp(&q.distance));
-        let near = below.last().expect("the origin is below every level");
-        let above = probes
-            .iter()
-            .filter(|p| p.height >= target && p.distance > near.distance)
-            .min_by(|p, q| p.distance.total_cmp(&q.distance));
+        let (near, above) = Self::bracket(probes, target);
         let most = match above {
             Some(above) => above.distance,
             None => 4.0 * near.distance,
         };
-        let quadratic = alpha.and_then(|alpha| {
+        // How many of this walk's latest probes fell below (above) the target
+        // in a row.
+        let streak = |below_target: bool| {
+            probes[probes.len() - fresh.min(probes.len())..]
+                .iter()
+                .rev()
+                .take_while(|p| (p.height < target) == below_target)
+                .count()
+        };
+        let stalled = above.is_some() && (streak(true) >= 2 || streak(false) >= 2);
+        let quadratic = alpha.filter(|_| !stalled).and_then(|alpha| {
             let nearest = probes.iter().filter(|p| p.distance > 0.0).min_by(|p, q| {
                 (p.height - target)
                     .abs()
@@ -383,6 +419,20 @@ impl Side<'_> {
             return root;
         }
         match above {
+            Some(above) if stalled => {
+                // The secant through the streak's last two probes, when it
+                // lands inside the bracket; else its midpoint.
+                let n = probes.len();
+                let (p, q) = (&probes[n - 2], &probes[n - 1]);
+                let secant = q.distance
+                    + (target - q.height) * (q.distance - p.distance) / (q.height - p.height);
+                let inside = secant > near.distance && secant < above.distance;
+                if inside {
+                    secant
+                } else {
+                    0.5 * (near.distance + above.distance)
+                }
+            }
             Some(above) if above.height > near.height => {
                 let t = (target - near.height) / (above.height - near.height);
                 near.distance + t * (above.distance - near.distance)
@@ -463,13 +513,20 @@ impl Side<'_> {
                 continue;
             }
             let mut next = match (level, sd) {
-                (1, _) => Self::next_distance(&probes, target, alpha),
+                (1, _) => Self::next_distance(&probes, 0, target, alpha),
                 (_, Some(sd)) if sd > 0.0 => sd * (height / self.levels.s2).sqrt(),
                 _ => 0.1 * room,
             }
             .min(room);
             let mut found = None;
-            for _ in 0..MOST_STEPS {
+            let before = probes.len();
+            for step in 0..MOST_STEPS {
+                if step + 1 == MOST_STEPS && probes.iter().all(|p| p.height < target) {
+                    // The last step probes the face, so that an end is put
+                    // there only when the profile is seen below the level
+                    // at the face itself.
+                    next = room;
+                }
                 let value = if next >= room {
                     face
                 } else {
@@ -503,18 +560,102 @@ impl Side<'_> {
                     });
                     break;
                 }
-                next = Self::next_distance(&probes, target, alpha).min(room);
+                next = Self::next_distance(&probes, probes.len() - before, target, alpha).min(room);
+                if let (near, Some(above)) = Self::bracket(&probes, target) {
+                    if above.distance - near.distance <= BRACKET_TOLERANCE * above.distance {
+                        // A bracket this narrow without a probe near the
+                        // level: the profile jumps across it (another
+                        // valley takes over), and the end is the jump.
+                        found = Some((estimate + self.direction * next, false));
+                        break;
+                    }
+                }
             }
             ends[level] = found.unwrap_or_else(|| {
-                // Out of steps: the interpolated crossing, or the face.
-                if probes.iter().any(|p| p.height >= target) {
-                    let d = Self::next_distance(&probes, target, alpha);
-                    (estimate + self.direction * d, false)
-                } else {
-                    (face, true)
-                }
+                // Out of steps with a probe above the level (the last step
+                // saw to that): the crossing interpolated in the bracket.
+                let d = Self::next_distance(&probes, probes.len() - before, target, alpha);
+                (estimate + self.direction * d.min(room), false)
             });
         }
         Walk::Ends(ends)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn probe(distance: f64, height: f64) -> Probe {
+        Probe {
+            distance,
+            height,
+            theta: Vec::new(),
+        }
+    }
+
+    /// Probes `h` from `first` as a walk does (stopping within
+    /// [`END_TOLERANCE`] of the level 1, or on a bracket narrower than
+    /// [`BRACKET_TOLERANCE`]), with the face's probe at 2 already taken;
+    /// returns the probes taken and the final bracket.
+    fn search(h: impl Fn(f64) -> f64, first: f64) -> (usize, f64, f64) {
+        let mut probes = vec![probe(0.0, 0.0), probe(2.0, h(2.0))];
+        let before = probes.len();
+        let mut d = first;
+        for _ in 0..MOST_STEPS {
+            probes.push(probe(d, h(d)));
+            if (h(d) - 1.0).abs() <= END_TOLERANCE {
+                break;
+            }
+            let (near, above) = Side::bracket(&probes, 1.0);
+            let above = above.expect("the face is above");
+            if above.distance - near.distance <= BRACKET_TOLERANCE * above.distance {
+                break;
+            }
+            d = Side::next_distance(&probes, probes.len() - before, 1.0, None);
+            assert!(
+                d > near.distance && d < above.distance,
+                "{d} outside the bracket"
+            );
+        }
+        let (near, above) = Side::bracket(&probes, 1.0);
+        (
+            probes.len() - before,
+            near.distance,
+            above.unwrap().distance,
+        )
+    }
+
+    #[test]
+    fn a_bracket_with_a_steep_far_end_shrinks_from_both_ends() {
+        // The profile crosses 1 at d = 1.5 and rises to 40 at the face
+        // (d = 2): plain false position between (1.2, 0.8) and (2, 40)
+        // steps to 1.204, then keeps creeping up from below.
+        let steep = |d: f64| {
+            if d <= 1.5 {
+                d / 1.5
+            } else {
+                1.0 + 78.0 * (d - 1.5)
+            }
+        };
+        let (taken, near, _) = search(steep, 1.2);
+        assert!(taken <= 3, "{taken} probes to come within 5% of the level");
+        assert!((near - 1.5).abs() < 0.1, "ended near {near}");
+    }
+
+    #[test]
+    fn a_jump_across_the_level_ends_on_a_narrow_bracket() {
+        // Below the level up to d = 1.5, far above it beyond (another
+        // valley takes over): no probe comes near the level.
+        let jump = |d: f64| if d < 1.5 { 0.5 * d / 1.5 } else { 40.0 };
+        let (taken, near, above) = search(jump, 1.2);
+        // Within the step budget (plain false position would still be 17%
+        // of the distance short of the jump after 12 probes).
+        assert!(taken <= MOST_STEPS, "{taken} probes for the jump");
+        assert!(near < 1.5 && above >= 1.5);
+        assert!(
+            above - near <= BRACKET_TOLERANCE * above,
+            "[{near}, {above}]"
+        );
     }
 }

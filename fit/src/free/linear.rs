@@ -11,35 +11,39 @@
 //! otherwise the better of the two rays' one-variable minima (each
 //! `c = max(0, ⟨D, m⟩/⟨m, m⟩)` along `m = (1 − β) S + β U`).
 
+use laminar_core::Lane;
+
 /// The weighted inner products a solve needs: `⟨D, D⟩`, `⟨D, S⟩`, `⟨D, U⟩`,
-/// `⟨S, S⟩`, `⟨S, U⟩`, `⟨U, U⟩`.
+/// `⟨S, S⟩`, `⟨S, U⟩`, `⟨U, U⟩`. Generic over the core's [`Lane`] so that the
+/// grid stage solves four points at once (`f64x4`), bit for bit as one at a
+/// time (`f64`, the default).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Moments {
+pub struct Moments<L = f64> {
     /// `Σ w D²`.
-    pub dd: f64,
+    pub dd: L,
     /// `Σ w D S`.
-    pub ds: f64,
+    pub ds: L,
     /// `Σ w D U`.
-    pub du: f64,
+    pub du: L,
     /// `Σ w S²`.
-    pub ss: f64,
+    pub ss: L,
     /// `Σ w S U`.
-    pub su: f64,
+    pub su: L,
     /// `Σ w U²`.
-    pub uu: f64,
+    pub uu: L,
 }
 
 /// The linear coefficients at one point.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Linear {
+pub struct Linear<L = f64> {
     /// Coefficient of `S`: `c (1 − β)`.
-    pub p: f64,
+    pub p: L,
     /// Coefficient of `U`: `c β`.
-    pub q: f64,
+    pub q: L,
     /// The objective there from the moments (loses the digits that
     /// `⟨D, D⟩` has over the residual; the refinement recomputes it from
     /// the residuals).
-    pub sse: f64,
+    pub sse: L,
 }
 
 impl Linear {
@@ -59,22 +63,36 @@ impl Linear {
     }
 }
 
-impl Moments {
+impl<L: Lane> Linear<L> {
+    /// `if mask { t } else { f }`, lane by lane.
+    fn select(mask: L::Mask, t: Self, f: Self) -> Self {
+        Self {
+            p: L::select(mask, t.p, f.p),
+            q: L::select(mask, t.q, f.q),
+            sse: L::select(mask, t.sse, f.sse),
+        }
+    }
+}
+
+impl<L: Lane> Moments<L> {
     /// The objective at `(p, q)`.
-    pub fn objective(&self, p: f64, q: f64) -> f64 {
-        (self.dd - 2.0 * (p * self.ds + q * self.du)
+    pub fn objective(&self, p: L, q: L) -> L {
+        let two = L::c(2.0);
+        (self.dd - two * (p * self.ds + q * self.du)
             + p * p * self.ss
-            + 2.0 * p * q * self.su
+            + two * p * q * self.su
             + q * q * self.uu)
-            .max(0.0)
+            .max(L::c(0.0))
     }
 
     /// The best point on the ray of balance `beta`.
-    fn ray(&self, beta: f64) -> Linear {
-        let (w0, w1) = (1.0 - beta, beta);
-        let mm = w0 * w0 * self.ss + 2.0 * w0 * w1 * self.su + w1 * w1 * self.uu;
+    fn ray(&self, beta: L) -> Linear<L> {
+        let zero = L::c(0.0);
+        let (w0, w1) = (L::c(1.0) - beta, beta);
+        let two = L::c(2.0);
+        let mm = w0 * w0 * self.ss + two * w0 * w1 * self.su + w1 * w1 * self.uu;
         let dm = w0 * self.ds + w1 * self.du;
-        let c = if mm > 0.0 && dm > 0.0 { dm / mm } else { 0.0 };
+        let c = L::select(zero.lt(mm) & zero.lt(dm), dm / mm, zero);
         let (p, q) = (c * w0, c * w1);
         Linear {
             p,
@@ -83,38 +101,36 @@ impl Moments {
         }
     }
 
-    /// The minimum over `c ≥ 0`, `β ∈ [lo, hi]` (`0 ≤ lo ≤ hi ≤ 1`).
-    pub fn solve(&self, (lo, hi): (f64, f64)) -> Linear {
-        if lo < hi {
-            let det = self.ss * self.uu - self.su * self.su;
-            // Relative to the product: below it the two columns are
-            // parallel to rounding and the rays decide.
-            if det > 1e-12 * self.ss * self.uu {
-                let p = (self.ds * self.uu - self.du * self.su) / det;
-                let q = (self.du * self.ss - self.ds * self.su) / det;
-                let c = p + q;
-                if p >= 0.0 && q >= 0.0 && c > 0.0 {
-                    let beta = q / c;
-                    if beta >= lo && beta <= hi {
-                        return Linear {
-                            p,
-                            q,
-                            sse: self.objective(p, q),
-                        };
-                    }
-                }
-            }
-        }
-        let first = self.ray(lo);
+    /// The minimum over `c ≥ 0`, `β ∈ [lo, hi]` (`0 ≤ lo ≤ hi ≤ 1`): the
+    /// unconstrained minimum when it lies in the cone, else the better ray
+    /// (the lower one on ties; one ray when `lo = hi`).
+    pub fn solve(&self, (lo, hi): (f64, f64)) -> Linear<L> {
+        let (zero, lo_l, hi_l) = (L::c(0.0), L::c(lo), L::c(hi));
+        let first = self.ray(lo_l);
         if lo == hi {
             return first;
         }
-        let second = self.ray(hi);
-        if second.sse < first.sse {
-            second
-        } else {
-            first
-        }
+        let second = self.ray(hi_l);
+        let rays = Linear::select(second.sse.lt(first.sse), second, first);
+        let det = self.ss * self.uu - self.su * self.su;
+        let p = (self.ds * self.uu - self.du * self.su) / det;
+        let q = (self.du * self.ss - self.ds * self.su) / det;
+        let c = p + q;
+        let beta = q / c;
+        // Relative to the product: below it the two columns are parallel
+        // to rounding and the rays decide.
+        let inside = (L::c(1e-12) * self.ss * self.uu).lt(det)
+            & zero.le(p)
+            & zero.le(q)
+            & zero.lt(c)
+            & lo_l.le(beta)
+            & beta.le(hi_l);
+        let free = Linear {
+            p,
+            q,
+            sse: self.objective(p, q),
+        };
+        Linear::select(inside, free, rays)
     }
 }
 
@@ -157,6 +173,58 @@ mod tests {
         // A fixed β is one ray.
         let l = m.solve((0.3, 0.3));
         assert!((l.amplitude() - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn four_lanes_solve_bit_for_bit_as_one() {
+        use laminar_core::f64x4;
+        // Moments from random columns (some nearly parallel, some data the
+        // cone cannot reach), each box: every lane's bits equal the scalar.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for trial in 0..2000 {
+            let k = 6;
+            let s: Vec<f64> = (0..k).map(|_| next()).collect();
+            let tilt = if trial % 3 == 0 { 1e-9 } else { 1.0 };
+            let u: Vec<f64> = s.iter().map(|v| v * (1.0 + tilt * next())).collect();
+            let sign = if trial % 5 == 0 { -1.0 } else { 1.0 };
+            let d: Vec<f64> = (0..k).map(|_| sign * next()).collect();
+            let lanes: Vec<Moments> = (0..4).map(|_| moments(&d, &s, &u)).collect();
+            let lanes: Vec<Moments> = lanes
+                .iter()
+                .enumerate()
+                .map(|(i, m)| Moments {
+                    du: m.du * (1.0 + 0.3 * i as f64),
+                    ..*m
+                })
+                .collect();
+            let pick = |f: fn(&Moments) -> f64| f64x4::new([0, 1, 2, 3].map(|i| f(&lanes[i])));
+            let packed = Moments {
+                dd: pick(|m| m.dd),
+                ds: pick(|m| m.ds),
+                du: pick(|m| m.du),
+                ss: pick(|m| m.ss),
+                su: pick(|m| m.su),
+                uu: pick(|m| m.uu),
+            };
+            for beta in [(0.0, 1.0), (0.2, 0.4), (0.5, 0.5)] {
+                let got = packed.solve(beta);
+                let (p, q, sse) = (got.p.to_array(), got.q.to_array(), got.sse.to_array());
+                for (i, m) in lanes.iter().enumerate() {
+                    let want = m.solve(beta);
+                    assert_eq!(
+                        [p[i], q[i], sse[i]].map(f64::to_bits),
+                        [want.p, want.q, want.sse].map(f64::to_bits),
+                        "trial {trial}, lane {i}, box {beta:?}"
+                    );
+                }
+            }
+        }
     }
 
     #[test]

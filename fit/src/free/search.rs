@@ -12,6 +12,7 @@
 use super::linear::Moments;
 use super::problem::Problem;
 use super::sums::dots;
+use laminar_core::{f64x4, Lane};
 use rayon::prelude::*;
 
 /// The grid axes of the nonlinear parameters, in the model's values (σ/T,
@@ -56,22 +57,35 @@ struct Quadratic {
 }
 
 impl Quadratic {
-    fn moments(&self, a: f64) -> Moments {
-        let pow = [1.0, a, a * a];
-        let lin = |v: &[f64; 3]| v[0] + a * v[1] + a * a * v[2];
-        let mut uu = 0.0;
-        for (i, pi) in pow.iter().enumerate() {
-            for (j, pj) in pow.iter().enumerate() {
-                uu += pi * pj * self.bb[i][j];
+    /// The moments at the absorptions `a` (one per lane).
+    fn moments<L: Lane<Scalar = f64>>(&self, a: L) -> Moments<L> {
+        let pow = [L::c(1.0), a, a * a];
+        let c = L::splat;
+        let lin = |v: &[f64; 3]| c(v[0]) + a * c(v[1]) + a * a * c(v[2]);
+        let mut uu = L::c(0.0);
+        for (i, &pi) in pow.iter().enumerate() {
+            for (j, &pj) in pow.iter().enumerate() {
+                uu = uu + pi * pj * c(self.bb[i][j]);
             }
         }
         Moments {
-            dd: self.dd,
-            ds: self.ds,
+            dd: c(self.dd),
+            ds: c(self.ds),
             du: lin(&self.db),
-            ss: self.ss,
+            ss: c(self.ss),
             su: lin(&self.sb),
             uu,
+        }
+    }
+
+    /// The objective at every a of `a_axis`, four at a time (the last
+    /// group padded with its last a): bit for bit one at a time, as the
+    /// core's `f64x4` is its `f64` lane by lane.
+    fn objectives(&self, a_axis: &[f64], beta: (f64, f64), out: &mut Vec<f64>) {
+        for group in a_axis.chunks(4) {
+            let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
+            let sse = self.moments(a).solve(beta).sse.to_array();
+            out.extend_from_slice(&sse[..group.len()]);
         }
     }
 }
@@ -214,7 +228,7 @@ pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -
                     sb: c.sb,
                     bb: c.bb,
                 };
-                out.extend(a_axis.iter().map(|&a| q.moments(a).solve(beta).sse));
+                q.objectives(&a_axis, beta, &mut out);
             }
             out
         })
