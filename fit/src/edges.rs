@@ -34,6 +34,34 @@ pub enum Edge {
     NotIdentified,
 }
 
+impl Edge {
+    /// Every flag, in the order of their bits ([`Edge::bit`]).
+    pub const ALL: [Edge; 5] = [
+        Self::RangeEdge,
+        Self::DomainBound,
+        Self::OpenBelow,
+        Self::OpenAbove,
+        Self::NotIdentified,
+    ];
+
+    /// The flag's bit in a mask of flags (`1 << ` its place in
+    /// [`Edge::ALL`]), for outputs that hold numbers only.
+    pub fn bit(self) -> u8 {
+        match self {
+            Self::RangeEdge => 1,
+            Self::DomainBound => 2,
+            Self::OpenBelow => 4,
+            Self::OpenAbove => 8,
+            Self::NotIdentified => 16,
+        }
+    }
+
+    /// The mask of `flags` (the sum of their bits).
+    pub fn mask(flags: &[Edge]) -> u8 {
+        flags.iter().fold(0, |m, f| m | f.bit())
+    }
+}
+
 impl fmt::Display for Edge {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -69,6 +97,15 @@ pub fn flags(model: Model, name: &str, value: f64, axis: &Axis) -> Vec<Edge> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn each_flag_has_its_own_bit_in_order() {
+        for (i, f) in Edge::ALL.iter().enumerate() {
+            assert_eq!(f.bit(), 1 << i, "{f}");
+        }
+        assert_eq!(Edge::mask(&[Edge::OpenAbove, Edge::RangeEdge]), 9);
+        assert_eq!(Edge::mask(&[]), 0);
+    }
     use crate::grid::Grid;
 
     #[test]

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, FitResult, Measurements, paper_angles
+from ._laminar import BATCH_COLUMNS, FLAG_BITS, FitResult, Measurements, paper_angles
 from ._laminar import evaluate as _evaluate
 from ._laminar import fit as _fit
 from ._laminar import fit_batch as _fit_batch
@@ -32,9 +32,17 @@ __all__ = [
     "FitResult",
     "paper_angles",
     "BATCH_DTYPE",
+    "FLAG_BITS",
 ]
 
 #: The fields of :func:`fit_batch`'s result, in order.
+#:
+#: :data:`FLAG_BITS` maps each flag of a parameter to its bit in the
+#: ``*_flags`` fields: ``range_edge`` 1 (the estimate is on a face of the
+#: box searched), ``domain_bound`` 2 (a bound of the model's domain),
+#: ``open_below`` 4 and ``open_above`` 8 (the 95% interval does not close
+#: inside the box on that side), ``not_identified`` 16 (the 95% interval
+#: spans the whole box).
 BATCH_DTYPE = np.dtype([(name, np.float64) for name in BATCH_COLUMNS])
 
 
@@ -92,8 +100,12 @@ def fit_batch(
     alone. Returns a structured array of N rows with the fields of
     :data:`BATCH_DTYPE` (``rms, chi2_dof, slope, beta, n, a`` of the
     estimate, refined when ``refine``; ``rh_rms, rh_slope, rh_beta, rh_n,
-    search_rms, measurements, rms_grid`` and each parameter's 68% interval
-    ``slope_lo68, slope_hi68, …, a_hi68``, NaN when not computed).
+    search_rms, measurements, rms_grid``, each parameter's 68% interval
+    ``slope_lo68, slope_hi68, …, a_hi68``, the ``amplitude`` and weighted
+    ``chi2_weighted`` of the free objective, and per parameter its 95%
+    interval, Jacobian sd and flags: ``slope_lo95, slope_hi95, slope_sd,
+    slope_flags, …``; NaN when not computed). A ``*_flags`` field is the sum
+    of the bits of :data:`FLAG_BITS` that apply (0: none).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
     times faster. ``objective`` as in :func:`fit`."""
     geometry = np.ascontiguousarray(geometry, dtype=np.float64)

@@ -11,6 +11,7 @@ AxisSpec = Union[str, Sequence[float]]
 Grid = Optional[Mapping[str, AxisSpec]]
 
 BATCH_COLUMNS: list[str]
+FLAG_BITS: dict[str, int]
 
 def evaluate(
     model: str,

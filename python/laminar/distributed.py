@@ -1,9 +1,14 @@
-"""Batch fits spread over a Dask cluster.
+"""Batch fits of chunked arrays with Dask, lazily: from any Dask array (a
+Zarr store, an HDF5 file, a stack of images) to an ``xarray.Dataset`` of
+plain float arrays, one per output field, which the caller computes or
+stores (``to_zarr``) where the data live.
 
-Each task fits one block of rows with :func:`laminar.fit_batch` in one
-worker thread (``threads=1``); the blocks are gathered in order, so the
-result is the same array :func:`laminar.fit_batch` gives in one process.
-Dask is an optional dependency (``pip install "laminar[dask]"``).
+Each chunk of sets is one :func:`laminar.fit_batch` call (``threads=1``)
+on a worker; the geometry is one key of the graph, so it reaches each
+worker once. Nothing is gathered into the client. Any Dask scheduler
+runs it: a ``distributed`` cluster (local or on other machines), the
+threaded scheduler, or the synchronous one. Dask and xarray are optional
+dependencies (``pip install "laminar[dask]"``).
 """
 
 from __future__ import annotations
@@ -12,34 +17,163 @@ import numpy as np
 
 import laminar
 
+#: The fields of the result, in :data:`laminar.BATCH_COLUMNS` order.
+FIELDS = tuple(laminar.BATCH_COLUMNS)
 
-def _fit_block(geometry, block, model, grid, quantity, analysis):
-    refine, uncertainty = analysis
-    return laminar.fit_batch(
-        geometry, block, model, grid=grid, threads=1, quantity=quantity, refine=refine, uncertainty=uncertainty
+#: Rows per chunk when :func:`fit_dask` is given a numpy array.
+DEFAULT_CHUNK = 4096
+
+
+def _is_flags(name):
+    return name.endswith("_flags")
+
+
+def _check_finite(block, offset):
+    bad = ~np.isfinite(block)
+    if bad.any():
+        row, column = np.argwhere(bad)[0]
+        raise ValueError(
+            f"values: set {offset + row} holds {block[row, column]} at measurement {column}; "
+            "every value must be a finite number"
+        )
+
+
+def _fit_chunk(block, geometry, model, options, block_info=None):
+    """One chunk of sets (n × K) → its n × len(FIELDS) results."""
+    offset = block_info[0]["array-location"][0][0] if block_info else 0
+    block = np.ascontiguousarray(block, dtype=np.float64)
+    _check_finite(block, offset)
+    out = laminar.fit_batch(geometry, block, model, threads=1, **options)
+    return np.column_stack([out[name] for name in FIELDS]) if len(out) else np.empty((0, len(FIELDS)))
+
+
+def _checked(geometry, values, model, options):
+    """The geometry as a K × 4 float array, after checking ``values``' shape
+    and dtype against it and the options against the engine (a fit of no
+    sets)."""
+    geometry = np.ascontiguousarray(geometry, dtype=np.float64)
+    if geometry.ndim != 2 or geometry.shape[1] != 4:
+        raise ValueError(
+            f"geometry: shape {geometry.shape}; (K, 4) lab-frame angles theta_i, phi_i, theta_v, phi_v are needed"
+        )
+    if values.ndim != 2:
+        raise ValueError(f"values: shape {values.shape}; an N × K array (sets × measurements) is needed")
+    dtype = np.dtype(values.dtype)
+    if not (np.issubdtype(dtype, np.floating) or np.issubdtype(dtype, np.integer)):
+        raise ValueError(f"values: dtype {dtype}; real numbers (a float or integer dtype) are needed")
+    if values.shape[1] != geometry.shape[0]:
+        raise ValueError(
+            f"values: {values.shape[1]} measurements per set but the geometry has {geometry.shape[0]} rows"
+        )
+    laminar.fit_batch(geometry, np.empty((0, geometry.shape[0])), model, threads=1, **options)
+    return geometry
+
+
+def flag_attrs():
+    """CF-style attributes of a ``*_flags`` variable: which bit says what."""
+    names = sorted(laminar.FLAG_BITS, key=laminar.FLAG_BITS.get)
+    return {
+        "flag_masks": [laminar.FLAG_BITS[n] for n in names],
+        "flag_meanings": " ".join(names),
+        "comment": "sum of the bits of the flags that apply; 0 = none (see laminar.FLAG_BITS)",
+    }
+
+
+def fit_dask(
+    geometry,
+    values,
+    model="exp",
+    grid=None,
+    quantity="brdf",
+    refine=True,
+    uncertainty="both",
+    objective="free",
+    dim="set",
+):
+    """Fits every row of ``values`` (a ``dask.array`` of N sets × K
+    measurements, chunked along N; a numpy array is chunked by
+    :data:`DEFAULT_CHUNK` rows) on ``geometry`` (K × 4 lab-frame angles,
+    radians) as :func:`laminar.fit_batch` does, with the same options.
+
+    Returns at once a lazy ``xarray.Dataset`` along ``dim``: one variable
+    per field of :data:`FIELDS` (float64; ``measurements`` int32; the
+    ``*_flags`` uint8, with ``flag_masks`` and ``flag_meanings``
+    attributes). Nothing runs until the caller computes it or stores it
+    (``to_zarr``). Chunks along K are merged into one; each chunk of sets is
+    one task, whose keys are named ``laminar-fit``.
+
+    Errors found without computing (shapes, dtype, options) raise
+    ``ValueError`` here; a value that is not finite raises it when its chunk
+    runs, naming the set's index in ``values``.
+    """
+    import dask
+    import dask.array as da
+    import xarray as xr
+
+    if not isinstance(values, da.Array):
+        values = da.from_array(np.asarray(values), chunks=(DEFAULT_CHUNK, -1))
+    options = {
+        "grid": grid,
+        "quantity": quantity,
+        "refine": refine,
+        "uncertainty": uncertainty,
+        "objective": objective,
+    }
+    geometry = _checked(geometry, values, model, options)
+    values = values.rechunk({1: -1})
+    shared = dask.delayed(geometry, pure=True)
+    fields = da.map_blocks(
+        _fit_chunk,
+        values,
+        shared,
+        model,
+        options,
+        dtype=np.float64,
+        chunks=(values.chunks[0], (len(FIELDS),)),
+        meta=np.empty((0, 0), dtype=np.float64),
+        token="laminar-fit",
     )
+    variables = {}
+    for i, name in enumerate(FIELDS):
+        column = fields[:, i]
+        attrs = {}
+        if _is_flags(name):
+            column = column.astype(np.uint8)
+            attrs = flag_attrs()
+        elif name == "measurements":
+            column = column.astype(np.int32)
+        variables[name] = xr.Variable((dim,), column, attrs)
+    return xr.Dataset(
+        variables,
+        attrs={"model": model, "objective": objective, "quantity": quantity, "fitted_by": "laminar.fit_batch"},
+    )
+
+
+def to_records(dataset):
+    """The computed Dataset of :func:`fit_dask` as the structured array
+    :func:`laminar.fit_batch` returns (every field as float64)."""
+    n = dataset.sizes[next(iter(dataset.sizes))] if dataset.sizes else 0
+    out = np.empty(n, dtype=laminar.BATCH_DTYPE)
+    for name in FIELDS:
+        out[name] = np.asarray(dataset[name].values, dtype=np.float64)
+    return out
 
 
 def fit_batch_dask(
     client, geometry, values, model="exp", grid=None, quantity="brdf", block=512, refine=True, uncertainty="both"
 ):
-    """Fits every row of ``values`` (N × K) on ``geometry`` (K × 4) as
-    :func:`laminar.fit_batch` does (``refine`` and ``uncertainty`` as
-    there), in blocks of ``block`` rows, one task per
-    block on the workers of the ``distributed.Client`` ``client``. The
-    geometry is scattered once to every worker (under a fresh key, so that
-    calls in a row do not share, and release, one another's copy)."""
-    values = np.ascontiguousarray(values, dtype=np.float64)
-    if values.ndim != 2:
-        raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
+    """:func:`fit_dask` of a numpy ``values`` in chunks of ``block`` rows,
+    computed on the ``distributed.Client`` ``client`` and returned as
+    :func:`laminar.fit_batch`'s structured array. Kept for the callers of
+    the first version; it holds the whole input and output in the client,
+    which :func:`fit_dask` does not."""
+    import dask.array as da
+
     if block < 1:
         raise ValueError(f"block: {block}; at least 1 row per task")
-    shared = client.scatter(np.ascontiguousarray(geometry, dtype=np.float64), broadcast=True, hash=False)
-    futures = [
-        client.submit(
-            _fit_block, shared, values[i : i + block], model, grid, quantity, (refine, uncertainty), pure=False
-        )
-        for i in range(0, values.shape[0], block)
-    ]
-    parts = client.gather(futures)
-    return np.concatenate(parts) if parts else np.empty(0, dtype=laminar.BATCH_DTYPE)
+    values = np.asarray(values)
+    if values.ndim != 2:
+        raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
+    chunked = da.from_array(values, chunks=(block, -1))
+    dataset = fit_dask(geometry, chunked, model, grid=grid, quantity=quantity, refine=refine, uncertainty=uncertainty)
+    return to_records(client.compute(dataset).result())

@@ -9,7 +9,7 @@
 
 use laminar_core::{components, Angles, Geometry, Params};
 use laminar_fit::{
-    Analysis, Axis, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams,
+    Analysis, Axis, Edge, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams,
     Objective, Quantity, Scene,
 };
 use laminar_io::curet::{Channel, CuretDir};
@@ -602,34 +602,52 @@ fn fit(
     Ok(FitResult { fit })
 }
 
-/// One row per set of the batch fit's results, as columns: the estimate
-/// (refined when refined), the Ragheb–Hancock best, the grid's Δ_RMS and
-/// each parameter's 68% interval (NaN when not computed).
-const BATCH_COLUMNS: [&str; 21] = [
-    "rms",
-    "chi2_dof",
-    "slope",
-    "beta",
-    "n",
-    "a",
-    "rh_rms",
-    "rh_slope",
-    "rh_beta",
-    "rh_n",
-    "search_rms",
-    "measurements",
-    "rms_grid",
-    "slope_lo68",
-    "slope_hi68",
-    "beta_lo68",
-    "beta_hi68",
-    "n_lo68",
-    "n_hi68",
-    "a_lo68",
-    "a_hi68",
-];
+/// The layered models' parameters, in the order of their batch columns.
+const BATCH_PARAMETERS: [&str; 4] = ["slope", "beta", "n", "a"];
 
-fn batch_row(fit: &Fit) -> [f64; 21] {
+/// Columns per parameter after the 21 leading ones: its 95% ends, the
+/// Jacobian's sd and its flags.
+const PER_PARAMETER: usize = 4;
+
+/// Number of batch columns.
+const BATCH_WIDTH: usize = 23 + PER_PARAMETER * BATCH_PARAMETERS.len();
+
+/// One row per set of the batch fit's results, as columns: the estimate
+/// (refined when refined), the Ragheb–Hancock best, the grid's Δ_RMS, each
+/// parameter's 68% interval (the first 21, in the order they have always
+/// had), then the amplitude and the weighted χ²/ν (free objective), then
+/// per parameter its 95% interval, sd and flags (the mask of
+/// `laminar_fit::Edge::bit`s, 0 for none). NaN where not computed.
+fn batch_columns() -> Vec<String> {
+    let mut names: Vec<String> = [
+        "rms",
+        "chi2_dof",
+        "slope",
+        "beta",
+        "n",
+        "a",
+        "rh_rms",
+        "rh_slope",
+        "rh_beta",
+        "rh_n",
+        "search_rms",
+        "measurements",
+        "rms_grid",
+    ]
+    .map(String::from)
+    .to_vec();
+    for p in BATCH_PARAMETERS {
+        names.extend([format!("{p}_lo68"), format!("{p}_hi68")]);
+    }
+    names.extend(["amplitude".to_string(), "chi2_weighted".to_string()]);
+    for p in BATCH_PARAMETERS {
+        names.extend(["lo95", "hi95", "sd", "flags"].map(|c| format!("{p}_{c}")));
+    }
+    debug_assert_eq!(names.len(), BATCH_WIDTH);
+    names
+}
+
+fn batch_row(fit: &Fit) -> [f64; BATCH_WIDTH] {
     let layered = |p: &ModelParams| match *p {
         ModelParams::Layered { slope, beta, n, a } => [slope, beta, n, a],
         _ => [f64::NAN; 4],
@@ -638,18 +656,11 @@ fn batch_row(fit: &Fit) -> [f64; 21] {
     let [slope, beta, n, a] = layered(&estimate.fitted.params);
     let rh = fit.rh.as_ref();
     let [rs, rb, rn, _] = rh.map_or([f64::NAN; 4], |e| layered(&e.fitted.params));
-    let interval = |name: &str| {
-        fit.parameters
-            .iter()
-            .find(|p| p.name == name)
-            .and_then(|p| p.interval68)
-            .map_or([f64::NAN; 2], |i| [i.lo, i.hi])
-    };
-    let [slo, shi] = interval("slope");
-    let [blo, bhi] = interval("beta");
-    let [nlo, nhi] = interval("n");
-    let [alo, ahi] = interval("a");
-    [
+    let parameter = |name: &str| fit.parameters.iter().find(|p| p.name == name);
+    let ends =
+        |i: Option<laminar_fit::profile::Interval>| i.map_or([f64::NAN; 2], |i| [i.lo, i.hi]);
+    let mut row = Vec::with_capacity(BATCH_WIDTH);
+    row.extend([
         estimate.rms,
         estimate.chi2.map_or(f64::NAN, |c| c.per_dof),
         slope,
@@ -663,15 +674,21 @@ fn batch_row(fit: &Fit) -> [f64; 21] {
         fit.search_rms,
         fit.measurements as f64,
         fit.best.rms,
-        slo,
-        shi,
-        blo,
-        bhi,
-        nlo,
-        nhi,
-        alo,
-        ahi,
-    ]
+    ]);
+    for name in BATCH_PARAMETERS {
+        row.extend(ends(parameter(name).and_then(|p| p.interval68)));
+    }
+    row.extend([
+        fit.amplitude.unwrap_or(f64::NAN),
+        fit.chi2_weighted.unwrap_or(f64::NAN),
+    ]);
+    for name in BATCH_PARAMETERS {
+        let p = parameter(name);
+        row.extend(ends(p.and_then(|p| p.interval95)));
+        row.push(p.and_then(|p| p.sd).unwrap_or(f64::NAN));
+        row.push(p.map_or(0.0, |p| f64::from(Edge::mask(&p.flags))));
+    }
+    row.try_into().expect("one value per batch column")
 }
 
 /// Fits `model` (a layered model) to every row of `values` (N × K) on one
@@ -721,7 +738,7 @@ fn fit_batch<'py>(
     // The sets are read a block at a time from the caller's array; what
     // grows with N (the result rows) is reserved first.
     let sets = v.nrows();
-    let mut out: Vec<[f64; 21]> = reserve(sets, "the results")?;
+    let mut out: Vec<[f64; BATCH_WIDTH]> = reserve(sets, "the results")?;
     py.detach(|| -> Result<(), String> {
         for start in (0..sets).step_by(BLOCK) {
             let scenes = (start..(start + BLOCK).min(sets))
@@ -738,10 +755,10 @@ fn fit_batch<'py>(
     })
     .map_err(PyValueError::new_err)?;
     let dict = PyDict::new(py);
-    for (c, name) in BATCH_COLUMNS.iter().enumerate() {
+    for (c, name) in batch_columns().iter().enumerate() {
         let mut column = reserve(out.len(), "an output column")?;
         column.extend(out.iter().map(|r| r[c]));
-        dict.set_item(*name, column.into_pyarray(py))?;
+        dict.set_item(name, column.into_pyarray(py))?;
     }
     Ok(dict)
 }
@@ -770,6 +787,11 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(paper_angles, m)?)?;
     m.add_class::<Measurements>()?;
     m.add_class::<FitResult>()?;
-    m.add("BATCH_COLUMNS", BATCH_COLUMNS.to_vec())?;
+    m.add("BATCH_COLUMNS", batch_columns())?;
+    let flags = PyDict::new(m.py());
+    for edge in Edge::ALL {
+        flags.set_item(edge.to_string(), edge.bit())?;
+    }
+    m.add("FLAG_BITS", flags)?;
     Ok(())
 }

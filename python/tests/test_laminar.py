@@ -86,7 +86,15 @@ def test_fit_batch_equals_fit_of_each_row():
         assert (result["slope"], result["beta"], result["n"], result["a"]) == (p["slope"], p["beta"], p["n"], p["a"])
         assert result["rms"] == alone.rms and result["search_rms"] == alone.search_rms
         assert result["rh_rms"] == alone.rh["rms"]
-    assert np.array_equal(laminar.fit_batch(g, values, "exp", grid=GRID, threads=1, quantity="radiance"), out)
+        for name, q in alone.parameters.items():
+            want = [q["lo68"], q["hi68"], q["lo95"], q["hi95"]]
+            got = [result[f"{name}_{end}"] for end in ("lo68", "hi68", "lo95", "hi95")]
+            assert got == want, name
+            assert result[f"{name}_flags"] == sum(laminar.FLAG_BITS[f] for f in q["flags"]), name
+            assert np.array_equal(result[f"{name}_sd"], np.nan if q["sd"] is None else q["sd"], equal_nan=True)
+    one_thread = laminar.fit_batch(g, values, "exp", grid=GRID, threads=1, quantity="radiance")
+    for field in laminar.BATCH_COLUMNS:
+        assert np.array_equal(one_thread[field], out[field], equal_nan=True), field
 
 
 @pytest.mark.skipif(not os.environ.get("CURET_DIR"), reason="CURET_DIR is not set")

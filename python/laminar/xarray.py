@@ -1,0 +1,111 @@
+"""Fits of labelled arrays: an ``xarray.DataArray`` with a measurement
+dimension whose coordinates are the geometry, every other dimension kept
+(texels ``y``, ``x``, ``channel``, …). Lazy when the data are dask-backed
+(then :func:`laminar.distributed.fit_dask` does the work, and ``to_zarr``
+writes the result); numpy-backed data are fitted at once by
+:func:`laminar.fit_batch`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import laminar
+from laminar.distributed import FIELDS, _checked, _is_flags, fit_dask, flag_attrs
+
+#: The geometry's coordinates along the measurement dimension (radians,
+#: lab frame).
+GEOMETRY = ("theta_i", "phi_i", "theta_v", "phi_v")
+
+
+def geometry_of(data, dim):
+    """The K × 4 geometry of ``data`` from its coordinates along ``dim``."""
+    columns = []
+    for name in GEOMETRY:
+        if name not in data.coords:
+            raise ValueError(
+                f"data: no coordinate {name!r}; the geometry is given as coordinates "
+                f"{', '.join(GEOMETRY)} (radians) along {dim!r}"
+            )
+        coord = data.coords[name]
+        if coord.dims != (dim,):
+            raise ValueError(f"data: coordinate {name!r} has dimensions {coord.dims}; it must lie along ({dim!r},)")
+        columns.append(np.asarray(coord.values, dtype=np.float64))
+    return np.column_stack(columns)
+
+
+def fit(
+    data,
+    dim="measurement",
+    model="exp",
+    grid=None,
+    quantity="brdf",
+    refine=True,
+    uncertainty="both",
+    objective="free",
+):
+    """Fits ``model`` to every set of ``data`` along ``dim`` (the
+    measurements, with coordinates ``theta_i, phi_i, theta_v, phi_v``), as
+    :func:`laminar.fit_batch` does with the same options.
+
+    Returns an ``xarray.Dataset`` of the output fields
+    (:data:`laminar.distributed.FIELDS`), each with ``data``'s other
+    dimensions, in their order, and their coordinates. Lazy when ``data`` is
+    dask-backed (chunks along ``dim`` are merged into one); a value that is
+    not finite then raises when its chunk runs, naming the set by its index
+    in row-major order over the other dimensions (numpy-backed data name
+    its coordinates at once).
+    """
+    import dask.array as da
+    import xarray as xr
+
+    if not isinstance(data, xr.DataArray):
+        raise ValueError(f"data: {type(data).__name__}; an xarray.DataArray is needed")
+    if dim not in data.dims:
+        raise ValueError(f"dim: {dim!r} is not a dimension of data (dimensions {data.dims})")
+    geometry = geometry_of(data, dim)
+    others = [d for d in data.dims if d != dim]
+    data = data.transpose(*others, dim)
+    shape = tuple(data.sizes[d] for d in others)
+    sets = int(np.prod(shape)) if shape else 1
+    flat = data.data.reshape(sets, geometry.shape[0])
+    coords = {name: c for name, c in data.coords.items() if dim not in c.dims}
+    options = {
+        "grid": grid,
+        "quantity": quantity,
+        "refine": refine,
+        "uncertainty": uncertainty,
+        "objective": objective,
+    }
+    if isinstance(flat, da.Array):
+        fitted = fit_dask(geometry, flat, model, dim="set", **options)
+        columns = {name: fitted[name].data.reshape(shape) for name in FIELDS}
+    else:
+        _checked(geometry, flat, model, options)
+        flat = np.ascontiguousarray(flat, dtype=np.float64)
+        bad = ~np.isfinite(flat)
+        if bad.any():
+            row, column = np.argwhere(bad)[0]
+            where = ", ".join(f"{d}={i}" for d, i in zip(others, np.unravel_index(row, shape)))
+            raise ValueError(
+                f"data: the set at {where or 'the only set'} holds {flat[row, column]} at {dim}={column}; "
+                "every value must be a finite number"
+            )
+        out = laminar.fit_batch(geometry, flat, model, **options)
+        columns = {}
+        for name in FIELDS:
+            column = out[name].reshape(shape)
+            if _is_flags(name):
+                column = column.astype(np.uint8)
+            elif name == "measurements":
+                column = column.astype(np.int32)
+            columns[name] = column
+    variables = {
+        name: xr.Variable(others, column, flag_attrs() if _is_flags(name) else {})
+        for name, column in columns.items()
+    }
+    return xr.Dataset(
+        variables,
+        coords=coords,
+        attrs={"model": model, "objective": objective, "quantity": quantity, "fitted_by": "laminar.fit_batch"},
+    )

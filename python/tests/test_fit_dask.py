@@ -1,0 +1,238 @@
+"""Lazy fits of chunked data (laminar.distributed.fit_dask, laminar.xarray.fit):
+Zarr to Zarr on a LocalCluster whose workers each have less memory than
+the input, equal to laminar.fit_batch row for row in every field; the
+client's memory; a worker killed mid-run; labelled cubes; bad input."""
+
+import os
+import signal
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import laminar
+
+if os.environ.get("LAMINAR_REQUIRE_DASK") == "1":
+    import dask.distributed  # noqa: F401  (CI requires these tests to run)
+    import xarray  # noqa: F401
+    import zarr  # noqa: F401
+else:
+    pytest.importorskip("dask.distributed")
+    pytest.importorskip("xarray")
+    pytest.importorskip("zarr")
+
+import dask  # noqa: E402
+import dask.array as da  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from laminar.distributed import FIELDS, fit_dask  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+from btf_cube import cube  # noqa: E402
+
+#: A small grid, so that the big store's ~200,000 fits take seconds (the
+#: engine's search is the same at any grid; the defaults are compared on a
+#: smaller set below).
+SMALL_GRID = {"slope": "0.1:4:4:log", "n": "1.2:1.6:2", "a": "0:1:3"}
+SEARCH = {"grid": SMALL_GRID, "quantity": "radiance", "refine": False, "uncertainty": "off"}
+CHUNK = 4096
+CHUNKS = 48
+WORKER_MEMORY = 250e6
+
+
+def status(field):
+    """This process's `field` of /proc/self/status, in bytes."""
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith(field + ":"):
+            return int(line.split()[1]) * 1024
+    raise KeyError(field)
+
+
+def worker_peak():
+    """The calling worker's peak resident memory, in bytes."""
+    return status("VmHWM")
+
+
+def synthetic_chunk(block, block_info=None):
+    """Chunk i of the big input: the 64 × 64 cube's sets plus noise seeded
+    by i (made chunk by chunk, so no process holds the whole input)."""
+    i = block_info[None]["chunk-location"][0]
+    g, values = cube(64, 64, k=198, channels=1)
+    rng = np.random.default_rng(100 + i)
+    return values[0] + 0.005 * rng.standard_normal(values[0].shape)
+
+
+@pytest.fixture(scope="module")
+def store(tmp_path_factory):
+    """The big input (CHUNKS × CHUNK sets × 198, float64), written to a Zarr
+    store by the threaded scheduler, and its geometry."""
+    path = tmp_path_factory.mktemp("zarr") / "values.zarr"
+    g, _ = cube(1, 1, k=198, channels=1)
+    lazy = da.map_blocks(
+        synthetic_chunk,
+        da.zeros((CHUNKS * CHUNK, 198), chunks=(CHUNK, 198)),
+        dtype=np.float64,
+    )
+    with dask.config.set(scheduler="threads"):
+        lazy.to_zarr(str(path))
+    return g, path
+
+
+@pytest.fixture(scope="module")
+def reference(store):
+    """laminar.fit_batch of every chunk of the store, in one process."""
+    g, path = store
+    values = da.from_zarr(str(path))
+    start = time.perf_counter()
+    parts = [laminar.fit_batch(g, np.asarray(values[i : i + CHUNK]), "exp", **SEARCH) for i in range(0, values.shape[0], CHUNK)]
+    elapsed = time.perf_counter() - start
+    return np.concatenate(parts), elapsed
+
+
+def assert_equal_rows(result, expected):
+    for name in FIELDS:
+        got = np.asarray(result[name].values, dtype=np.float64)
+        assert np.array_equal(got, expected[name], equal_nan=True), name
+
+
+def test_zarr_to_zarr_on_workers_with_less_memory_than_the_input(store, reference, tmp_path):
+    from dask.distributed import Client, LocalCluster
+
+    g, path = store
+    expected, alone = reference
+    values = da.from_zarr(str(path))
+    size = values.nbytes
+    assert WORKER_MEMORY < size
+    with LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        memory_limit=WORKER_MEMORY,
+        host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster, Client(cluster) as client:
+        result = fit_dask(g, values, "exp", **SEARCH)
+        assert all(isinstance(result[name].data, da.Array) for name in FIELDS)
+        out = tmp_path / "fits.zarr"
+        stored = result.to_zarr(str(out), compute=False)
+        # The client's peak memory from here on (VmHWM reset to the
+        # current resident size).
+        Path("/proc/self/clear_refs").write_text("5")
+        before = status("VmRSS")
+        start = time.perf_counter()
+        client.compute(stored).result()
+        elapsed = time.perf_counter() - start
+        grown = status("VmHWM") - before
+        peaks = client.run(worker_peak)
+
+        # A second run, one worker killed (SIGKILL) a third of the way in:
+        # the nanny starts a new one and the lost share is recomputed.
+        again = tmp_path / "again.zarr"
+        future = client.compute(fit_dask(g, values, "exp", **SEARCH).to_zarr(str(again), compute=False))
+        time.sleep(elapsed / 3)
+        assert not future.done(), "the run ended before the kill"
+        victim = sorted(client.run(os.getpid).values())[0]
+        os.kill(victim, signal.SIGKILL)
+        future.result()
+        survivors = client.run(os.getpid)
+    n = values.shape[0]
+    print(
+        f"\nfit_dask, {n} sets × 198 ({size / 1e6:.0f} MB), small grid, search only: "
+        f"fit_batch in one process (2 threads) {n / alone:.0f} sets/s; "
+        f"LocalCluster 2 workers × 1 thread ({WORKER_MEMORY / 1e6:.0f} MB each) {n / elapsed:.0f} sets/s; "
+        f"client peak grew {grown / 1e6:.1f} MB; worker peaks "
+        + ", ".join(f"{p / 1e6:.0f} MB" for p in peaks.values())
+    )
+    assert grown < size / 4, f"the client grew by {grown / 1e6:.0f} MB for a {size / 1e6:.0f} MB input"
+    assert victim not in survivors.values()
+    assert_equal_rows(xr.open_zarr(str(out)).load(), expected)
+    assert_equal_rows(xr.open_zarr(str(again)).load(), expected)
+
+
+def test_the_defaults_on_the_threaded_scheduler_equal_fit_batch():
+    # Refinement and both uncertainties (every field, intervals and flags
+    # included), on irregular chunks along both axes.
+    g, values = cube(12, 12, k=198, channels=1)
+    sets = values[0]
+    lazy = da.from_array(sets, chunks=((50, 60, 34), (100, 98)))
+    result = fit_dask(g, lazy, "exp", quantity="radiance")
+    assert result["n_flags"].dtype == np.uint8 and result["measurements"].dtype == np.int32
+    assert result["n_flags"].attrs["flag_meanings"].split()[0] == "range_edge"
+    with dask.config.set(scheduler="threads"):
+        computed = result.compute()
+    expected = laminar.fit_batch(g, sets, "exp", quantity="radiance")
+    assert_equal_rows(computed, expected)
+    assert np.isfinite(computed["n_lo95"]).all() and np.isfinite(computed["amplitude"]).all()
+
+
+def labelled_cube(ny=6, nx=5, channels=3):
+    g, values = cube(ny, nx, k=198, channels=channels)
+    # values: channels × (y·x) × K → (y, x, channel, measurement)
+    data = values.reshape(channels, ny, nx, 198).transpose(1, 2, 0, 3)
+    coords = {
+        "y": np.arange(ny) * 0.5,
+        "x": np.arange(nx) * 0.25,
+        "channel": ["red", "green", "blue"][:channels],
+        **{name: ("measurement", g[:, i]) for i, name in enumerate(("theta_i", "phi_i", "theta_v", "phi_v"))},
+    }
+    return g, xr.DataArray(data, dims=("y", "x", "channel", "measurement"), coords=coords, attrs={"units": "1"})
+
+
+def test_xarray_fit_keeps_dimensions_and_equals_fit_batch_per_texel(tmp_path):
+    import laminar.xarray
+
+    g, data = labelled_cube()
+    result = laminar.xarray.fit(data, model="exp", quantity="radiance")
+    assert result["slope"].dims == ("y", "x", "channel")
+    assert list(result["slope"].coords["channel"].values) == ["red", "green", "blue"]
+    assert np.array_equal(result["slope"].coords["x"].values, data.coords["x"].values)
+    for iy in range(data.sizes["y"]):
+        for c in range(data.sizes["channel"]):
+            row = laminar.fit_batch(g, data.values[iy, :, c, :], "exp", quantity="radiance")
+            for name in FIELDS:
+                got = np.asarray(result[name].values[iy, :, c], dtype=np.float64)
+                assert np.array_equal(got, row[name], equal_nan=True), (name, iy, c)
+
+    # Dask-backed, channel-first in memory: lazy, the same numbers, stored.
+    chunked = data.transpose("channel", "measurement", "y", "x").chunk({"y": 2, "measurement": 99})
+    lazy = laminar.xarray.fit(chunked, model="exp", quantity="radiance")
+    assert isinstance(lazy["slope"].data, da.Array)
+    assert lazy["slope"].dims == ("channel", "y", "x")
+    with dask.config.set(scheduler="threads"):
+        lazy.to_zarr(str(tmp_path / "cube.zarr"))
+    stored = xr.open_zarr(str(tmp_path / "cube.zarr")).load()
+    for name in FIELDS:
+        want = result[name].transpose("channel", "y", "x").values
+        assert np.array_equal(stored[name].values, want, equal_nan=True), name
+    assert list(stored.coords["channel"].values) == ["red", "green", "blue"]
+
+
+def test_bad_input_is_named():
+    import laminar.xarray
+
+    g, values = cube(4, 4, k=198, channels=1)
+    sets = values[0]
+    with pytest.raises(ValueError, match="197 measurements per set but the geometry has 198 rows"):
+        fit_dask(g, da.from_array(sets[:, :197]), "exp")
+    with pytest.raises(ValueError, match="dtype <U"):
+        fit_dask(g, da.from_array(sets.astype(str)), "exp")
+    with pytest.raises(ValueError, match="dtype complex128"):
+        fit_dask(g, da.from_array(sets.astype(complex)), "exp")
+    with pytest.raises(ValueError, match="model"):
+        fit_dask(g, da.from_array(sets), "lambert")
+    broken = sets.copy()
+    broken[11, 40] = np.nan
+    lazy = fit_dask(g, da.from_array(broken, chunks=(5, 198)), "exp", quantity="radiance", **{"refine": False})
+    with pytest.raises(ValueError, match="set 11 holds nan at measurement 40"):
+        lazy.compute(scheduler="synchronous")
+
+    _, data = labelled_cube(3, 3, 1)
+    with pytest.raises(ValueError, match="no coordinate 'phi_v'"):
+        laminar.xarray.fit(data.drop_vars("phi_v"))
+    with pytest.raises(ValueError, match="'angle' is not a dimension"):
+        laminar.xarray.fit(data, dim="angle")
+    bad = data.copy()
+    bad.values[2, 1, 0, 7] = np.inf
+    with pytest.raises(ValueError, match="y=2, x=1, channel=0 holds inf at measurement=7"):
+        laminar.xarray.fit(bad, quantity="radiance")
