@@ -14,5 +14,5 @@ fi
 rm -rf "$out"
 mkdir -p "$out/laminar-wasm"
 cp "$root"/web/src/* "$out/"
-cp -r "$package"/index.js "$package"/plain "$package"/simd "$out/laminar-wasm/"
+cp -r "$package"/index.js "$package"/loader.js "$package"/plain "$package"/simd "$package"/eval "$out/laminar-wasm/"
 echo "$out"

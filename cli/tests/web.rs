@@ -166,11 +166,11 @@ fn npm_package_gives_the_native_bits() {
             }
         }
     }
-    for build in ["plain", "simd"] {
+    for build in ["plain", "simd", "eval_plain", "eval_simd"] {
         let side = &got[build];
         assert_eq!(
             side["build"],
-            build == "simd",
+            build.ends_with("simd"),
             "{build}: load() gave the other build"
         );
         for (name, native) in [("f32", &f32_bits), ("f64", &f64_bits)] {
@@ -183,12 +183,63 @@ fn npm_package_gives_the_native_bits() {
             );
         }
     }
+    // The evaluation-only package's predictFitted is the whole package's
+    // predict, bit for bit (f64 values as u32 halves).
+    let fitted = &got["fitted"];
+    assert!(fitted["compared"].as_u64().unwrap_or(0) > 0, "{fitted}");
+    assert_eq!(
+        fitted["differ"], 0,
+        "predictFitted against predict: {fitted}"
+    );
     let _ = writeln!(
         std::io::stderr(),
-        "npm package: {} f32 and {} f64 values per build, plain and +simd128, bitwise native",
+        "npm package: {} f32 and {} f64 values per build, whole and eval packages, plain and \
+         +simd128, bitwise native; eval's predictFitted equals predict on {} values",
         f32_bits.len(),
-        f64_bits.len() / 2
+        f64_bits.len() / 2,
+        fitted["compared"]
     );
+}
+
+/// The gzip size (level 9) of `path`.
+fn gzip_size(path: &Path) -> usize {
+    let out = Command::new("gzip")
+        .args(["-9", "-c"])
+        .arg(path)
+        .output()
+        .expect("gzip runs");
+    assert!(out.status.success(), "gzip {}", path.display());
+    out.stdout.len()
+}
+
+/// The evaluation-only package (`laminar-wasm/eval`) fits a page's budget:
+/// each build's `.wasm` at most 40 KiB gzip. The whole package's sizes are
+/// printed beside them. Needs binaryen's `wasm-opt` (wasm/build.sh runs it
+/// on the eval builds).
+#[test]
+fn evaluation_only_package_is_at_most_40_kib_gzip() {
+    let package = match package() {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    if run(Command::new("wasm-opt").arg("--version")).is_err() {
+        return skip_or_fail(
+            "binaryen's `wasm-opt` is not available (the eval package's size needs it)",
+        );
+    }
+    let mut line = Vec::new();
+    for dir in ["plain", "simd", "eval/plain", "eval/simd"] {
+        let wasm = package.dir.join(dir).join("laminar_wasm_bg.wasm");
+        let size = gzip_size(&wasm);
+        if dir.starts_with("eval") {
+            assert!(
+                size <= 40 * 1024,
+                "{dir}: {size} bytes gzip, more than 40 KiB"
+            );
+        }
+        line.push(format!("{dir} {size} B"));
+    }
+    let _ = writeln!(std::io::stderr(), "wasm gzip sizes: {}", line.join(", "));
 }
 
 /// Every export of the package, both builds, called with 3,000 seeded
@@ -257,6 +308,19 @@ fn packed_package_imports_in_typescript() {
         "node has WebAssembly SIMD: load() should pick it"
     );
     assert_eq!(v["message"], "beta = 1.5 is outside [0, 1]");
+    // `laminar-wasm/eval` types and runs: the same bits as the whole package.
+    assert_eq!(
+        (&v["evalSame"], &v["evalSimd"]),
+        (&true.into(), &true.into()),
+        "{v}"
+    );
+    assert_eq!(
+        v["evalErrors"],
+        serde_json::json!([
+            "normalisation constant amplitude = -1: a finite number ≥ 0 is needed",
+            "TypeError: fitted.params.beta: give a number (got undefined)"
+        ])
+    );
     // Every bad input is a JS Error naming what is wrong.
     let errors: Vec<String> = serde_json::from_value(v["errors"].clone()).expect("errors");
     assert_eq!(

@@ -92,6 +92,7 @@ pub mod geometry;
 pub mod lane;
 pub mod measures;
 pub mod onepass;
+pub mod prediction;
 pub mod probe;
 pub mod radiance;
 pub mod small_fit;
@@ -109,6 +110,7 @@ pub use fresnel::{
 pub use geometry::{wrap_pi, Angles, Directions, Geometry};
 pub use lane::{Lane, Mask, Real};
 pub use measures::{chi_square_per_dof, normalise_by_max, rms_error, ChiSquare, Normalisation};
+pub use prediction::Scaling;
 pub use radiance::{
     components, components_in, mix, total_radiance, total_radiance_in, Components, LaneParams,
     Params,

@@ -19,7 +19,8 @@ use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
 use laminar_core::measures::max_of;
-use laminar_core::{components, Angles, Geometry, Params};
+use laminar_core::prediction::scaled;
+use laminar_core::{components, mix, Angles, Geometry, Params, Scaling};
 use serde::{Deserialize, Serialize};
 
 /// The free parameters of `model` in output order: its parameters, without
@@ -306,7 +307,6 @@ fn raw(model: Model, params: &ModelParams, angles: &[Angles]) -> Result<Vec<[f64
     Geometries::new(model, angles).raw(model, params)
 }
 
-/// `v / m`, or 0 for a term whose max was not positive (docs/conventions.md §4).
 /// `values`, or the first that is not a finite number as an error.
 fn finite(values: Vec<f64>) -> Result<Vec<f64>, ModelError> {
     match values.iter().position(|v| !v.is_finite()) {
@@ -315,14 +315,6 @@ fn finite(values: Vec<f64>) -> Result<Vec<f64>, ModelError> {
             value: values[index],
         }),
         None => Ok(values),
-    }
-}
-
-fn scaled(v: f64, m: f64) -> f64 {
-    if m > 0.0 {
-        v / m
-    } else {
-        0.0
     }
 }
 
@@ -473,17 +465,16 @@ impl FittedModel {
                     mix_max,
                 },
                 ModelParams::Layered { beta, .. },
-            ) => raw
-                .iter()
-                .map(|r| {
-                    let m = mix(
-                        beta,
-                        scaled(r[1], subsurface_max),
-                        scaled(r[0], surface_max),
-                    );
-                    scaled(m, mix_max)
-                })
-                .collect(),
+            ) => {
+                let scaling = Scaling::Maxima {
+                    surface: surface_max,
+                    subsurface: subsurface_max,
+                    mix: mix_max,
+                };
+                raw.iter()
+                    .map(|r| scaling.predict(beta, r[0], r[1]))
+                    .collect()
+            }
             (NormalisationConstants::Baseline { radiance_max }, _) => {
                 raw.iter().map(|r| scaled(r[0], radiance_max)).collect()
             }
@@ -492,7 +483,7 @@ impl FittedModel {
                 ModelParams::Layered { beta, .. },
             ) => raw
                 .iter()
-                .map(|r| amplitude * mix(beta, r[1], r[0]))
+                .map(|r| Scaling::Amplitude(amplitude).predict(beta, r[0], r[1]))
                 .collect(),
             (NormalisationConstants::Amplitude { amplitude }, _) => {
                 raw.iter().map(|r| amplitude * r[0]).collect()
@@ -545,9 +536,4 @@ impl FittedModel {
         }
         Ok(())
     }
-}
-
-/// `β u + (1 − β) s`, in the order of [`laminar_core::measures::normalised_prediction`].
-fn mix(beta: f64, u: f64, s: f64) -> f64 {
-    beta * u + (1.0 - beta) * s
 }

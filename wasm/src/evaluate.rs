@@ -4,7 +4,7 @@
 use crate::{correlation, error, geometries};
 use laminar_core::{
     components as components_of, f32x8, total_radiance, total_radiance_in, Angles, Geometry, Lane,
-    Params,
+    Params, Scaling,
 };
 use wasm_bindgen::prelude::*;
 
@@ -139,4 +139,67 @@ pub fn components(
         }
     }
     Ok(Components { values })
+}
+
+/// The prediction of a fitted layered model (`exp`, `gauss`, `rh-exp`,
+/// `rh-gauss`) at each geometry, from the parameters and normalisation
+/// constants of its fitted-model file (`fitted.params`,
+/// `fitted.normalisation`): the same numbers as the fitting package's
+/// `predict`, bit for bit (both are `laminar_core::Scaling::predict` of the
+/// core's raw terms). `constants` are `[amplitude]` (the free objective) or
+/// `[surface_max, subsurface_max, mix_max]` (the paper's).
+///
+/// # Errors
+/// For an unknown model, a Ragheb–Hancock model with `a ≠ 0`, parameters out
+/// of their domain, a constant that is negative or not finite, a geometry
+/// out of range, or a prediction that is not finite (each message names it).
+pub fn predict_fitted(
+    model: &str,
+    angles: &[f64],
+    [slope, beta, n, a]: [f64; 4],
+    constants: &[(&str, f64)],
+) -> Result<Vec<f64>, JsError> {
+    let (corr, rh) = match model.strip_prefix("rh-") {
+        Some(base) => (correlation(base)?, true),
+        None => (correlation(model)?, false),
+    };
+    if rh && a != 0.0 {
+        return Err(error(format_args!("model `{model}` has a = 0, not {a}")));
+    }
+    let p = params(slope, beta, n, a)?;
+    for &(name, value) in constants {
+        if !(value >= 0.0 && value.is_finite()) {
+            return Err(error(format_args!(
+                "normalisation constant {name} = {value}: a finite number ≥ 0 is needed"
+            )));
+        }
+    }
+    let scaling = match constants {
+        [(_, amplitude)] => Scaling::Amplitude(*amplitude),
+        [(_, surface), (_, subsurface), (_, mix)] => Scaling::Maxima {
+            surface: *surface,
+            subsurface: *subsurface,
+            mix: *mix,
+        },
+        _ => {
+            return Err(error(
+                "normalisation: give amplitude, or surface_max, subsurface_max and mix_max",
+            ))
+        }
+    };
+    geometries(angles)?
+        .iter()
+        .enumerate()
+        .map(|(k, g)| {
+            let c = components_of(&Geometry::<f64>::splat(g), corr, &p);
+            let v = scaling.predict(beta, c.surface, c.subsurface);
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(error(format_args!(
+                    "prediction {v} at geometry {k} is not finite"
+                )))
+            }
+        })
+        .collect()
 }

@@ -8,8 +8,6 @@
 //! which a Rust caller uses directly.
 
 use crate::evaluate::{self, Components};
-use crate::fitting::{self, FitOptions, Settings};
-use crate::measurements::{self, Measurements, SceneData};
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
@@ -52,29 +50,11 @@ fn string(value: &JsValue, name: &str) -> Result<String, JsValue> {
         .ok_or_else(|| type_error(name, "a string", value))
 }
 
-/// Argument `name` as a string, or `None` for `undefined` or `null`.
-fn optional_string(value: &JsValue, name: &str) -> Result<Option<String>, JsValue> {
-    if value.is_undefined() || value.is_null() {
-        return Ok(None);
-    }
-    string(value, name).map(Some)
-}
-
 /// Argument `name` as a number (a JavaScript number, not a string holding one).
 fn number(value: &JsValue, name: &str) -> Result<f64, JsValue> {
     value
         .as_f64()
         .ok_or_else(|| type_error(name, "a number", value))
-}
-
-/// Argument `name` as a whole number in `[0, 2³² − 1]`.
-fn whole(value: &JsValue, name: &str) -> Result<u32, JsValue> {
-    let x = number(value, name)?;
-    if x.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(&x) {
-        Ok(x as u32)
-    } else {
-        Err(js_sys::RangeError::new(&format!("{name}: give a whole number ≥ 0 (got {x})")).into())
-    }
 }
 
 /// Argument `name` as numbers: a `Float64Array`, or an array of numbers.
@@ -94,14 +74,6 @@ fn numbers(value: &JsValue, name: &str) -> Result<Vec<f64>, JsValue> {
         "a Float64Array (or an array of numbers)",
         value,
     ))
-}
-
-/// Argument `name` as bytes: a `Uint8Array`.
-fn bytes(value: &JsValue, name: &str) -> Result<Vec<u8>, JsValue> {
-    value
-        .dyn_ref::<js_sys::Uint8Array>()
-        .map(js_sys::Uint8Array::to_vec)
-        .ok_or_else(|| type_error(name, "a Uint8Array", value))
 }
 
 /// The four parameters σ/T, β, n, a.
@@ -202,137 +174,58 @@ pub fn components(
     Ok(evaluate::components(&model, &angles, s, b, n, a)?)
 }
 
-/// The sample numbers of a CUReT BRDF file (`abrdf.dat`, `rbrdf.dat`, …)
-/// on its geometry table (`table.txt`).
-///
-/// # Errors
-/// A `TypeError` for an argument of the wrong type; an `Error` when either
-/// file has a defect (the message names file, line, column and value).
-#[wasm_bindgen(js_name = curetSamples)]
-pub fn curet_samples(
-    #[wasm_bindgen(unchecked_param_type = "Uint8Array")] table: JsValue,
-    #[wasm_bindgen(js_name = brdfName, unchecked_param_type = "string")] brdf_name: JsValue,
-    #[wasm_bindgen(unchecked_param_type = "Uint8Array")] brdf: JsValue,
-) -> Result<Vec<u32>, JsValue> {
-    let table = bytes(&table, "table")?;
-    let name = string(&brdf_name, "brdfName")?;
-    let brdf = bytes(&brdf, "brdf")?;
-    Ok(measurements::curet_samples(&table, &name, &brdf)?)
+/// Property `key` of the object `value` (named `name` in messages).
+fn field(value: &JsValue, key: &str, name: &str) -> Result<JsValue, JsValue> {
+    if !value.is_object() {
+        return Err(type_error(name, "an object", value));
+    }
+    js_sys::Reflect::get(value, &JsValue::from_str(key))
 }
 
-#[wasm_bindgen]
-impl Measurements {
-    /// A long-format CSV (the `laminar fit --measurements` format: geometry
-    /// columns `theta_i, phi_i, theta_v, phi_v` or `theta_i, theta_s,
-    /// phi_s`, every other numeric column a channel, `sigma`/`sigma_<channel>`
-    /// uncertainties, `#` comments). `name` names the set and the errors;
-    /// `angles` is `rad` or `deg`, `quantity` `brdf` or `radiance`.
-    ///
-    /// # Errors
-    /// A `TypeError` for an argument of the wrong type; an `Error` for a
-    /// defect, naming the file, line, column and value.
-    #[wasm_bindgen(js_name = fromCsv)]
-    pub fn from_csv_js(
-        #[wasm_bindgen(unchecked_param_type = "string")] name: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] bytes: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "string")] angles: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "string")] quantity: JsValue,
-    ) -> Result<Measurements, JsValue> {
-        let name = string(&name, "name")?;
-        let data = self::bytes(&bytes, "bytes")?;
-        let (angles, quantity) = (string(&angles, "angles")?, string(&quantity, "quantity")?);
-        Ok(Self::from_csv(&name, &data, &angles, &quantity)?)
-    }
-
-    /// One sample of a CUReT BRDF file on its geometry table: lab-frame
-    /// angles, BRDF values, one channel named after the file (`avg` for
-    /// `abrdf.dat`, `r`, `g`, `b`).
-    ///
-    /// # Errors
-    /// A `TypeError` for an argument of the wrong type; an `Error` for a
-    /// defect in either file, or a sample the file lacks.
-    #[wasm_bindgen(js_name = fromCuret)]
-    pub fn from_curet_js(
-        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] table: JsValue,
-        #[wasm_bindgen(js_name = brdfName, unchecked_param_type = "string")] brdf_name: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] brdf: JsValue,
-        #[wasm_bindgen(unchecked_param_type = "number")] sample: JsValue,
-    ) -> Result<Measurements, JsValue> {
-        let table = bytes(&table, "table")?;
-        let name = string(&brdf_name, "brdfName")?;
-        let brdf = bytes(&brdf, "brdf")?;
-        let sample = whole(&sample, "sample")?;
-        Ok(Self::from_curet(&table, &name, &brdf, sample)?)
-    }
-
-    /// What a fit of `channel` sees: the kept (non-specular) measurements'
-    /// paper-frame angles and their radiance divided by its max (§4).
-    ///
-    /// # Errors
-    /// A `TypeError` for a channel that is not a string; an `Error` for a
-    /// channel the set lacks, or one that cannot be fitted.
-    #[wasm_bindgen(js_name = scene)]
-    pub fn scene_js(
-        &self,
-        #[wasm_bindgen(unchecked_param_type = "string")] channel: JsValue,
-    ) -> Result<SceneData, JsValue> {
-        Ok(self.scene(&string(&channel, "channel")?)?)
-    }
-}
-
-/// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
-/// `oren-nayar`) to `channel` of `measurements` as `laminar fit` does (the
-/// free objective on its grid, refinement and both uncertainties, unless
-/// `options` says otherwise) and returns the fitted-model file
-/// (`laminar fit --format json`) of that one fit. `options.onProgress(done,
-/// total)` is called after each grid shard (paper objective: one σ/T value;
-/// free objective: once per fit); a `fit` called from it runs as its own
-/// fit, with its own progress.
+/// The prediction of a fitted layered model at each geometry of `angles`
+/// (flat (θi, θs, φs) triples, radians), from the `fitted` object of a
+/// fitted-model file (`{model, params: {slope, beta, n, a}, normalisation:
+/// {amplitude} | {surface_max, subsurface_max, mix_max}}`): the same
+/// numbers as the fitting package's `predict`, bit for bit.
 ///
 /// # Errors
-/// A `TypeError` for an argument or option of the wrong type (named); an
-/// `Error` for an unknown model, a wrong option value, or a channel the set
-/// lacks or that cannot be fitted.
-#[wasm_bindgen(js_name = fit)]
-pub fn fit(
-    measurements: &Measurements,
-    #[wasm_bindgen(unchecked_param_type = "string")] channel: JsValue,
-    #[wasm_bindgen(unchecked_param_type = "string")] model: JsValue,
-    options: Option<FitOptions>,
-) -> Result<String, JsValue> {
-    let (channel, model) = (string(&channel, "channel")?, string(&model, "model")?);
-    let (settings, progress) = match options {
-        Some(o) => Settings::from_js(&o)?,
-        None => (Settings::default(), None),
-    };
-    Ok(fitting::fit(
-        measurements,
-        &channel,
-        &model,
-        &settings,
-        progress,
-    )?)
-}
-
-/// The normalised prediction of a fitted model at each geometry of
-/// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
-/// predicted at its own geometries (`laminar predict`). `fitsJson` is a
-/// fitted-model file (from `fit` or `laminar fit --format json`); `select`
-/// (`sample/channel/model`, or `undefined`) picks a fit when it holds
-/// several.
-///
-/// # Errors
-/// A `TypeError` for an argument of the wrong type; an `Error` when the
-/// file is not a fitted-model file, `select` matches no fit (or is missing
-/// with several fits), or a geometry is out of range.
-#[wasm_bindgen]
-pub fn predict(
-    #[wasm_bindgen(js_name = fitsJson, unchecked_param_type = "string")] fits_json: JsValue,
-    #[wasm_bindgen(unchecked_param_type = "string | undefined | null")] select: JsValue,
+/// A `TypeError` for a missing field or one of the wrong type (named, e.g.
+/// `fitted.params.beta`); an `Error` as the Rust `predict_fitted`.
+#[wasm_bindgen(js_name = predictFitted)]
+pub fn predict_fitted(
+    #[wasm_bindgen(unchecked_param_type = "object")] fitted: JsValue,
     #[wasm_bindgen(unchecked_param_type = "Float64Array")] angles: JsValue,
 ) -> Result<Vec<f64>, JsValue> {
-    let json = string(&fits_json, "fitsJson")?;
-    let select = optional_string(&select, "select")?;
+    let model = string(&field(&fitted, "model", "fitted")?, "fitted.model")?;
+    let params = field(&fitted, "params", "fitted")?;
+    let values: Vec<f64> = ["slope", "beta", "n", "a"]
+        .iter()
+        .map(|p| {
+            let name = format!("fitted.params.{p}");
+            number(&field(&params, p, "fitted.params")?, &name)
+        })
+        .collect::<Result<_, _>>()?;
+    let normalisation = field(&fitted, "normalisation", "fitted")?;
+    let names: &[&str] =
+        if field(&normalisation, "amplitude", "fitted.normalisation")?.is_undefined() {
+            &["surface_max", "subsurface_max", "mix_max"]
+        } else {
+            &["amplitude"]
+        };
+    let constants = names
+        .iter()
+        .map(|c| {
+            let name = format!("fitted.normalisation.{c}");
+            Ok((
+                *c,
+                number(&field(&normalisation, c, "fitted.normalisation")?, &name)?,
+            ))
+        })
+        .collect::<Result<Vec<_>, JsValue>>()?;
     let angles = numbers(&angles, "angles")?;
-    Ok(fitting::predict(&json, select.as_deref(), &angles)?)
+    let p = [values[0], values[1], values[2], values[3]];
+    Ok(evaluate::predict_fitted(&model, &angles, p, &constants)?)
 }
+
+#[cfg(feature = "fit")]
+mod fitting;

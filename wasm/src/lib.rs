@@ -50,8 +50,10 @@
 //! ```
 
 pub mod evaluate;
+#[cfg(feature = "fit")]
 pub mod fitting;
 pub mod js;
+#[cfg(feature = "fit")]
 pub mod measurements;
 
 use laminar_core::{Angles, Correlation};

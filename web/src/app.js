@@ -1,10 +1,17 @@
 // The page: load measurements, fit them in a worker, show the fit and an
 // interactive lobe. All numbers come from laminar-wasm.
+//
+// The evaluation-only package (laminar-wasm/eval, about 40 KiB gzip) loads
+// first, so the lobe viewer works at once; the whole package (measurements,
+// prediction; about 370 KiB) follows, and the controls that need it are
+// enabled when it has arrived.
+import { load as loadEvaluation } from './laminar-wasm/eval/index.js';
 import { load } from './laminar-wasm/index.js';
 import { lobe, scatter } from './plot.js';
 import { measurementsFrom } from './source.js';
 
-const L = await load();
+const E = await loadEvaluation();
+let L = null; // the whole package, once it has arrived
 const $ = (id) => document.getElementById(id);
 const DEG = Math.PI / 180;
 /** How the page shows a number (the browser test formats the CLI's the same way). */
@@ -12,7 +19,9 @@ const DEG = Math.PI / 180;
 export const fmt = (v) =>
   v === null || v === undefined ? '–' : typeof v === 'string' ? v.replace(/_/g, ' ') : Number(v).toPrecision(5);
 
-$('build').textContent = `laminar-wasm ${L.version()}, ${L.simd ? 'SIMD (+simd128)' : 'plain'} build`;
+$('build').textContent = `laminar-wasm ${E.version()}, ${E.simd ? 'SIMD (+simd128)' : 'plain'} build`;
+const NEEDS_WHOLE = ['files', 'example'];
+for (const id of NEEDS_WHOLE) $(id).disabled = true;
 
 let source = null; // see source.js
 let fitting = null; // { channel, model, source } of the last fit asked for
@@ -79,6 +88,7 @@ drop.addEventListener('dragleave', () => drop.classList.remove('over'));
 drop.addEventListener('drop', (e) => {
   e.preventDefault();
   drop.classList.remove('over');
+  if (!L) return status('loaded', 'The fitting module is still loading: drop the files again in a moment.', true);
   loadFiles(e.dataTransfer.files);
 });
 $('example').addEventListener('click', () => {
@@ -196,8 +206,11 @@ function drawLobe() {
   for (const [id] of SLIDERS) $(`value-${id}`).textContent = v[id];
   const ti = Math.min(v.theta_i * DEG, Math.PI / 2);
   const at = (phi) => new Float64Array(THETAS.flatMap((t) => [ti, Math.min(t, Math.PI / 2), phi]));
-  const eval8 = (phi) => L.totalRadiance(modelSelect.value, at(phi), v.slope, v.beta, v.n, v.a);
+  const eval8 = (phi) => E.totalRadiance(modelSelect.value, at(phi), v.slope, v.beta, v.n, v.a);
   lobe($('lobe'), ti, THETAS, eval8(0), eval8(Math.PI));
 }
 drawLobe();
+document.body.dataset.lobe = 'true';
+L = await load();
+for (const id of NEEDS_WHOLE) $(id).disabled = false;
 document.body.dataset.ready = 'true';

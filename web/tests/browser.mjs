@@ -45,8 +45,14 @@ try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 1400 } });
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
   page.on('console', (m) => m.type() === 'error' && problems.push(`console error: ${m.text()}`));
+  // The page fetches the evaluation-only package before the whole one (the
+  // lobe viewer works before the fitting module arrives).
+  const wasm = [];
+  page.on('request', (r) => r.url().endsWith('.wasm') && wasm.push(new URL(r.url()).pathname));
   await page.goto(url);
+  await page.waitForSelector('body[data-lobe="true"]', { timeout: 60_000 });
   await page.waitForSelector('body[data-ready="true"]', { timeout: 60_000 });
+  check(wasm.length >= 2 && wasm[0].includes('/laminar-wasm/eval/'), `wasm fetched in the order ${wasm.join(', ')}`);
   const build = await page.textContent('#build');
 
   await page.click('#example');

@@ -1,6 +1,7 @@
 // A TypeScript project using the packed npm package: type-checked by
 // `tsc` (cli/tests/web.rs), then run by node.
 import { load, simdSupported, type FitOptions, type FitsFile, type Laminar } from 'laminar-wasm';
+import { load as loadEvaluation, type LaminarEval } from 'laminar-wasm/eval';
 
 const L: Laminar = await load();
 const angles = new Float64Array([0.3, 0.2, 0.5, 0.6, 0.4, 1.0]);
@@ -84,7 +85,19 @@ L.fit(m, 'value', 'exp', {
   },
 });
 const afterNested = m.channels.join(',');
+// The evaluation-only package: the same totals, and the fitted model's
+// prediction from the file's `fitted` entry equal to `predict`'s.
+const E: LaminarEval = await loadEvaluation();
+const evalTotal: Float64Array = E.totalRadiance('exp', angles, 1.2, 0.4, 1.4, 0.3);
+const evalPrediction: Float64Array = E.predictFitted(file.fits[0].fitted, scene.angles);
+const evalErrors = [
+  thrown(() => E.predictFitted({ ...file.fits[0].fitted, normalisation: { amplitude: -1 } }, scene.angles)),
+  kind(() => E.predictFitted({ ...file.fits[0].fitted, params: { slope: 1 } }, scene.angles)),
+];
 console.log(JSON.stringify({
+  evalSame: evalTotal.every((v, k) => v === total[k]) && evalPrediction.every((v, k) => v === prediction[k]),
+  evalSimd: E.simd,
+  evalErrors,
   typeErrors,
   fromArray,
   outerCalls,

@@ -1,0 +1,16 @@
+// laminar-wasm/eval: the evaluation-only package (eq. 8 and its components
+// in f64 and f32x8, parameter checks, a fitted model's prediction from its
+// parameters and normalisation constants). No fitting, no file readers: a
+// page that only draws a fitted model loads this, a few tens of KiB.
+import { loadBuild, simdSupported } from '../loader.js';
+
+export { simdSupported };
+
+/** Loads and initialises one build (`simd` forces the choice) and returns its exports. */
+export function load(options = {}) {
+  return loadBuild(
+    import.meta.url,
+    { plain: () => import('./plain/laminar_wasm.js'), simd: () => import('./simd/laminar_wasm.js') },
+    options,
+  );
+}

@@ -1,0 +1,32 @@
+// The loader both entry points share (index.js: the whole package;
+// eval/index.js: the evaluation-only one): picks the +simd128 build where the
+// engine has WebAssembly SIMD, the plain build elsewhere, in browsers
+// (fetches the .wasm beside the glue) and in node (reads it from disk).
+
+// A module whose one function returns a v128 (i32.const 0, i8x16.splat,
+// i8x16.popcnt): it validates only where SIMD is supported (the probe of
+// the wasm-feature-detect package).
+const SIMD_PROBE = new Uint8Array([
+  0, 97, 115, 109, 1, 0, 0, 0, 1, 5, 1, 96, 0, 1, 123, 3, 2, 1, 0, 10, 10, 1, 8, 0, 65, 0, 253, 15,
+  253, 98, 11,
+]);
+
+/** Whether this engine runs WebAssembly SIMD (the `+simd128` build). */
+export function simdSupported() {
+  return WebAssembly.validate(SIMD_PROBE);
+}
+
+/**
+ * Loads and initialises one build of the package whose entry point is at
+ * `base` (`simd` forces the choice); `glue` imports each build's
+ * wasm-bindgen module (static paths, so that bundlers see them). Returns the
+ * build's exports, with `simd` saying which build it is.
+ */
+export async function loadBuild(base, glue, options = {}) {
+  const simd = options.simd ?? simdSupported();
+  const module = simd ? await glue.simd() : await glue.plain();
+  const url = new URL(`./${simd ? 'simd' : 'plain'}/laminar_wasm_bg.wasm`, base);
+  const source = url.protocol === 'file:' ? await (await import('node:fs/promises')).readFile(url) : url;
+  await module.default({ module_or_path: source });
+  return Object.freeze({ ...module, simd });
+}
