@@ -161,7 +161,7 @@ impl Settings {
 
 /// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
 /// `oren-nayar`) to `channel` of `measurements` with `settings` (JavaScript:
-/// [`crate::js::fit`]) and returns the fitted-model file of that one fit;
+/// [`crate::js::fitting::fit`]) and returns the fitted-model file of that one fit;
 /// `progress(done, total)` is called after each grid shard.
 ///
 /// # Errors

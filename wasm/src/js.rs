@@ -228,4 +228,4 @@ pub fn predict_fitted(
 }
 
 #[cfg(feature = "fit")]
-mod fitting;
+pub mod fitting;
