@@ -117,11 +117,11 @@ def main():
     ap.add_argument("--out", help="the result's Zarr store (default: a temporary directory)")
     ap.add_argument("--search-only", action="store_true", help="the grid search alone (no refinement, no intervals)")
     ap.add_argument("--measure", action="store_true", help="print the throughput table instead")
-    ap.add_argument("--rows", type=int, help="texel rows per chunk (default: 512 / SIZE, at least 1)")
+    ap.add_argument("--rows", type=int, help="texel rows per chunk (default: 1024 / SIZE, at least 1)")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory() as scratch:
         source = Path(scratch) / "texture.zarr"
-        rows = args.rows or max(1, 512 // args.size)  # 1,536 sets per chunk
+        rows = args.rows or max(1, 1024 // args.size)  # 3,072 sets per chunk
         with dask.config.set(scheduler="threads"):
             write_input(source, args.size, rows)
         if args.measure:

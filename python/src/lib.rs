@@ -609,8 +609,9 @@ const BATCH_PARAMETERS: [&str; 4] = ["slope", "beta", "n", "a"];
 /// Jacobian's sd and its flags.
 const PER_PARAMETER: usize = 4;
 
-/// Number of batch columns.
-const BATCH_WIDTH: usize = 23 + PER_PARAMETER * BATCH_PARAMETERS.len();
+/// Number of batch columns: the 21 leading ones, the amplitude and the
+/// weighted χ²/ν, then [`PER_PARAMETER`] per parameter.
+const BATCH_WIDTH: usize = 21 + 2 + PER_PARAMETER * BATCH_PARAMETERS.len();
 
 /// One row per set of the batch fit's results, as columns: the estimate
 /// (refined when refined), the Ragheb–Hancock best, the grid's Δ_RMS, each
