@@ -70,25 +70,19 @@ fn ok(command: &mut Command) -> Vec<u8> {
 #[test]
 fn gcc_firmware_prints_the_hosts_bits() {
     const TEST: &str = "C firmware test";
-    if Command::new("arm-none-eabi-gcc")
-        .arg("--version")
-        .output()
-        .is_err()
-    {
-        return common::skip_or_fail(
-            TEST,
-            "arm-none-eabi-gcc is not installed (Debian: gcc-arm-none-eabi libnewlib-arm-none-eabi)",
-        );
-    }
-    if Command::new("qemu-system-arm")
-        .arg("--version")
-        .output()
-        .is_err()
-    {
-        return common::skip_or_fail(
-            TEST,
-            "qemu-system-arm is not installed (Debian: qemu-system-arm)",
-        );
+    for (tool, packages) in [
+        (
+            "arm-none-eabi-gcc",
+            "gcc-arm-none-eabi libnewlib-arm-none-eabi",
+        ),
+        ("qemu-system-arm", "qemu-system-arm"),
+    ] {
+        if Command::new(tool).arg("--version").output().is_err() {
+            return common::skip_or_fail(
+                TEST,
+                &format!("{tool} is not installed (Debian: {packages})"),
+            );
+        }
     }
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
     let (src, include) = (dir.join("firmware-c"), dir.join("include"));

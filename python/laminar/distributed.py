@@ -44,7 +44,31 @@ def _fit_chunk(block, geometry, model, options, block_info=None):
     block = np.ascontiguousarray(block, dtype=np.float64)
     _check_finite(block, offset)
     out = laminar.fit_batch(geometry, block, model, threads=1, **options)
-    return np.column_stack([out[name] for name in FIELDS]) if len(out) else np.empty((0, len(FIELDS)))
+    return np.column_stack([out[name] for name in FIELDS])
+
+
+def _options(grid, quantity, refine, uncertainty, objective):
+    """The options every fit_batch call of one job takes."""
+    return {"grid": grid, "quantity": quantity, "refine": refine, "uncertainty": uncertainty, "objective": objective}
+
+
+def _typed(name, column):
+    """Field ``name``'s column (numpy or dask) in its output dtype, with its
+    attributes: ``*_flags`` uint8 with :func:`flag_attrs`, ``measurements``
+    int32, the rest float64."""
+    if _is_flags(name):
+        return column.astype(np.uint8), flag_attrs()
+    if name == "measurements":
+        return column.astype(np.int32), {}
+    return column, {}
+
+
+def _dataset(variables, coords, model, objective, quantity):
+    """The result's Dataset, saying how it was made."""
+    import xarray as xr
+
+    attrs = {"model": model, "objective": objective, "quantity": quantity, "fitted_by": "laminar.fit_batch"}
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 
 def _checked(geometry, values, model, options):
@@ -112,13 +136,7 @@ def fit_dask(
 
     if not isinstance(values, da.Array):
         values = da.from_array(np.asarray(values), chunks=(DEFAULT_CHUNK, -1))
-    options = {
-        "grid": grid,
-        "quantity": quantity,
-        "refine": refine,
-        "uncertainty": uncertainty,
-        "objective": objective,
-    }
+    options = _options(grid, quantity, refine, uncertainty, objective)
     geometry = _checked(geometry, values, model, options)
     values = values.rechunk({1: -1})
     shared = dask.delayed(geometry, pure=True)
@@ -133,20 +151,8 @@ def fit_dask(
         meta=np.empty((0, 0), dtype=np.float64),
         token="laminar-fit",
     )
-    variables = {}
-    for i, name in enumerate(FIELDS):
-        column = fields[:, i]
-        attrs = {}
-        if _is_flags(name):
-            column = column.astype(np.uint8)
-            attrs = flag_attrs()
-        elif name == "measurements":
-            column = column.astype(np.int32)
-        variables[name] = xr.Variable((dim,), column, attrs)
-    return xr.Dataset(
-        variables,
-        attrs={"model": model, "objective": objective, "quantity": quantity, "fitted_by": "laminar.fit_batch"},
-    )
+    variables = {name: xr.Variable((dim,), *_typed(name, fields[:, i])) for i, name in enumerate(FIELDS)}
+    return _dataset(variables, None, model, objective, quantity)
 
 
 def to_records(dataset):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 import laminar
-from laminar.distributed import FIELDS, _checked, _is_flags, fit_dask, flag_attrs
+from laminar.distributed import FIELDS, _checked, _dataset, _options, _typed, fit_dask
 
 #: The geometry's coordinates along the measurement dimension (radians,
 #: lab frame).
@@ -70,13 +70,7 @@ def fit(
     sets = int(np.prod(shape)) if shape else 1
     flat = data.data.reshape(sets, geometry.shape[0])
     coords = {name: c for name, c in data.coords.items() if dim not in c.dims}
-    options = {
-        "grid": grid,
-        "quantity": quantity,
-        "refine": refine,
-        "uncertainty": uncertainty,
-        "objective": objective,
-    }
+    options = _options(grid, quantity, refine, uncertainty, objective)
     if isinstance(flat, da.Array):
         fitted = fit_dask(geometry, flat, model, dim="set", **options)
         columns = {name: fitted[name].data.reshape(shape) for name in FIELDS}
@@ -92,20 +86,8 @@ def fit(
                 "every value must be a finite number"
             )
         out = laminar.fit_batch(geometry, flat, model, **options)
-        columns = {}
-        for name in FIELDS:
-            column = out[name].reshape(shape)
-            if _is_flags(name):
-                column = column.astype(np.uint8)
-            elif name == "measurements":
-                column = column.astype(np.int32)
-            columns[name] = column
-    variables = {
-        name: xr.Variable(others, column, flag_attrs() if _is_flags(name) else {})
-        for name, column in columns.items()
-    }
-    return xr.Dataset(
-        variables,
-        coords=coords,
-        attrs={"model": model, "objective": objective, "quantity": quantity, "fitted_by": "laminar.fit_batch"},
-    )
+        columns = {name: out[name].reshape(shape) for name in FIELDS}
+    # (fit_dask's columns are typed already: dask's astype to their own dtype
+    # returns them as they are.)
+    variables = {name: xr.Variable(others, *_typed(name, column)) for name, column in columns.items()}
+    return _dataset(variables, coords, model, objective, quantity)

@@ -177,16 +177,12 @@ mod tests {
 
     #[test]
     fn four_lanes_solve_bit_for_bit_as_one() {
+        use crate::synthetic::Noise;
         use laminar_core::f64x4;
         // Moments from random columns (some nearly parallel, some data the
         // cone cannot reach), each box: every lane's bits equal the scalar.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = Noise::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.uniform();
         for trial in 0..2000 {
             let k = 6;
             let s: Vec<f64> = (0..k).map(|_| next()).collect();
