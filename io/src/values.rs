@@ -334,9 +334,63 @@ fn checked_header<R: BufRead>(file: &Path, mut reader: R) -> Result<NpyStream<R>
             _ => {}
         }
     }
+    check_shape_size(file, &header)?;
     prefix.extend(length);
     prefix.extend(header);
     Ok(std::io::Cursor::new(prefix).chain(reader))
+}
+
+/// Refuses a header whose `shape` holds more than 2⁶⁴ values (`npyz`
+/// multiplies the dimensions unchecked: a fuzzed `(1, 10995116277,
+/// 1099511627776)` overflowed). The header is parsed as `npyz` parses it
+/// (`py_literal`, trailing newline dropped); a header it cannot parse, or
+/// one without a shape of integers, is left to `npyz`'s own errors.
+fn check_shape_size(file: &Path, header: &[u8]) -> Result<(), ReadError> {
+    let text = header.strip_suffix(b"\n").unwrap_or(header);
+    let Some(Ok(py_literal::Value::Dict(dict))) = std::str::from_utf8(text)
+        .ok()
+        .map(str::parse::<py_literal::Value>)
+    else {
+        return Ok(());
+    };
+    let shape = dict.iter().find_map(|(key, value)| match (key, value) {
+        (
+            py_literal::Value::String(k),
+            py_literal::Value::Tuple(dims) | py_literal::Value::List(dims),
+        ) if k == "shape" => Some(dims),
+        _ => None,
+    });
+    let Some(dims) = shape else { return Ok(()) };
+    // Every prefix product `npyz` forms (its strides, in either order) is
+    // at most the product of the nonzero dimensions.
+    let mut product = 1u64;
+    for dim in dims {
+        let py_literal::Value::Integer(dim) = dim else {
+            return Ok(());
+        };
+        if dim.to_string().starts_with('-') {
+            return Ok(()); // npyz refuses a negative dimension
+        }
+        let dim = match u64::try_from(dim) {
+            Ok(0) => continue,
+            Ok(d) => d,
+            Err(_) => u64::MAX, // over 2^64 alone
+        };
+        product = product.checked_mul(dim).ok_or_else(|| {
+            ReadError::format(
+                file,
+                0,
+                format!(
+                    "the header's shape {} holds more than 2^64 values",
+                    dims.iter()
+                        .map(ToString::to_string)
+                        .collect::<Vec<_>>()
+                        .join(" × ")
+                ),
+            )
+        })?;
+    }
+    Ok(())
 }
 
 /// Where an `.npy` row is read: the file, the set's 1-based number and the
@@ -513,6 +567,48 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("the header length"), "{e}");
+    }
+
+    /// A shape whose product passes 2^64 panicked inside `npyz` (its
+    /// unchecked product; found by the fuzzer). Refused, naming the shape,
+    /// also when a zero dimension makes the product itself 0.
+    #[test]
+    fn npy_shapes_of_more_than_2_64_values_are_refused() {
+        let f = Path::new("huge.npy");
+        let with_shape = |shape: &str| {
+            let header =
+                format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}\n");
+            let mut out = b"\x93NUMPY\x01\x00".to_vec();
+            out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+            out.extend_from_slice(header.as_bytes());
+            out.extend_from_slice(&1.0f64.to_le_bytes());
+            out
+        };
+        for shape in [
+            "(1, 10995116277, 1099511627776)",
+            "(0, 4294967296, 4294967296)",
+            "[4294967296, 4294967297]",
+            "(2, 9223372036854775808)",
+        ] {
+            let e = parse_npy(f, &with_shape(shape)).unwrap_err().to_string();
+            assert!(
+                e.contains("huge.npy") && e.contains("more than 2^64"),
+                "{shape}: {e}"
+            );
+        }
+        // Large but representable: npyz's own checks and ours follow.
+        let e = parse_npy(f, &with_shape("(4294967296, 4294967295)"))
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("2^64"), "{e}");
+        let e = parse_npy(f, &with_shape("(-1, 2)"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("negative"), "{e}");
+        let e = parse_npy(f, &with_shape("(1, 100000000000000000000000)"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("larger than u64"), "{e}");
     }
 
     #[test]
