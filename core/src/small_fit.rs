@@ -223,6 +223,13 @@ pub enum SmallFitError {
     },
     /// An empty axis, or a value outside the model's domain.
     Axis(AxisError),
+    /// A standard uncertainty that is not positive and finite, or so small
+    /// against the data's max that its weight passes `f32`'s range
+    /// ([`crate::small_free_fit`]).
+    Sigma {
+        /// Index of the uncertainty.
+        index: usize,
+    },
 }
 
 /// Fits the `f32` geometries `geometry` (built as the library builds them,

@@ -69,11 +69,16 @@ typedef enum LaminarStatus {
   // finite, no positive datum, a negative datum beyond the max in
   // magnitude, or a positive datum below 1e-100 of the max.
   LAMINAR_STATUS_BAD_DATA = 11,
-  // A fit's grid had an axis with no value.
+  // A fit's grid had an axis with no value, or a free fit's β box was
+  // empty (`beta_lo > beta_hi`).
   LAMINAR_STATUS_EMPTY_AXIS = 12,
   // A count whose values span more bytes than any buffer can (count ×
   // element size above `PTRDIFF_MAX`); refused before any pointer is read.
   LAMINAR_STATUS_BAD_LENGTH = 13,
+  // A free fit's standard uncertainty was not positive and finite, or
+  // so small against the data's max that its weight `(max/σ)²` passes
+  // `float`'s range.
+  LAMINAR_STATUS_BAD_SIGMA = 14,
 } LaminarStatus;
 
 // The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -218,6 +223,61 @@ typedef struct LaminarFitResult {
   double rh_rms;
 } LaminarFitResult;
 
+// The grid of a free fit: σ/T, n and a values (`f64`) and counts,
+// searched in loop order σ/T, n, a (ties go to the first), and β's box
+// `[beta_lo, beta_hi]` (within [0, 1]). The paper-sized grid: σ/T =
+// 0.12 + 0.08 i (50 values), n = 1.30 + 0.02 m (11), a = 0.01 l (101),
+// β in [0, 1].
+typedef struct LaminarFreeGrid {
+  // σ/T values.
+  const double *slope;
+  // Number of σ/T values.
+  size_t slope_count;
+  // n values.
+  const double *n;
+  // Number of n values.
+  size_t n_count;
+  // a values.
+  const double *a;
+  // Number of a values.
+  size_t a_count;
+  // Lower end of β's box.
+  double beta_lo;
+  // Upper end of β's box.
+  double beta_hi;
+} LaminarFreeGrid;
+
+// What a free fit found: the best grid point's σ/T, n and a with β and
+// the amplitude there, its weighted objective and Δ_RMS (eq. 15, on the
+// data divided by their max, with the fitted prediction), its flat index
+// (loop order σ/T, n, a), and the best point with a = 0 (Ragheb–Hancock;
+// `rh_found` is false when the a axis lacks 0).
+typedef struct LaminarFreeFitResult {
+  // σ/T.
+  double slope;
+  // β (eq. 8).
+  double beta;
+  // n.
+  double n;
+  // a.
+  double a;
+  // The amplitude c, in the data's units: the fitted model is
+  // `c · ((1 − β) L^sf + β L^sb)`.
+  double amplitude;
+  // `Σ w (D − c M)²` on the data divided by their max (`float`, widened).
+  double objective;
+  // Δ_RMS (eq. 15) at the best point.
+  double rms;
+  // Flat index of the best point.
+  size_t index;
+  // Whether the a axis holds 0.
+  bool rh_found;
+  // Flat index of the best point with a = 0.
+  size_t rh_index;
+  // Its objective.
+  double rh_objective;
+} LaminarFreeFitResult;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -297,6 +357,26 @@ enum LaminarStatus laminar_fit(uint32_t corr,
                                struct LaminarGrid grid,
                                struct LaminarFitScratch *scratch,
                                struct LaminarFitResult *out);
+
+// Fits the model (correlation `corr`) to `count` ≤
+// [`LAMINAR_FIT_MAX_MEASUREMENTS`] measurements by the fitting
+// library's default objective, the free amplitude (`Σ w (D − c M)²`,
+// M eq. 8's mix; docs/conventions.md §4b): a search over the σ/T, n
+// and a values of `grid`, with β (in `[grid.beta_lo, grid.beta_hi]`)
+// and the amplitude `c ≥ 0` in closed form at every point, all in
+// `float` (the core's `small_free_fit`; the same result, bit for bit,
+// as on the host). `data[k]` was measured at `geometries[k]`;
+// `sigma` is null (weights 1) or `count` standard uncertainties on
+// the data's scale (weights `1/σ²`). Allocation-free: `scratch` is the
+// working memory. Writes `out`.
+enum LaminarStatus laminar_fit_free(uint32_t corr,
+                                    const struct LaminarGeometry *geometries,
+                                    const double *data,
+                                    const double *sigma,
+                                    size_t count,
+                                    struct LaminarFreeGrid grid,
+                                    struct LaminarFitScratch *scratch,
+                                    struct LaminarFreeFitResult *out);
 
 // Every component (in the order of [`LAMINAR_COMPONENTS`]) in f32 at
 // `count` prebuilt geometries into `out` (`7 · count` floats).

@@ -57,21 +57,35 @@ pub fn output<'a, T>(ptr: *mut T, count: usize) -> Result<&'a mut [T], Status> {
     Ok(unsafe { core::slice::from_raw_parts_mut(ptr, count) })
 }
 
-/// The fit's scratch words at `ptr` as the core's scratch, or
-/// [`Status::NullPointer`].
+/// The core's scratch memories, which a [`crate::LaminarFitScratch`] holds:
+/// sealed to types of `f32` and `f64` values alone, for which every bit
+/// pattern is valid.
+pub trait Scratch: sealed::Sealed {}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for laminar_core::small_fit::Scratch {}
+    impl Sealed for laminar_core::small_free_fit::FreeScratch<f32> {}
+}
+
+impl Scratch for laminar_core::small_fit::Scratch {}
+impl Scratch for laminar_core::small_free_fit::FreeScratch<f32> {}
+
+/// The fit's scratch words at `ptr` as one of the core's scratch memories,
+/// or [`Status::NullPointer`].
 ///
 /// # Errors
 /// [`Status::NullPointer`].
-pub fn scratch<'a>(
+pub fn scratch<'a, T: Scratch>(
     ptr: *mut crate::fit::LaminarFitScratch,
-) -> Result<&'a mut laminar_core::small_fit::Scratch, Status> {
+) -> Result<&'a mut T, Status> {
     if ptr.is_null() {
         return Err(Status::NullPointer);
     }
     // SAFETY: the C contract: `ptr` points to a writable
     // `LaminarFitScratch` that nothing else uses during the call. It is at
-    // least as large and as aligned as `Scratch` (checked at compile time
-    // in `fit.rs`), and `Scratch` holds only `f32` and `f64` values, for
-    // which every bit pattern is valid.
-    Ok(unsafe { &mut *ptr.cast::<laminar_core::small_fit::Scratch>() })
+    // least as large and as aligned as every `Scratch` type (checked at
+    // compile time in `fit.rs`), which hold only `f32` and `f64` values,
+    // for which every bit pattern is valid.
+    Ok(unsafe { &mut *ptr.cast::<T>() })
 }

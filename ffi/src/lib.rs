@@ -32,8 +32,8 @@ mod geometry;
 pub mod probe;
 
 pub use fit::{
-    LaminarFitResult, LaminarFitScratch, LaminarGrid, LAMINAR_FIT_MAX_MEASUREMENTS,
-    LAMINAR_FIT_SCRATCH_WORDS,
+    LaminarFitResult, LaminarFitScratch, LaminarFreeFitResult, LaminarFreeGrid, LaminarGrid,
+    LAMINAR_FIT_MAX_MEASUREMENTS, LAMINAR_FIT_SCRATCH_WORDS,
 };
 pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
 use laminar_core::{
@@ -72,11 +72,16 @@ pub enum Status {
     /// finite, no positive datum, a negative datum beyond the max in
     /// magnitude, or a positive datum below 1e-100 of the max.
     BadData = 11,
-    /// A fit's grid had an axis with no value.
+    /// A fit's grid had an axis with no value, or a free fit's β box was
+    /// empty (`beta_lo > beta_hi`).
     EmptyAxis = 12,
     /// A count whose values span more bytes than any buffer can (count ×
     /// element size above `PTRDIFF_MAX`); refused before any pointer is read.
     BadLength = 13,
+    /// A free fit's standard uncertainty was not positive and finite, or
+    /// so small against the data's max that its weight `(max/σ)²` passes
+    /// `float`'s range.
+    BadSigma = 14,
 }
 
 /// The model's parameters: RMS slope σ/T, balance β (eq. 8), refractive
@@ -445,6 +450,37 @@ mod exports {
         status(fit::fit(
             corr,
             (geometries, data, count),
+            &grid,
+            scratch,
+            out,
+        ))
+    }
+
+    /// Fits the model (correlation `corr`) to `count` ≤
+    /// [`LAMINAR_FIT_MAX_MEASUREMENTS`] measurements by the fitting
+    /// library's default objective, the free amplitude (`Σ w (D − c M)²`,
+    /// M eq. 8's mix; docs/conventions.md §4b): a search over the σ/T, n
+    /// and a values of `grid`, with β (in `[grid.beta_lo, grid.beta_hi]`)
+    /// and the amplitude `c ≥ 0` in closed form at every point, all in
+    /// `float` (the core's `small_free_fit`; the same result, bit for bit,
+    /// as on the host). `data[k]` was measured at `geometries[k]`;
+    /// `sigma` is null (weights 1) or `count` standard uncertainties on
+    /// the data's scale (weights `1/σ²`). Allocation-free: `scratch` is the
+    /// working memory. Writes `out`.
+    #[no_mangle]
+    pub extern "C" fn laminar_fit_free(
+        corr: u32,
+        geometries: *const LaminarGeometry,
+        data: *const f64,
+        sigma: *const f64,
+        count: usize,
+        grid: LaminarFreeGrid,
+        scratch: *mut LaminarFitScratch,
+        out: *mut LaminarFreeFitResult,
+    ) -> Status {
+        status(fit::fit_free(
+            corr,
+            (geometries, data, sigma, count),
             &grid,
             scratch,
             out,

@@ -187,3 +187,36 @@ pub fn fit_values(k: usize) -> (Status, usize, u64) {
     );
     (s, out.index, out.rms.to_bits())
 }
+
+/// [`crate::laminar_fit_free`] of [`fit_case`] `k` on the paper-sized
+/// nonlinear grid (σ/T, n, a of [`paper_axes`]; β in [0, 1]): the status,
+/// and the result's index, objective bits and Δ_RMS bits.
+pub fn free_fit_values(k: usize) -> (Status, usize, u64, u64) {
+    let (slope, n, a, _) = paper_axes();
+    let grid = crate::LaminarFreeGrid {
+        slope: slope.as_ptr(),
+        slope_count: slope.len(),
+        n: n.as_ptr(),
+        n_count: n.len(),
+        a: a.as_ptr(),
+        a_count: a.len(),
+        beta_lo: 0.0,
+        beta_hi: 1.0,
+    };
+    let (geometry, data) = fit_case(k);
+    let mut scratch = crate::LaminarFitScratch {
+        words: [0; crate::LAMINAR_FIT_SCRATCH_WORDS],
+    };
+    let mut out = crate::LaminarFreeFitResult::default();
+    let s = crate::laminar_fit_free(
+        0,
+        geometry.as_ptr(),
+        data.as_ptr(),
+        core::ptr::null(),
+        k,
+        grid,
+        &mut scratch,
+        &mut out,
+    );
+    (s, out.index, out.objective.to_bits(), out.rms.to_bits())
+}

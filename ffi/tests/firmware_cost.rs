@@ -104,26 +104,44 @@ fn the_f32_path_meets_its_targets_on_the_cortex_m4() {
     );
 }
 
-/// Runs the paper-grid fits on the device (O3 only: two minutes of QEMU),
-/// checks each against the same call on the host, and reports their cost.
+/// Runs the paper and free fits on the device (O3 only: two minutes of
+/// QEMU), checks each against the same call on the host, asserts the free
+/// fit's target (≤ 10⁸ instructions at K = 32), and reports their cost.
 fn fit_lines(images: &std::path::Path) -> String {
     let text = common::run(&images.join("fit_bench"), true);
     let mut out = String::new();
-    for line in text.lines().filter(|l| l.starts_with("FIT ")) {
+    for line in text.lines() {
         let f: Vec<&str> = line.split_whitespace().collect();
-        let k: usize = f[1].parse().unwrap();
-        let (status, index, rms) = laminar_ffi::probe::fit_values(k);
-        let host = format!("{} {} {:x}", status as u32, index, rms);
+        let (objective, host) = match f.first() {
+            Some(&"FIT") => {
+                let (status, index, rms) = laminar_ffi::probe::fit_values(f[1].parse().unwrap());
+                ("paper", format!("{} {} {:x}", status as u32, index, rms))
+            }
+            Some(&"FREE") => {
+                let (status, index, objective, rms) =
+                    laminar_ffi::probe::free_fit_values(f[1].parse().unwrap());
+                let host = format!("{} {} {:x} {:x}", status as u32, index, objective, rms);
+                ("free", host)
+            }
+            _ => continue,
+        };
+        let (k, count): (usize, f64) = (f[1].parse().unwrap(), f[2].parse().unwrap());
         assert_eq!(
             f[3..].join(" "),
             host,
-            "paper-grid fit at K = {k}: device vs host"
+            "{objective} fit at K = {k}: device vs host"
         );
+        assert!(f[3] == "0", "{objective} fit at K = {k}: status {}", f[3]);
+        if objective == "free" && k == 32 {
+            assert!(
+                count <= 1e8,
+                "free fit, K = 32: {count} instructions > 10^8"
+            );
+        }
         out += &format!(
-            "paper-grid fit, K = {k}: {} instructions, same result as the host (index {index})\n",
-            f[2]
+            "{objective} fit, K = {k}: {count:.0} instructions, same result as the host\n"
         );
     }
-    assert_eq!(out.lines().count(), 2, "{text}");
+    assert_eq!(out.lines().count(), 4, "{text}");
     out
 }

@@ -109,3 +109,83 @@ fn small_fit_refuses_bad_input_by_kind() {
     let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &empty, &mut scratch).unwrap_err();
     assert_eq!(e, SmallFitError::Axis(AxisError::Empty { axis: "beta" }));
 }
+
+/// The free-amplitude small fit (`laminar_core::small_free_fit`, the
+/// on-device fit of the library's default objective) against the
+/// library's f64 grid stage of that objective on the paper grid's σ/T, n
+/// and a axes and β box: the same grid point, or (on near-ties, which
+/// f32's rounding may order differently) a point whose f64 objective is
+/// within 10⁻⁴ of the library's minimum.
+#[test]
+fn small_free_fit_finds_the_library_grid_minimum() {
+    use laminar_core::small_free_fit::{fit_free, FreeAxes, FreeScratch};
+    use laminar_fit::{free, Analysis, Model};
+    let grid = Grid::paper();
+    let axes = FreeAxes {
+        slope: &grid.slope.values,
+        n: &grid.n.values,
+        a: &grid.a.values,
+        beta: grid.beta.range(),
+    };
+    let mut scratch = FreeScratch::new();
+    let mut reference = FreeScratch::<f64>::default();
+    let (mut checked, mut same) = (0, 0);
+    for (k, seed) in [(7, 21), (32, 22), (64, 23)] {
+        let angles = synthetic::spread(k);
+        let g32: Vec<Geometry<f32>> = angles.iter().map(Geometry::splat).collect();
+        let g64: Vec<Geometry<f64>> = angles.iter().map(Geometry::splat).collect();
+        for (corr, model) in [
+            (Correlation::Exponential, Model::Exp),
+            (Correlation::Gaussian, Model::Gauss),
+        ] {
+            for scene in synthetic::sets(corr, &angles, 3, 0.01, seed) {
+                let small = fit_free(corr, &g32, (scene.data(), None), &axes, &mut scratch)
+                    .expect("a valid fit");
+                let library = free::fit(&scene, model, &grid, Analysis::NONE);
+                let at = |name: &str| {
+                    library
+                        .parameters
+                        .iter()
+                        .find(|p| p.name == name)
+                        .map(|p| p.grid)
+                        .unwrap()
+                };
+                let (slope, n, a) = axes.point(small.best);
+                checked += 1;
+                // The library reports σ/T back through its logarithm.
+                let near = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
+                if near(slope, at("slope")) && n == at("n") && a == at("a") {
+                    same += 1;
+                    continue;
+                }
+                // The f64 objective at a point: the grid of that point alone.
+                let mut objective = |(slope, n, a): (f64, f64, f64)| {
+                    let one = FreeAxes {
+                        slope: &[slope],
+                        n: &[n],
+                        a: &[a],
+                        beta: axes.beta,
+                    };
+                    fit_free(corr, &g64, (scene.data(), None), &one, &mut reference)
+                        .unwrap()
+                        .objective
+                };
+                let picked = objective((slope, n, a));
+                let best = objective((at("slope"), at("n"), at("a")));
+                println!(
+                    "K = {k} {corr:?}: f32 picks ({slope}, {n}, {a}), the library ({}, {}, {}): f64 objectives {picked:.9e} and {best:.9e}",
+                    at("slope"),
+                    at("n"),
+                    at("a")
+                );
+                assert!(
+                    picked <= best * (1.0 + 1e-4),
+                    "K = {k} {corr:?}: {picked} against {best}"
+                );
+            }
+        }
+    }
+    println!("free small fit = the library's grid point in {same} of {checked} fits");
+    assert_eq!(checked, 18);
+    assert!(same >= 16, "{same} of {checked}");
+}

@@ -9,7 +9,7 @@
 //! `B2 = B cos²θi cos²θs`) are formed once; every a of the axis is then a
 //! 2×2 solve from polynomials in a, with no pass over the measurements.
 
-use super::linear::Moments;
+use super::linear::Quadratic;
 use super::problem::Problem;
 use super::sums::dots;
 use laminar_core::{f64x4, Lane};
@@ -45,48 +45,14 @@ impl GridValues {
     }
 }
 
-/// Per (σ/T, n) inner products of the quadratic-in-a form.
-struct Quadratic {
-    dd: f64,
-    ds: f64,
-    ss: f64,
-    db: [f64; 3],
-    sb: [f64; 3],
-    /// `bb[i][j] = Σ w B_i B_j`.
-    bb: [[f64; 3]; 3],
-}
-
-impl Quadratic {
-    /// The moments at the absorptions `a` (one per lane).
-    fn moments<L: Lane<Scalar = f64>>(&self, a: L) -> Moments<L> {
-        let pow = [L::c(1.0), a, a * a];
-        let c = L::splat;
-        let lin = |v: &[f64; 3]| c(v[0]) + a * c(v[1]) + a * a * c(v[2]);
-        let mut uu = L::c(0.0);
-        for (i, &pi) in pow.iter().enumerate() {
-            for (j, &pj) in pow.iter().enumerate() {
-                uu = uu + pi * pj * c(self.bb[i][j]);
-            }
-        }
-        Moments {
-            dd: c(self.dd),
-            ds: c(self.ds),
-            du: lin(&self.db),
-            ss: c(self.ss),
-            su: lin(&self.sb),
-            uu,
-        }
-    }
-
-    /// The objective at every a of `a_axis`, four at a time (the last
-    /// group padded with its last a): bit for bit one at a time, as the
-    /// core's `f64x4` is its `f64` lane by lane.
-    fn objectives(&self, a_axis: &[f64], beta: (f64, f64), out: &mut Vec<f64>) {
-        for group in a_axis.chunks(4) {
-            let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
-            let sse = self.moments(a).solve(beta).sse.to_array();
-            out.extend_from_slice(&sse[..group.len()]);
-        }
+/// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
+/// four at a time (the last group padded with its last a): bit for bit
+/// one at a time, as the core's `f64x4` is its `f64` lane by lane.
+fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut Vec<f64>) {
+    for group in a_axis.chunks(4) {
+        let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
+        let sse = q.moments(a).solve(beta).sse.to_array();
+        out.extend_from_slice(&sse[..group.len()]);
     }
 }
 
@@ -228,7 +194,7 @@ pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -
                     sb: c.sb,
                     bb: c.bb,
                 };
-                q.objectives(&a_axis, beta, &mut out);
+                objectives(&q, &a_axis, beta, &mut out);
             }
             out
         })
