@@ -216,24 +216,27 @@ pub fn fit_free<R: Real, G: Copy + Into<Geometry<R>>>(
     check_data(data).map_err(|(index, fault)| SmallFitError::Data { index, fault })?;
     let max = data.iter().fold(0.0f64, |m, &d| m.max(d));
     axes.validate().map_err(SmallFitError::Axis)?;
-    // Every slice below is the first k of a MAX_MEASUREMENTS array: k is in
-    // bounds (checked above), which the compiler sees; no panic path.
+    // Every slice below is the first k of a MAX_MEASUREMENTS array, and
+    // every index below k: in bounds, as the compiler sees (no panic path).
     let k = k.min(MAX_MEASUREMENTS);
-    for i in 0..k {
-        let weight = match sigma {
+    for (i, (&g, &d)) in geometry.iter().zip(data).enumerate().take(k) {
+        if i >= MAX_MEASUREMENTS {
+            break;
+        }
+        let weight = match sigma.map(|s| s.get(i).copied().unwrap_or(f64::NAN)) {
             None => R::c(1.0),
             Some(s) => {
-                let root = max / s[i];
+                let root = max / s;
                 let w = R::from_f64(root * root);
                 // Also refuses σ ≤ 0, NaN and a weight past R's range.
-                if !(s[i] > 0.0 && w.to_f64().is_finite() && w.to_f64() > 0.0) {
+                if !(s > 0.0 && w.to_f64().is_finite() && w.to_f64() > 0.0) {
                     return Err(SmallFitError::Sigma { index: i });
                 }
                 w
             }
         };
-        let g: Geometry<R> = geometry[i].into();
-        let d = R::from_f64(data[i] / max);
+        let g: Geometry<R> = g.into();
+        let d = R::from_f64(d / max);
         let (ci, cs) = (R::c(1.0) - g.sin2_i, R::c(1.0) - g.sin2_s);
         scratch.geometry[i] = g;
         scratch.data[i] = d;
@@ -328,7 +331,7 @@ impl<R: Real> Prediction<R> {
 /// fit's whole objective).
 fn weighted_residuals<R: Real>(scratch: &FreeScratch<R>, k: usize, a: R, linear: &Linear<R>) -> R {
     let mut sum = R::c(0.0);
-    for i in 0..k {
+    for i in 0..k.min(MAX_MEASUREMENTS) {
         let u = scratch.base[i] * absorption_factor(&scratch.geometry[i], a);
         let r = scratch.data[i] - (linear.p * scratch.surface[i] + linear.q * u);
         sum = sum + scratch.weight[i] * (r * r);
@@ -348,7 +351,7 @@ fn quadratic<R: Real>(
     let mut db = [z; 3];
     let mut sb = [z; 3];
     let mut bb = [z; 6];
-    for i in 0..k {
+    for i in 0..k.min(MAX_MEASUREMENTS) {
         let g = &scratch.geometry[i];
         let base = subsurface_base(&Interface::new(g, n), corr, inv_s2);
         scratch.base[i] = base;

@@ -102,6 +102,37 @@ int main(void) {
   print_bits64("fit a", fit.a);
   print_bits64("fit rms", fit.rms);
   print_bits64("fit rh_rms", fit.rh_rms);
+  /* The free-amplitude fit (the fitting library's default objective): the
+   * raw mix of eq. 8 times an amplitude 3.7, on the same σ/T, n and a
+   * axes, β and the amplitude in closed form; then a zero uncertainty and
+   * an empty β box. */
+  static double raw[COUNT], sigma[COUNT];
+  for (int k = 0; k < COUNT; k++) {
+    raw[k] = 3.7 * (beta[11] * parts[k * LAMINAR_COMPONENTS + 5] +
+                    (1.0 - beta[11]) * parts[k * LAMINAR_COMPONENTS + 4]);
+    sigma[k] = 0.01 * raw[k] + 1e-3;
+  }
+  LaminarFreeGrid free_grid = {slope, 12, n, 3, a, 3, 0.0, 1.0};
+  LaminarFreeFitResult free_fit;
+  memset(&free_fit, 0, sizeof free_fit);
+  s = (int)laminar_fit_free(1, geometry, raw, NULL, COUNT, free_grid, &scratch, &free_fit);
+  printf("free fit: %d index %lu rh %d %lu\n", s, (unsigned long)free_fit.index,
+         (int)free_fit.rh_found, (unsigned long)free_fit.rh_index);
+  print_bits64("free fit slope", free_fit.slope);
+  print_bits64("free fit beta", free_fit.beta);
+  print_bits64("free fit n", free_fit.n);
+  print_bits64("free fit a", free_fit.a);
+  print_bits64("free fit amplitude", free_fit.amplitude);
+  print_bits64("free fit objective", free_fit.objective);
+  print_bits64("free fit rms", free_fit.rms);
+  s = (int)laminar_fit_free(1, geometry, raw, sigma, COUNT, free_grid, &scratch, &free_fit);
+  printf("free fit weighted: %d index %lu\n", s, (unsigned long)free_fit.index);
+  sigma[3] = 0.0;
+  printf("free fit bad sigma: %d\n",
+         (int)laminar_fit_free(1, geometry, raw, sigma, COUNT, free_grid, &scratch, &free_fit));
+  LaminarFreeGrid empty_box = {slope, 12, n, 3, a, 3, 0.7, 0.3};
+  printf("free fit empty beta box: %d\n",
+         (int)laminar_fit_free(1, geometry, raw, NULL, COUNT, empty_box, &scratch, &free_fit));
   data[4] = -2.0;
   printf("fit bad data: %d\n", (int)laminar_fit(1, geometry, data, COUNT, grid, &scratch, &fit));
   printf("fit too many: %d (at most %d)\n",

@@ -139,7 +139,7 @@ fn gcc_firmware_prints_the_hosts_bits() {
     // What the lines say: every evaluation OK; the statuses of bad input
     // (BAD_N 5 with the output untouched, BAD_CORRELATION 2, NULL_POINTER
     // 1, BAD_PHI_S 9, BAD_LENGTH 13); the fit OK at the data's grid point
-    // (σ/T 1.2, n 1.5, a 0.25), BAD_DATA 11 and BAD_COUNT 10 after.
+    // (σ/T 1.2, n 1.5, a 0.25), BAD_DATA 11 and BAD_COUNT 10 at the end.
     assert_eq!(d[0], "geometry: 0");
     assert!(d[1..7].iter().all(|l| l.contains(": 0 ")), "{device}");
     assert_eq!(
@@ -156,9 +156,29 @@ fn gcc_firmware_prints_the_hosts_bits() {
     assert_eq!(d[13], "fit slope 3ff3333333333333");
     assert_eq!(d[15], "fit n 3ff8000000000000");
     assert_eq!(d[16], "fit a 3fd0000000000000");
+    // The free fit OK at the same point (its β and amplitude in closed
+    // form), weighted too; BAD_SIGMA 14 and EMPTY_AXIS 12 (an empty β box).
+    assert!(d[19].starts_with("free fit: 0 "), "{}", d[19]);
+    assert_eq!(d[20], "free fit slope 3ff3333333333333");
+    assert_eq!(d[22], "free fit n 3ff8000000000000");
+    assert_eq!(d[23], "free fit a 3fd0000000000000");
     assert_eq!(
-        d[19..],
-        ["fit bad data: 11", "fit too many: 10 (at most 64)", "done"]
+        d[27],
+        d[19]
+            .replace("free fit:", "free fit weighted:")
+            .split(" rh")
+            .next()
+            .unwrap()
+    );
+    assert_eq!(
+        d[28..],
+        [
+            "free fit bad sigma: 14",
+            "free fit empty beta box: 12",
+            "fit bad data: 11",
+            "fit too many: 10 (at most 64)",
+            "done"
+        ]
     );
     // The link-time proof that the shipped library has no panic path: the
     // C image, linked with --gc-sections from everything the firmware
