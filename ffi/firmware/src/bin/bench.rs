@@ -14,7 +14,11 @@ use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use laminar_core::{total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams};
-use laminar_ffi::{laminar_evaluate_f32, LaminarGeometry, LaminarParamsF32};
+use laminar_ffi::{
+    laminar_evaluate_f32, laminar_fit, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
+    LaminarFreeFitResult, LaminarFreeGrid, LaminarGeometry, LaminarGrid, LaminarParamsF32,
+    LAMINAR_FIT_SCRATCH_WORDS,
+};
 use laminar_firmware::{timer, timer_start, INSTRUCTIONS_PER_TICK};
 
 const REPEATS: u32 = 1000;
@@ -139,6 +143,59 @@ fn main() -> ! {
     });
     bench("geometry_from_angles_f64_trig", empty, || {
         black_box(Geometry::<f32>::splat(black_box(&angles)));
+    });
+    // The fits at a one-point grid (K = 32): the cost of one grid point
+    // with everything a fit sets up, and the whole call's stack (the
+    // scratch is the caller's, outside it).
+    let (geometry, data) = laminar_ffi::probe::fit_case(32);
+    let mut scratch = LaminarFitScratch {
+        words: [0; LAMINAR_FIT_SCRATCH_WORDS],
+    };
+    let (slope, n, a, beta) = ([0.92], [1.42], [0.3], [0.4]);
+    bench("laminar_fit_one_point_k32", empty, || {
+        let grid = LaminarGrid {
+            slope: slope.as_ptr(),
+            slope_count: 1,
+            n: n.as_ptr(),
+            n_count: 1,
+            a: a.as_ptr(),
+            a_count: 1,
+            beta: beta.as_ptr(),
+            beta_count: 1,
+        };
+        let mut out = LaminarFitResult::default();
+        black_box(laminar_fit(
+            0,
+            geometry.as_ptr(),
+            black_box(data.as_ptr()),
+            32,
+            grid,
+            &mut scratch,
+            &mut out,
+        ));
+    });
+    bench("laminar_fit_free_one_point_k32", empty, || {
+        let grid = LaminarFreeGrid {
+            slope: slope.as_ptr(),
+            slope_count: 1,
+            n: n.as_ptr(),
+            n_count: 1,
+            a: a.as_ptr(),
+            a_count: 1,
+            beta_lo: 0.0,
+            beta_hi: 1.0,
+        };
+        let mut out = LaminarFreeFitResult::default();
+        black_box(laminar_fit_free(
+            0,
+            geometry.as_ptr(),
+            black_box(data.as_ptr()),
+            core::ptr::null(),
+            32,
+            grid,
+            &mut scratch,
+            &mut out,
+        ));
     });
     hprintln!("done");
     debug::exit(debug::EXIT_SUCCESS);
