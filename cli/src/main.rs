@@ -23,6 +23,8 @@ enum Command {
     FitBatch(commands::fit_batch::FitBatchArgs),
     Predict(commands::predict::PredictArgs),
     Export(commands::export::ExportArgs),
+    Albedo(commands::albedo::AlbedoArgs),
+    Render(commands::render::RenderArgs),
     Eval(commands::eval::EvalArgs),
     Parity(commands::parity::ParityArgs),
     /// Reports on the search paths.
@@ -55,6 +57,8 @@ fn main() -> ExitCode {
         Command::FitBatch(args) => commands::fit_batch::run(args).map(|_| true),
         Command::Predict(args) => commands::predict::run(args).map(|_| true),
         Command::Export(args) => commands::export::run(args).map(|_| true),
+        Command::Albedo(args) => commands::albedo::run(args).map(|_| true),
+        Command::Render(args) => commands::render::run(args).map(|_| true),
         Command::Eval(args) => commands::eval::run(args).map(|_| true),
         Command::Parity(args) => commands::parity::run(args),
         Command::Report(kind) => commands::report::run(kind).map(|_| true),

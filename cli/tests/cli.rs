@@ -1437,3 +1437,94 @@ fn predictions_that_overflow_are_refused_not_written() {
     );
     assert!(!merl.exists());
 }
+
+/// `albedo` of a fitted model: a table over θv with each value's error
+/// and node count; a θv outside [0, 90] is refused. `render` writes a PNG
+/// of the sphere (grey for one fit, RGB for three), lit where the light
+/// is; bad options are refused before anything is written.
+#[test]
+fn albedo_and_render_of_a_fitted_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let (_, _, fits) = eval_and_fit(dir.path(), &SMALL_GRID);
+    let table = ok(&["albedo", "--fit", s(&fits), "--theta-v", "0:80:5"]);
+    let rows: Vec<Vec<&str>> = table.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(
+        rows[0],
+        ["theta_v", "albedo", "error", "nodes", "above_one"]
+    );
+    assert_eq!(rows.len(), 6, "{table}");
+    for r in &rows[1..] {
+        let (albedo, error): (f64, f64) = (r[1].parse().unwrap(), r[2].parse().unwrap());
+        assert!(
+            albedo > 0.0 && albedo.is_finite() && error <= 1e-6 * albedo,
+            "{r:?}"
+        );
+    }
+    fails(
+        &["albedo", "--fit", s(&fits), "--theta-v", "0:100:3"],
+        &["--theta-v", "100", "[0, 90]"],
+    );
+
+    let png = dir.path().join("sphere.png");
+    ok(&[
+        "render",
+        "--fit",
+        s(&fits),
+        "--size",
+        "48",
+        "--out",
+        s(&png),
+    ]);
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!((info.width, info.height), (48, 48));
+    let at = |row: usize, col: usize| pixels[(row * 48 + col) * 3];
+    // The light is at the upper left: brighter there than at the lower right.
+    assert!(at(14, 14) > at(34, 34), "{} {}", at(14, 14), at(34, 34));
+    let label = "made/total/exp";
+    ok(&[
+        "render",
+        "--fit",
+        s(&fits),
+        "--select",
+        label,
+        "--select",
+        label,
+        "--select",
+        label,
+        "--size",
+        "16",
+        "--out",
+        s(&png),
+    ]);
+    let bad = dir.path().join("bad.png");
+    fails(
+        &[
+            "render",
+            "--fit",
+            s(&fits),
+            "--select",
+            label,
+            "--select",
+            label,
+            "--out",
+            s(&bad),
+        ],
+        &["--select given 2 times"],
+    );
+    fails(
+        &[
+            "render",
+            "--fit",
+            s(&fits),
+            "--light-polar",
+            "95",
+            "--out",
+            s(&bad),
+        ],
+        &["--light-polar 95"],
+    );
+    assert!(!bad.exists());
+}

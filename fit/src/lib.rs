@@ -54,6 +54,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod albedo;
 pub mod analysis;
 pub mod covariance;
 pub mod coverage;
@@ -68,6 +69,7 @@ pub mod measurements;
 pub mod model;
 pub mod objective;
 pub mod paper;
+pub mod preview;
 pub mod profile;
 pub mod report;
 pub mod scene;

@@ -16,6 +16,7 @@ pub mod csv_file;
 pub mod curet;
 pub mod error;
 pub mod fits;
+pub mod image;
 pub mod merl;
 pub mod staging;
 pub mod values;

@@ -1,5 +1,6 @@
 //! One module per subcommand, each with only its own options.
 
+pub mod albedo;
 pub mod eval;
 pub mod export;
 pub mod fit;
@@ -7,6 +8,7 @@ pub mod fit_batch;
 pub mod options;
 pub mod parity;
 pub mod predict;
+pub mod render;
 pub mod report;
 pub mod reproduce;
 pub mod select;
