@@ -787,6 +787,56 @@ mod tests {
         }
     }
 
+    /// One selection rule for every front end: a fit by its label, the
+    /// Ragheb–Hancock best of an exp fit under its rh- label (unless the
+    /// file holds that fit itself), the only fit without a label, and each
+    /// way of picking none.
+    #[test]
+    fn a_fit_is_selected_by_label_and_rh_labels_pick_the_a0_best() {
+        use crate::selection::SelectError;
+        // A grid whose a axis holds 0, so the fit has an a = 0 best.
+        let grid = Grid {
+            slope: laminar_fit::Axis::stepped(1.32, 0.08, 5),
+            a: laminar_fit::Axis::stepped(0.0, 0.05, 5),
+            ..Objective::Free.default_grid()
+        };
+        let record = Fitter::new(grid)
+            .unwrap()
+            .fit(&synthetic::default_scene(), Model::Exp);
+        let one = FitsFile {
+            fits: vec![FitEntry::new(&record)],
+            ..empty_file()
+        };
+        let label = one.fits[0].label();
+        assert_eq!(one.select(None).unwrap().label, label);
+        assert_eq!(one.select(Some(&label)).unwrap().fitted, one.fits[0].fitted);
+        let rh_label = label.replace("/exp", "/rh-exp");
+        let rh = one.select(Some(&rh_label)).unwrap();
+        assert_eq!(Some(rh.fitted), one.fits[0].rh_fitted);
+        assert_eq!(Some(rh.rms), one.fits[0].rh_rms);
+        let two = FitsFile {
+            fits: vec![FitEntry::new(&record), FitEntry::new(&record)],
+            ..empty_file()
+        };
+        assert!(matches!(
+            two.select(None),
+            Err(SelectError::Ambiguous { count: 2, .. })
+        ));
+        let e = one.select(Some("x/y/exp")).unwrap_err();
+        assert!(e.to_string().contains(&rh_label), "{e}");
+        assert_eq!(empty_file().select(None), Err(SelectError::Empty));
+        // The file's own rh-exp fit wins over an exp fit's a = 0 best.
+        let mut own = FitEntry::new(&record);
+        own.model = Model::RhExp;
+        own.rms = 123.0;
+        own.rms_refined = None;
+        let both = FitsFile {
+            fits: vec![FitEntry::new(&record), own],
+            ..empty_file()
+        };
+        assert_eq!(both.select(Some(&rh_label)).unwrap().rms, 123.0);
+    }
+
     fn fit(objective: Objective) -> Fit {
         let grid = Grid {
             slope: laminar_fit::Axis::stepped(1.32, 0.08, 5),

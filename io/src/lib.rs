@@ -18,6 +18,7 @@ pub mod error;
 pub mod fits;
 pub mod image;
 pub mod merl;
+pub mod selection;
 pub mod staging;
 pub mod values;
 

@@ -6,6 +6,7 @@ use crate::{error, geometries};
 use laminar_fit::search::Path as SearchPath;
 use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Uncertainty};
 use laminar_io::fits;
+use laminar_io::selection::SelectError;
 use std::cell::RefCell;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
@@ -201,22 +202,16 @@ pub fn fit(
 /// missing with several fits), or a geometry is out of range.
 pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<Vec<f64>, JsError> {
     let file = fits::parse_fits(Path::new("fitted-model file"), fits_json).map_err(error)?;
-    let labels: Vec<String> = file.fits.iter().map(|e| e.label()).collect();
-    let entry = match (select, file.fits.as_slice()) {
-        (None, [one]) => one,
-        (None, _) => {
-            return Err(error(format_args!(
-                "the file holds {} fits: give select, one of {}",
-                labels.len(),
-                labels.join(", ")
-            )))
-        }
-        (Some(s), all) => all.iter().find(|e| e.label() == s).ok_or_else(|| {
-            error(format_args!(
-                "select `{s}` matches no fit; the file holds {}",
-                labels.join(", ")
-            ))
-        })?,
-    };
+    let entry = file.select(select).map_err(|e| match e {
+        SelectError::Ambiguous { count, labels } => error(format_args!(
+            "the file holds {count} fits: give select, one of {}",
+            labels.join(", ")
+        )),
+        SelectError::NoMatch { select, labels } => error(format_args!(
+            "select `{select}` matches no fit; the file holds {}",
+            labels.join(", ")
+        )),
+        SelectError::Empty => error(format_args!("the file {e}")),
+    })?;
     entry.fitted.predict(&geometries(angles)?).map_err(error)
 }

@@ -2,8 +2,8 @@
 
 use clap::Args;
 use laminar_cli::CliError;
-use laminar_fit::FittedModel;
-use laminar_io::fits::{read_fits, FitEntry};
+use laminar_io::fits::read_fits;
+use laminar_io::selection::SelectError;
 use std::path::PathBuf;
 
 /// A fitted model from a file written by `laminar fit --format json`.
@@ -19,89 +19,23 @@ pub struct FitFileArgs {
     pub select: Option<String>,
 }
 
-/// A selected fit: its label, sample, channel and model.
-pub struct Selected {
-    /// `sample/channel/model`.
-    pub label: String,
-    /// The sample.
-    pub sample: String,
-    /// The channel.
-    pub channel: String,
-    /// The fitted model.
-    pub fitted: FittedModel,
-    /// The fitted model's own Δ_RMS (the refined one when refined).
-    pub rms: f64,
-}
-
-/// Every fit of the file, and the Ragheb–Hancock best of each exp or gauss
-/// fit under its `rh-` label unless the file holds a fit of that label
-/// itself (which is then the one selected).
-fn candidates(entries: &[FitEntry]) -> Vec<Selected> {
-    let mut out = Vec::new();
-    let own: Vec<String> = entries.iter().map(FitEntry::label).collect();
-    for e in entries {
-        out.push(Selected {
-            label: e.label(),
-            sample: e.sample.clone(),
-            channel: e.channel.clone(),
-            fitted: e.fitted,
-            rms: e.rms_refined.unwrap_or(e.rms),
-        });
-        if let (Some(rh), Some(rh_model), Some(rms)) =
-            (e.rh_fitted, e.model.ragheb_hancock(), e.rh_rms)
-        {
-            let label = format!("{}/{}/{}", e.sample, e.channel, rh_model);
-            if own.contains(&label) {
-                continue;
-            }
-            out.push(Selected {
-                label,
-                sample: e.sample.clone(),
-                channel: e.channel.clone(),
-                fitted: rh,
-                rms,
-            });
-        }
-    }
-    out
-}
+pub use laminar_io::selection::Selected;
 
 impl FitFileArgs {
-    /// Reads the file and picks the fit.
+    /// Reads the file and picks the fit ([`laminar_io::fits::FitsFile::select`]).
     pub fn selected(&self) -> Result<Selected, CliError> {
         let file = read_fits(&self.file)?;
-        if file.fits.is_empty() {
-            return Err(CliError::Usage(format!(
-                "{}: holds no fit",
-                self.file.display()
-            )));
-        }
-        let mut all = candidates(&file.fits);
-        let labels = || {
-            all.iter()
-                .map(|c| c.label.clone())
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let index = match &self.select {
-            None if file.fits.len() == 1 => 0,
-            None => {
-                return Err(CliError::Usage(format!(
-                    "{} holds {} fits; choose one with --select SAMPLE/CHANNEL/MODEL: {}",
-                    self.file.display(),
-                    file.fits.len(),
-                    labels()
-                )))
-            }
-            Some(s) => all.iter().position(|c| &c.label == s).ok_or_else(|| {
-                CliError::Usage(format!(
-                    "{}: no fit `{s}`; the file holds {}",
-                    self.file.display(),
-                    labels()
-                ))
-            })?,
-        };
-        let selected = all.swap_remove(index);
+        let selected = file.select(self.select.as_deref()).map_err(|e| {
+            let path = self.file.display();
+            CliError::Usage(match e {
+                SelectError::Empty => format!("{path}: holds no fit"),
+                SelectError::Ambiguous { count, labels } => format!(
+                    "{path} holds {count} fits; choose one with --select SAMPLE/CHANNEL/MODEL: {}",
+                    labels.join(", ")
+                ),
+                SelectError::NoMatch { .. } => format!("{path}: {e}"),
+            })
+        })?;
         // The model's parameters are checked here, once, for every command
         // that predicts with it: an error names the file and the fit.
         selected
