@@ -10,6 +10,10 @@
   fitted-model file as ``laminar fit --format json``).
 - :func:`fit_batch` — N sets on one geometry (an N × K array) by the
   shared-geometry batch search; a numpy structured array, one row per set.
+- :class:`FittedModel` — a fitted model from a fitted-model file (or a
+  :class:`FitResult`): its radiance anywhere and its directional albedo;
+  :func:`render` draws a lit sphere of one or three of them, and
+  :mod:`laminar.mitsuba` makes them a Mitsuba 3 BSDF.
 
 Every call releases the GIL while Rust works; bad input raises
 ``ValueError`` naming the parameter, file, line or row.
@@ -19,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, FLAG_BITS, FitResult, Measurements, paper_angles
+from ._laminar import BATCH_COLUMNS, FLAG_BITS, FitResult, FittedModel, Measurements, paper_angles, render
 from ._laminar import evaluate as _evaluate
 from ._laminar import fit as _fit
 from ._laminar import fit_batch as _fit_batch
@@ -30,6 +34,8 @@ __all__ = [
     "fit_batch",
     "Measurements",
     "FitResult",
+    "FittedModel",
+    "render",
     "paper_angles",
     "BATCH_DTYPE",
     "FLAG_BITS",

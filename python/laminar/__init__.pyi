@@ -8,6 +8,8 @@ import numpy.typing as npt
 from ._laminar import BATCH_COLUMNS as BATCH_COLUMNS
 from ._laminar import FLAG_BITS as FLAG_BITS
 from ._laminar import FitResult as FitResult
+from ._laminar import FittedModel as FittedModel
+from ._laminar import render as render
 from ._laminar import Grid, Measurements as Measurements
 from ._laminar import paper_angles as paper_angles
 

@@ -15,7 +15,7 @@ use laminar_fit::{
 use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::fits::FitEntry;
 use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1, PyReadonlyArray2};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -580,6 +580,170 @@ impl FitResult {
     }
 }
 
+/// Two float arrays.
+type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+/// A fitted model to predict with, from a fitted-model file (one fit,
+/// picked by its label `sample/channel/model` as `laminar predict
+/// --select` picks it) or from a [`FitResult`].
+#[pyclass(module = "laminar", frozen)]
+struct FittedModel {
+    label: String,
+    fitted: laminar_fit::FittedModel,
+}
+
+#[pymethods]
+impl FittedModel {
+    /// The fit labelled `select` in the fitted-model file `path` (the
+    /// file's only fit when `select` is None).
+    #[staticmethod]
+    #[pyo3(signature = (path, select = None))]
+    fn from_file(path: PathBuf, select: Option<&str>) -> PyResult<Self> {
+        let file = fits::read_fits(&path).map_err(read_error)?;
+        let chosen = file
+            .select(select)
+            .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
+        chosen.fitted.predict(&[]).map_err(|e| {
+            PyValueError::new_err(format!("{}: fit {}: {e}", path.display(), chosen.label))
+        })?;
+        Ok(Self {
+            label: chosen.label,
+            fitted: chosen.fitted,
+        })
+    }
+
+    /// The fitted model of a fit (the refined one when refined).
+    #[staticmethod]
+    fn from_fit(fit: &FitResult) -> Self {
+        Self {
+            label: fits::FitEntry::new(&fit.fit).label(),
+            fitted: fit.fit.estimate().fitted,
+        }
+    }
+
+    /// `sample/channel/model`.
+    #[getter]
+    fn label(&self) -> &str {
+        &self.label
+    }
+
+    /// The model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.fitted.model.name()
+    }
+
+    /// The max the fit's data were divided by: the prediction times it is
+    /// in the input's units.
+    #[getter]
+    fn data_scale(&self) -> f64 {
+        self.fitted.data_scale
+    }
+
+    /// The prediction in the input's units, `f · cos θi` (the fitted
+    /// radiance: `P · data_scale`), at paper-frame angles (radians; arrays
+    /// of one length). Not finite or out of range raises ValueError naming
+    /// the element.
+    fn radiance<'py>(
+        &self,
+        py: Python<'py>,
+        theta_i: PyReadonlyArray1<'py, f64>,
+        theta_s: PyReadonlyArray1<'py, f64>,
+        phi_s: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (ti, ts, ps) = (vec1(&theta_i)?, vec1(&theta_s)?, vec1(&phi_s)?);
+        if ti.len() != ts.len() || ti.len() != ps.len() {
+            return Err(PyValueError::new_err(format!(
+                "theta_i, theta_s and phi_s have {}, {} and {} elements; they must have one length",
+                ti.len(),
+                ts.len(),
+                ps.len()
+            )));
+        }
+        let mut angles = reserve::<Angles>(ti.len(), "angles")?;
+        for k in 0..ti.len() {
+            angles.push(
+                Angles::new(ti[k], ts[k], ps[k])
+                    .map_err(|e| PyValueError::new_err(format!("element {k}: {e}")))?,
+            );
+        }
+        let fitted = self.fitted;
+        let out = py.detach(|| fitted.predict_radiance(&angles));
+        Ok(out.map_err(value_error)?.into_pyarray(py))
+    }
+
+    /// The directional albedo ρ(θv) = ∫ f cos θi dωi at each view angle
+    /// (radians), in the input's units, and each value's quadrature error
+    /// (docs/conventions.md §12): two arrays.
+    #[pyo3(signature = (theta_v, tolerance = 1e-6))]
+    fn albedo<'py>(
+        &self,
+        py: Python<'py>,
+        theta_v: PyReadonlyArray1<'py, f64>,
+        tolerance: f64,
+    ) -> PyResult<ArrayPair<'py>> {
+        let thetas = vec1(&theta_v)?;
+        let fitted = self.fitted;
+        let table = py
+            .detach(|| laminar_fit::albedo::albedo_table(&fitted, &thetas, tolerance))
+            .map_err(value_error)?;
+        let albedo: Vec<f64> = table.iter().map(|a| a.albedo).collect();
+        let error: Vec<f64> = table.iter().map(|a| a.error).collect();
+        Ok((albedo.into_pyarray(py), error.into_pyarray(py)))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "FittedModel(label={:?}, model={:?}, params={})",
+            self.label,
+            self.fitted.model.name(),
+            self.fitted.params.text()
+        )
+    }
+}
+
+/// A sphere of the fitted models (one per channel: one for grey, three
+/// for RGB) under a directional light and a constant environment, as
+/// `laminar render` draws it (docs/conventions.md §12): the linear radiance
+/// (size × size × channels, 0 off the sphere) and the 8-bit sRGB image
+/// (size × size × 3).
+#[pyfunction]
+#[pyo3(signature = (models, size = 256, light_polar = None, light_azimuth = None, environment = None))]
+fn render<'py>(
+    py: Python<'py>,
+    models: Vec<PyRef<'py, FittedModel>>,
+    size: usize,
+    light_polar: Option<f64>,
+    light_azimuth: Option<f64>,
+    environment: Option<f64>,
+) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+    use laminar_fit::preview::{render as draw, Scene};
+    if !(models.len() == 1 || models.len() == 3) || !(16..=4096).contains(&size) {
+        return Err(PyValueError::new_err(format!(
+            "render takes one or three models (got {}) and a size in [16, 4096] (got {size})",
+            models.len()
+        )));
+    }
+    let default = Scene::default();
+    let scene = Scene {
+        size,
+        light_polar: light_polar.map_or(default.light_polar, f64::to_radians),
+        light_azimuth: light_azimuth.map_or(default.light_azimuth, f64::to_radians),
+        environment: environment.unwrap_or(default.environment),
+        ..default
+    };
+    let fitted: Vec<laminar_fit::FittedModel> = models.iter().map(|m| m.fitted).collect();
+    let image = py.detach(|| draw(&fitted, &scene)).map_err(value_error)?;
+    let srgb = image.to_srgb8();
+    let channels = image.channels;
+    let radiance = image
+        .radiance
+        .into_pyarray(py)
+        .reshape([size, size, channels])?;
+    let srgb = srgb.into_pyarray(py).reshape([size, size, 3])?;
+    Ok((radiance.into_any(), srgb.into_any()))
+}
+
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
@@ -788,6 +952,8 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(paper_angles, m)?)?;
     m.add_class::<Measurements>()?;
     m.add_class::<FitResult>()?;
+    m.add_class::<FittedModel>()?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add("BATCH_COLUMNS", batch_columns())?;
     let flags = PyDict::new(m.py());
     for edge in Edge::ALL {

@@ -1,0 +1,129 @@
+"""Fitted models as a Mitsuba 3 BSDF: ``laminar.mitsuba.register()`` adds the
+plugin type ``"laminar"``.
+
+.. code-block:: python
+
+    import mitsuba as mi
+    mi.set_variant("llvm_ad_rgb")      # or "scalar_rgb"
+    import laminar.mitsuba
+    laminar.mitsuba.register()
+    bsdf = mi.load_dict({"type": "laminar", "filename": "fits.json", "select": "49/avg/exp"})
+
+Properties: ``filename``, a fitted-model file (``laminar fit --format
+json``), and ``select``: one label ``sample/channel/model`` (grey), or
+three separated by commas (red, green, blue: e.g. the r, g and b fits of
+one sample); left out when the file holds one fit.
+
+In Mitsuba's local frame the light is along ``wo`` and the viewer along
+``si.wi``; ``eval`` returns the fitted model's radiance ``f · cos θ_light``
+in the fitted data's units (``P · data_scale``, docs/conventions.md §12),
+evaluated by the Rust library on whole arrays of directions (one call per
+channel per wavefront, no Python loop per ray). Sampling is
+cosine-weighted: its pdf is exact and cheap, and the fitted lobes of this
+model family are broad (the subsurface term is diffuse-like), so the
+variance stays low; a lobe-following mixture is not implemented.
+
+On the JIT variants the evaluation leaves Dr.Jit for numpy, so a scene
+must render in wavefront mode: :func:`register` turns Dr.Jit's symbolic
+loops and calls off.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import laminar
+
+#: The plugin type name.
+PLUGIN = "laminar"
+
+
+def _models(filename, select):
+    labels = [None] if not select else [s.strip() for s in str(select).split(",")]
+    if len(labels) not in (1, 3):
+        raise ValueError(f"select: {len(labels)} labels; give one (grey) or three (red, green, blue)")
+    return [laminar.FittedModel.from_file(str(filename), label) for label in labels]
+
+
+def _paper_angles(wi, wo):
+    """θi, θs, φs (paper frame) of light ``wo`` and viewer ``wi``, local
+    frame, as numpy arrays; and where both are above the surface."""
+    lx, ly, lz = (np.atleast_1d(np.array(c, dtype=np.float64)) for c in (wo.x, wo.y, wo.z))
+    vx, vy, vz = (np.atleast_1d(np.array(c, dtype=np.float64)) for c in (wi.x, wi.y, wi.z))
+    lx, ly, lz, vx, vy, vz = np.broadcast_arrays(lx, ly, lz, vx, vy, vz)
+    above = (lz > 0) & (vz > 0)
+    theta_i = np.arccos(np.clip(lz, 0.0, 1.0))
+    theta_s = np.arccos(np.clip(vz, 0.0, 1.0))
+    # Lab frame to paper frame: φs = φv − φi − π, wrapped (conventions §1).
+    phi = np.arctan2(vy, vx) - np.arctan2(ly, lx) - np.pi
+    phi_s = np.angle(np.exp(1j * phi))
+    return theta_i, theta_s, phi_s, above
+
+
+def register():
+    """Registers the ``"laminar"`` BSDF with the current Mitsuba variant
+    (call after ``mi.set_variant``)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    if mi.variant() is None:
+        raise RuntimeError("set a Mitsuba variant (mi.set_variant) before laminar.mitsuba.register()")
+    scalar = mi.variant().startswith("scalar")
+    if not scalar:
+        dr.set_flag(dr.JitFlag.SymbolicLoops, False)
+        dr.set_flag(dr.JitFlag.SymbolicCalls, False)
+
+    class LaminarBSDF(mi.BSDF):
+        """A laminar fitted model (one or three channels)."""
+
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.filename = str(props["filename"])
+            self.select = str(props["select"]) if "select" in props else None
+            self.models = _models(self.filename, self.select)
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        def _radiance(self, si, wo):
+            ti, ts, ps, above = _paper_angles(si.wi, wo)
+            channels = []
+            for model in self.models:
+                values = np.zeros_like(ti)
+                if above.any():
+                    values[above] = model.radiance(ti[above], ts[above], ps[above])
+                channels.append(values)
+            if len(channels) == 1:
+                channels *= 3
+            if scalar:
+                return mi.Color3f(*(float(c[0]) for c in channels))
+            return mi.Color3f(*(mi.Float(c) for c in channels))
+
+        def eval(self, ctx, si, wo, active=True):
+            return dr.select(active, self._radiance(si, wo), 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
+            return dr.select(active & up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            bs = mi.BSDFSample3f()
+            bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
+            bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(bs.wo)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (bs.pdf > 0)
+            weight = self._radiance(si, bs.wo) / dr.maximum(bs.pdf, 1e-30)
+            return bs, dr.select(up, weight, 0.0)
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return f"LaminarBSDF[filename={self.filename!r}, select={self.select!r}]"
+
+    mi.register_bsdf(PLUGIN, lambda props: LaminarBSDF(props))
