@@ -6,6 +6,7 @@ use crate::figures::{data_vs_model_svg, energy_budget_svg, profile_svg};
 use crate::selection::{material, Job};
 use crate::tables::paper_tables;
 use crate::CliError;
+use laminar_fit::preview::{render, Scene};
 use laminar_fit::{Fit, Fitter, Model, ModelParams};
 use laminar_io::fits::csv as fit_csv;
 use laminar_io::write_atomic;
@@ -44,9 +45,12 @@ fn write(out: &Path, name: &str, text: &str, files: &mut Vec<PathBuf>) -> Result
     Ok(())
 }
 
-/// True for a file name that `reproduce` writes (figures, tables, fits, summary).
+/// Pixels on a side of the figure samples' previews.
+const PREVIEW_SIZE: usize = 192;
+
+/// True for a file name that `reproduce` writes (figures, previews, tables, fits, summary).
 fn is_ours(name: &str) -> bool {
-    (name.starts_with("fig") && name.ends_with(".svg"))
+    (name.starts_with("fig") && (name.ends_with(".svg") || name.ends_with(".png")))
         || (name.starts_with("table") && (name.ends_with(".md") || name.ends_with(".csv")))
         || name == "fits.csv"
         || name == "summary.md"
@@ -256,6 +260,21 @@ fn write_set(
                 shown.push((rh_model, rh));
             }
             if r.model == PROFILE_MODEL {
+                // A preview of the fitted material (docs/conventions.md §12).
+                let scene = Scene {
+                    size: PREVIEW_SIZE,
+                    ..Scene::default()
+                };
+                let image = render(&[r.estimate().fitted], &scene)?;
+                let path = out.join(format!(
+                    "fig_preview_sample{}_{}_{}.png",
+                    job.scene.sample(),
+                    r.model.name(),
+                    job.scene.channel()
+                ));
+                let side = PREVIEW_SIZE as u32;
+                laminar_io::image::write_png(&path, side, side, &image.to_srgb8())?;
+                files.push(path);
                 for curve in fitter.profiles(&job.scene, r, PROFILE_POINTS) {
                     let title = format!(
                         "sample {} ({}), {}: profile of {}",

@@ -92,6 +92,18 @@ fn reproduce_writes_every_table_and_figure() {
         .count();
     assert_eq!(figures, 6 * 4);
     assert!(out.join("fig_sample21_rh-gauss_r.svg").exists());
+    // One preview (a lit sphere of the exp fit) per job of samples 19, 21.
+    let previews: Vec<_> = r
+        .files
+        .iter()
+        .filter(|f| f.to_string_lossy().contains("fig_preview"))
+        .collect();
+    assert_eq!(previews.len(), 4);
+    let png = std::fs::File::open(out.join("fig_preview_sample21_exp_r.png")).unwrap();
+    let info = png::Decoder::new(std::io::BufReader::new(png))
+        .read_info()
+        .unwrap();
+    assert_eq!((info.info().width, info.info().height), (192, 192));
     // op.dat supplies sample 21's avg Oren–Nayar parameters: no search there.
     let on = |sample: &str, channel: &str| {
         r.records

@@ -61,8 +61,14 @@ pub struct Image {
     pub on_sphere: Vec<bool>,
 }
 
-/// View angles at which the albedo is tabulated for the environment term.
-const ALBEDO_ANGLES: usize = 91;
+/// View angles at which the albedo is tabulated for the environment term,
+/// evenly over `[0, ALBEDO_LAST]`.
+const ALBEDO_ANGLES: usize = 90;
+
+/// The last view angle tabulated: 89°. At grazing view (θv = 90°) the
+/// quadrature converges slowly (a thousand nodes per dimension); the
+/// silhouette's last degree takes the value at 89°.
+const ALBEDO_LAST: f64 = 89.0 * core::f64::consts::PI / 180.0;
 
 /// Renders `models` (one per channel) into a preview of `scene`.
 ///
@@ -101,7 +107,7 @@ pub fn render(models: &[FittedModel], scene: &Scene) -> Result<Image, ModelError
         }
     }
     let thetas: Vec<f64> = (0..ALBEDO_ANGLES)
-        .map(|i| core::f64::consts::FRAC_PI_2 * i as f64 / (ALBEDO_ANGLES - 1) as f64)
+        .map(|i| ALBEDO_LAST * i as f64 / (ALBEDO_ANGLES - 1) as f64)
         .collect();
     let channels = models.len();
     let mut radiance = vec![0.0; size * size * channels];
@@ -155,10 +161,11 @@ fn angles(n: [f64; 3], l: [f64; 3], cos_i: f64) -> Result<laminar_core::Angles, 
     .map_err(ModelError::OutOfDomain)
 }
 
-/// `table` (at equal steps over [0, π/2]) linearly interpolated at `theta`.
+/// `table` (at equal steps over `[0, ALBEDO_LAST]`) linearly interpolated
+/// at `theta` (clamped to that range).
 fn interpolate(table: &[f64], theta: f64) -> f64 {
     let last = table.len() - 1;
-    let at = (theta / core::f64::consts::FRAC_PI_2 * last as f64).clamp(0.0, last as f64);
+    let at = (theta / ALBEDO_LAST * last as f64).clamp(0.0, last as f64);
     let i = (at.floor() as usize).min(last.saturating_sub(1));
     let t = at - i as f64;
     table[i] * (1.0 - t) + table[(i + 1).min(last)] * t
