@@ -12,7 +12,11 @@ plugin type ``"laminar"``.
 Properties: ``filename``, a fitted-model file (``laminar fit --format
 json``), and ``select``: one label ``sample/channel/model`` (grey), or
 three separated by commas (red, green, blue: e.g. the r, g and b fits of
-one sample); left out when the file holds one fit.
+one sample); left out when the file holds one fit. Or, without a file,
+``model`` (``exp``, ``gauss``, …), its parameters as floats (``slope``,
+``beta``, ``n``, ``a``; ``sigma_a``, ``sigma_s``; ``sigma``, ``rho``) and
+``amplitude`` (default 1): the grey BSDF ``amplitude · ((1 − β) L^sf + β
+L^sb) / cos θ_light`` (:meth:`laminar.FittedModel.from_params`).
 
 In Mitsuba's local frame the light is along ``wo`` and the viewer along
 ``si.wi``; ``eval`` returns the fitted model's radiance ``f · cos θ_light``
@@ -78,9 +82,18 @@ def register():
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            self.filename = str(props["filename"])
-            self.select = str(props["select"]) if "select" in props else None
-            self.models = _models(self.filename, self.select)
+            if "filename" in props:
+                self.filename = str(props["filename"])
+                self.select = str(props["select"]) if "select" in props else None
+                self.models = _models(self.filename, self.select)
+            elif "model" in props:
+                self.filename, self.select = None, None
+                model = str(props["model"])
+                amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
+                params = {k: float(props[k]) for k in props.keys() if k not in ("model", "amplitude")}
+                self.models = [laminar.FittedModel.from_params(model, params, amplitude)]
+            else:
+                raise ValueError("the laminar BSDF needs `filename` (a fitted-model file) or `model` and its parameters")
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
@@ -124,6 +137,7 @@ def register():
             pass
 
         def to_string(self):
-            return f"LaminarBSDF[filename={self.filename!r}, select={self.select!r}]"
+            labels = ", ".join(m.label for m in self.models)
+            return f"LaminarBSDF[{labels}]"
 
     mi.register_bsdf(PLUGIN, lambda props: LaminarBSDF(props))

@@ -612,6 +612,53 @@ impl FittedModel {
         })
     }
 
+    /// `model` at `params` (a dict of the model's parameters: `slope`,
+    /// `beta`, `n`, `a`; `sigma_a`, `sigma_s`; or `sigma`, `rho`) times
+    /// `amplitude`: the prediction is `amplitude · ((1 − β) L^sf + β L^sb)`
+    /// (eq. 8's raw mix; a baseline's raw radiance), times `data_scale`
+    /// in the input's units. A missing, extra or out-of-domain parameter
+    /// raises ValueError naming it.
+    #[staticmethod]
+    #[pyo3(signature = (model, params, amplitude = 1.0, data_scale = 1.0))]
+    fn from_params(
+        model: &str,
+        params: HashMap<String, f64>,
+        amplitude: f64,
+        data_scale: f64,
+    ) -> PyResult<Self> {
+        let kind: Model = parse("model", model)?;
+        let values =
+            ModelParams::from_values(kind, |name| params.get(name).copied().unwrap_or(f64::NAN));
+        let names: Vec<&str> = values.pairs().iter().map(|(name, _)| *name).collect();
+        if let Some(missing) = names.iter().find(|n| !params.contains_key(**n)) {
+            return Err(PyValueError::new_err(format!(
+                "params: `{missing}` is missing; {model} takes {}",
+                names.join(", ")
+            )));
+        }
+        if let Some(extra) = params.keys().find(|k| !names.contains(&k.as_str())) {
+            return Err(PyValueError::new_err(format!(
+                "params: `{extra}` is not a parameter of {model} ({})",
+                names.join(", ")
+            )));
+        }
+        if !(amplitude >= 0.0
+            && amplitude.is_finite()
+            && data_scale > 0.0
+            && data_scale.is_finite())
+        {
+            return Err(PyValueError::new_err(format!(
+                "amplitude {amplitude} must be finite and ≥ 0, data_scale {data_scale} finite and > 0"
+            )));
+        }
+        let fitted = laminar_fit::FittedModel::with_amplitude(kind, values, amplitude, data_scale);
+        fitted.predict(&[]).map_err(value_error)?;
+        Ok(Self {
+            label: format!("{model}({})", values.text()),
+            fitted,
+        })
+    }
+
     /// The fitted model of a fit (the refined one when refined).
     #[staticmethod]
     fn from_fit(fit: &FitResult) -> Self {

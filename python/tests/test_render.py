@@ -139,6 +139,26 @@ def test_mitsuba_eval_is_the_fitted_radiance(fits, variant):
         np.testing.assert_allclose(values, want, rtol=1e-5)
 
 
+def test_mitsuba_bsdf_from_a_model_and_parameters():
+    mi = mitsuba_variant("scalar_rgb")
+    params = {"slope": 0.8, "beta": 0.35, "n": 1.45, "a": 0.2}
+    bsdf = mi.load_dict({"type": "laminar", "model": "gauss", "amplitude": 2.0, **params})
+    m = laminar.FittedModel.from_params("gauss", params, amplitude=2.0)
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(0.3, 0.1, float(np.sqrt(1 - 0.1)))
+    wo = mi.Vector3f(-0.5, 0.2, float(np.sqrt(1 - 0.29)))
+    got = bsdf.eval(mi.BSDFContext(), si, wo)[0]
+    (ti, ts, ps, _) = laminar.mitsuba._paper_angles(si.wi, wo)
+    assert got == pytest.approx(m.radiance(ti, ts, ps)[0], rel=1e-6)
+    # Eq. 8's raw mix times the amplitude.
+    total = laminar.evaluate("gauss", ti, ts, ps, *params.values())["total"]
+    assert m.radiance(ti, ts, ps)[0] == pytest.approx(2.0 * total[0], rel=1e-12)
+    with pytest.raises(ValueError, match="`rho` is not a parameter of gauss"):
+        laminar.FittedModel.from_params("gauss", {**params, "rho": 0.1})
+    with pytest.raises(ValueError, match="`a` is missing"):
+        laminar.FittedModel.from_params("exp", {"slope": 1.0, "beta": 0.5, "n": 1.4})
+
+
 def test_mitsuba_sampling_passes_its_chi2_test(fits):
     mi = mitsuba_variant("llvm_ad_rgb")
     from mitsuba.chi2 import BSDFAdapter, ChiSquareTest, SphericalDomain
