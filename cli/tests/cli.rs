@@ -1465,6 +1465,59 @@ fn albedo_and_render_of_a_fitted_model() {
         &["--theta-v", "100", "[0, 90]"],
     );
 
+    // The albedo in the fitted-model file, with the units stated; predict
+    // still reads the file.
+    let with_energy = dir.path().join("energy.json");
+    ok(&[
+        "fit",
+        "--measurements",
+        s(&dir.path().join("made.csv")),
+        "--quantity",
+        "radiance",
+        "--channels",
+        "total",
+        "--models",
+        "exp",
+        "--format",
+        "json",
+        "--albedo",
+        "--units",
+        "absolute",
+        "--slope",
+        "1.32:1.64:5",
+        "--n",
+        "1.4:1.48:5",
+        "--a",
+        "0:0.4:5",
+        "--out",
+        s(&with_energy),
+    ]);
+    let energy = &json(&with_energy)["fits"][0]["energy"];
+    assert_eq!(energy["units"], "absolute");
+    assert_eq!(energy["theta_v"].as_array().unwrap().len(), 18);
+    let rho0 = energy["albedo"][0].as_f64().unwrap();
+    let cli_rho0: f64 = rows[1][1].parse().unwrap();
+    assert!(
+        (rho0 - cli_rho0).abs() <= 1e-9 * rho0,
+        "{rho0} against {cli_rho0}"
+    );
+    assert_eq!(
+        energy["energy_gain"],
+        energy["albedo"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|a| a.as_f64().unwrap() > 1.0)
+    );
+    assert!(
+        json(&fits)["fits"][0].get("energy").is_none(),
+        "only when asked"
+    );
+    fails(
+        &["fit", "--albedo", "--format", "csv"],
+        &["--albedo", "--format json"],
+    );
+
     let png = dir.path().join("sphere.png");
     ok(&[
         "render",

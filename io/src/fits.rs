@@ -322,6 +322,62 @@ pub struct FitEntry {
     /// `open_above`). Absent in files written before it existed.
     #[serde(default)]
     pub parameters: serde_json::Map<String, serde_json::Value>,
+    /// The fitted model's energy, when asked for (`laminar fit --albedo`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy: Option<Energy>,
+}
+
+/// The units of the fitted data, as the user states them: what `ρ ≤ 1`
+/// means depends on them (docs/conventions.md §12).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Units {
+    /// A BRDF in absolute units (sr⁻¹): ρ > 1 is a gain of energy.
+    Absolute,
+    /// Any other scale (relative BRDF, a camera's counts): ρ has that
+    /// scale and no bound.
+    Relative,
+}
+
+/// A fitted model's directional albedo over view angles, in the file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Energy {
+    /// The fitted data's units, as stated.
+    pub units: Units,
+    /// View angles θv, degrees.
+    pub theta_v: Vec<f64>,
+    /// ρ(θv) in the fitted data's units.
+    pub albedo: Vec<f64>,
+    /// Each value's quadrature error.
+    pub error: Vec<f64>,
+    /// True when ρ > 1 at some θv and the units are absolute: the fitted
+    /// model reflects more energy than it receives.
+    pub energy_gain: bool,
+}
+
+impl Energy {
+    /// View angles of the table, degrees: 0, 5, …, 85.
+    pub const THETA_V: [f64; 18] = [
+        0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0,
+        75.0, 80.0, 85.0,
+    ];
+
+    /// The albedo table of `fitted` (tolerance 10⁻⁶, [`laminar_fit::albedo`]).
+    ///
+    /// # Errors
+    /// When the model cannot predict.
+    pub fn of(fitted: &FittedModel, units: Units) -> Result<Self, laminar_fit::ModelError> {
+        let radians: Vec<f64> = Self::THETA_V.iter().map(|t| t.to_radians()).collect();
+        let table = laminar_fit::albedo::albedo_table(fitted, &radians, 1e-6)?;
+        let albedo: Vec<f64> = table.iter().map(|a| a.albedo).collect();
+        Ok(Self {
+            units,
+            theta_v: Self::THETA_V.to_vec(),
+            energy_gain: units == Units::Absolute && albedo.iter().any(|&a| a > 1.0),
+            error: table.iter().map(|a| a.error).collect(),
+            albedo,
+        })
+    }
 }
 
 /// The fitted-model file: `laminar fit --format json`.
@@ -442,6 +498,7 @@ impl FitEntry {
                 .iter()
                 .map(|p| (p.name.clone(), parameter_object(p)))
                 .collect(),
+            energy: None,
         }
     }
 
@@ -453,9 +510,14 @@ impl FitEntry {
 
 /// Fits as the fitted-model file (pretty JSON): [`JsonFits`] into memory.
 pub fn json(records: &[Fit]) -> String {
+    json_entries(&records.iter().map(FitEntry::new).collect::<Vec<_>>())
+}
+
+/// Entries as the fitted-model file (pretty JSON).
+pub fn json_entries(entries: &[FitEntry]) -> String {
     let mut out = JsonFits::new(Vec::new()).expect("in-memory write");
-    for r in records {
-        out.write(r).expect("in-memory write");
+    for e in entries {
+        out.write_entry(e).expect("in-memory write");
     }
     String::from_utf8(out.finish().expect("in-memory write")).expect("utf-8")
 }
@@ -520,8 +582,15 @@ impl<W: Write> JsonFits<W> {
     /// # Errors
     /// The writer's error.
     pub fn write(&mut self, record: &Fit) -> std::io::Result<()> {
-        let entry =
-            serde_json::to_string_pretty(&FitEntry::new(record)).map_err(std::io::Error::other)?;
+        self.write_entry(&FitEntry::new(record))
+    }
+
+    /// Writes one fit's entry.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_entry(&mut self, entry: &FitEntry) -> std::io::Result<()> {
+        let entry = serde_json::to_string_pretty(entry).map_err(std::io::Error::other)?;
         self.out
             .write_all(if self.written == 0 { b"\n" } else { b",\n" })?;
         for (k, line) in entry.lines().enumerate() {

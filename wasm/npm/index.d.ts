@@ -103,6 +103,22 @@ export interface FitEntry {
   correlations: Record<string, number>;
   trade_offs: Record<string, number>;
   parameters: Record<string, FitParameter>;
+  /** The directional albedo, present when asked for (`laminar fit --albedo`). */
+  energy?: Energy;
+}
+
+/** A fitted model's directional albedo ρ(θv) = ∫ f cos θi dωi (docs/conventions.md §12). */
+export interface Energy {
+  /** The fitted data's units as stated: ρ > 1 is a gain of energy only when `absolute`. */
+  units: 'absolute' | 'relative';
+  /** View angles, degrees. */
+  theta_v: number[];
+  /** ρ(θv) in the fitted data's units. */
+  albedo: number[];
+  /** Each value's quadrature error. */
+  error: number[];
+  /** ρ > 1 somewhere, in absolute units. */
+  energy_gain: boolean;
 }
 
 /** The fitted-model file: `JSON.parse(fit(...))`. */

@@ -8,9 +8,18 @@ use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
 use laminar_cli::CliError;
 use laminar_fit::{synthetic, FittedModel, Model, ModelParams};
-use laminar_io::fits;
+use laminar_io::fits::{self, Energy, FitEntry, Units};
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The units of the fitted data (`--units`).
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum UnitsArg {
+    /// A BRDF in absolute units (sr⁻¹).
+    Absolute,
+    /// Any other scale.
+    Relative,
+}
 
 /// Output formats of `fit`.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -85,6 +94,16 @@ pub struct FitArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
+    /// Add each fit's directional albedo ρ(θv) at θv = 0, 5, …, 85° to
+    /// the fitted-model file (`energy`; with --format json), with --units
+    /// and whether ρ > 1 anywhere in absolute units (`energy_gain`).
+    #[arg(long)]
+    albedo: bool,
+    /// The units of the fitted data, recorded with --albedo: `absolute`
+    /// (a BRDF in sr⁻¹, where ρ > 1 is a gain of energy) or `relative`
+    /// (any other scale, e.g. CUReT's).
+    #[arg(long, value_enum, default_value_t = UnitsArg::Relative, requires = "albedo")]
+    units: UnitsArg,
     /// Write the output to FILE (whole or not at all) instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
@@ -100,6 +119,11 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         .chain(args.curet.inputs())
         .collect();
     check_out(args.out.as_ref(), &inputs)?;
+    if args.albedo && !matches!(args.format, Format::Json) {
+        return Err(CliError::Usage(
+            "--albedo: the albedo goes into the fitted-model file; add --format json".into(),
+        ));
+    }
     let fitter = fitter(
         &args.grid,
         &args.threads,
@@ -120,6 +144,19 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     let text = match args.format {
         Format::Csv => fits::csv(&records),
+        Format::Json if args.albedo => {
+            let units = match args.units {
+                UnitsArg::Absolute => Units::Absolute,
+                UnitsArg::Relative => Units::Relative,
+            };
+            let mut entries = Vec::with_capacity(records.len());
+            for r in &records {
+                let mut entry = FitEntry::new(r);
+                entry.energy = Some(Energy::of(&entry.fitted, units)?);
+                entries.push(entry);
+            }
+            fits::json_entries(&entries)
+        }
         Format::Json => fits::json(&records),
         Format::Markdown => fits::markdown(&records),
     };
