@@ -11,7 +11,7 @@
 //! and the weighted inner products of [`Quadratic`]; then every a of the
 //! axis is a 2×2 solve from polynomials in a (`U = B (1 − a cos²θi)(1 − a
 //! cos²θs)`, eqs. 12–14), and its objective one pass of residuals over the
-//! measurements (the moments' form of it cancels in f32: module
+//! measurements (the moments' form of it cancels in f32; see
 //! `weighted_residuals`). Every operation is `f32` but the data's
 //! normalisation and the final Δ_RMS: no `f64` software routine runs per
 //! grid point on a Cortex-M4F.
@@ -193,9 +193,10 @@ pub struct FreeFit<R = f32> {
 /// Fits the geometries `geometry` to the un-normalised data `data`
 /// (standard uncertainties `sigma`, on the data's scale, or none for
 /// weights of 1) over `axes` with correlation `corr`, by the
-/// free-amplitude objective (module docs). The data and uncertainties are divided by the data's max
-/// in `f64`, then rounded to the precision `R` (`f32` on a device; the
-/// same code in `f64` is the tests' reference).
+/// free-amplitude objective (module docs). The data and uncertainties
+/// are divided by the data's max in `f64`, then rounded to the precision
+/// `R` (`f32` on a device; the same code in `f64` is the tests'
+/// reference).
 ///
 /// # Errors
 /// [`SmallFitError`] for a bad count, datum, uncertainty or grid.
