@@ -208,6 +208,65 @@ function drawLobe() {
   const at = (phi) => new Float64Array(THETAS.flatMap((t) => [ti, Math.min(t, Math.PI / 2), phi]));
   const eval8 = (phi) => E.totalRadiance(modelSelect.value, at(phi), v.slope, v.beta, v.n, v.a);
   lobe($('lobe'), ti, THETAS, eval8(0), eval8(Math.PI));
+  drawSphere(v);
+}
+
+// The sphere preview: `laminar render`'s scene (docs/conventions.md §12)
+// without its environment term, which needs the albedo (not in the
+// evaluation-only package). An orthographic view along +z, the light 60°
+// off the axis from the upper left; each pixel shows eq. 8's radiance
+// f · cos θi at its normal, exposed so that its 99.5th percentile is 0.95,
+// sRGB-encoded.
+const SPHERE_LIGHT = [60 * DEG, 135 * DEG];
+function drawSphere(v) {
+  const canvas = $('sphere');
+  const size = canvas.width;
+  const [polar, azimuth] = SPHERE_LIGHT;
+  const l = [Math.sin(polar) * Math.cos(azimuth), Math.sin(polar) * Math.sin(azimuth), Math.cos(polar)];
+  const lit = []; // pixel index of each lit point
+  const angles = [];
+  for (let row = 0; row < size; row++) {
+    for (let col = 0; col < size; col++) {
+      const x = (2 * (col + 0.5)) / size - 1;
+      const y = 1 - (2 * (row + 0.5)) / size;
+      const r2 = x * x + y * y;
+      if (r2 >= 1) continue;
+      const n = [x, y, Math.sqrt(1 - r2)];
+      const cosI = n[0] * l[0] + n[1] * l[1] + n[2] * l[2];
+      if (cosI <= 0) continue;
+      // Light and view projected on the tangent plane: their azimuth.
+      const lt = l.map((c, k) => c - cosI * n[k]);
+      const vt = [0, 0, 1].map((c, k) => c - n[2] * n[k]);
+      const norms = Math.hypot(...lt) * Math.hypot(...vt);
+      const delta = norms > 1e-300 ? Math.acos(Math.max(-1, Math.min(1, (lt[0] * vt[0] + lt[1] * vt[1] + lt[2] * vt[2]) / norms))) : 0;
+      // Lab to paper frame (conventions §1): φs = φv − φi − π, wrapped.
+      let phi = delta - Math.PI;
+      if (phi <= -Math.PI) phi += 2 * Math.PI;
+      angles.push(Math.acos(Math.min(1, cosI)), Math.acos(Math.min(1, n[2])), phi);
+      lit.push(row * size + col);
+    }
+  }
+  const radiance = lit.length ? E.totalRadiance(modelSelect.value, new Float64Array(angles), v.slope, v.beta, v.n, v.a) : [];
+  const sorted = Float64Array.from(radiance).sort();
+  const top = sorted[Math.floor(sorted.length * 0.995)] ?? sorted[sorted.length - 1] ?? 1;
+  const exposure = top > 0 ? 0.95 / top : 1;
+  const srgb = (x) => {
+    const c = Math.min(1, Math.max(0, x * exposure));
+    return Math.round(255 * (c <= 0.0031308 ? 12.92 * c : 1.055 * c ** (1 / 2.4) - 0.055));
+  };
+  const image = canvas.getContext('2d').createImageData(size, size);
+  for (let p = 0; p < size * size; p++) {
+    image.data.set([24, 24, 24, 255], 4 * p);
+    const x = (2 * ((p % size) + 0.5)) / size - 1;
+    const y = 1 - (2 * (Math.floor(p / size) + 0.5)) / size;
+    if (x * x + y * y < 1) image.data.set([0, 0, 0, 255], 4 * p); // the unlit side
+  }
+  lit.forEach((p, k) => {
+    const g = srgb(radiance[k]);
+    image.data.set([g, g, g, 255], 4 * p);
+  });
+  canvas.getContext('2d').putImageData(image, 0, 0);
+  canvas.dataset.drawn = String(Number(canvas.dataset.drawn ?? 0) + 1);
 }
 drawLobe();
 document.body.dataset.lobe = 'true';

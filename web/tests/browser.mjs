@@ -90,6 +90,15 @@ try {
   });
   const lobeMoved = await page.getAttribute('#lobe-path', 'd');
   check(lobeMoved !== lobeFitted, 'moving the σ/T slider did not redraw the lobe');
+  // The sphere preview beside it is redrawn too, lit from the upper left.
+  const sphere = await page.$eval('#sphere', (c) => {
+    const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+    const at = (x, y) => d[4 * (y * c.width + x)];
+    return { drawn: Number(c.dataset.drawn), upperLeft: at(48, 48), lowerRight: at(112, 112), corner: at(2, 2), width: c.width };
+  });
+  check(sphere.drawn >= 3, `the sphere was drawn ${sphere.drawn} times (at load, at the fit, at the slider)`);
+  check(sphere.upperLeft > 100 && sphere.upperLeft > sphere.lowerRight, `sphere pixels ${JSON.stringify(sphere)}`);
+  check(sphere.corner === 24, `the sphere's background is ${sphere.corner}`);
   check((await page.textContent('#value-slope')) === '0.3', 'the σ/T slider\'s value is not shown');
   await page.screenshot({ path: screenshot, fullPage: true });
 
