@@ -136,6 +136,23 @@ pub struct Geometry<L> {
     pub ratio: L,
 }
 
+impl<L: Copy> Geometry<L> {
+    /// Every field set to `v` (`const`: a scratch memory's zeroed
+    /// geometry, not a geometry of any direction).
+    pub const fn filled(v: L) -> Self {
+        Self {
+            cos_i: v,
+            cos_s: v,
+            sin2_i: v,
+            sin2_s: v,
+            vxy2: v,
+            vz2: v,
+            lead: v,
+            ratio: v,
+        }
+    }
+}
+
 /// One measurement's directions as a sensor gives them: the sines and
 /// cosines of θi, θs (each in `[0, 1]`) and of φs (each in `[−1, 1]`), in the
 /// paper's frame (docs/conventions.md §1). Input of

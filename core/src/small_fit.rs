@@ -45,18 +45,8 @@ pub struct Scratch {
 impl Scratch {
     /// Zeroed scratch (`const`, so it can be a `static`).
     pub const fn new() -> Self {
-        let g = Geometry {
-            cos_i: 0.0,
-            cos_s: 0.0,
-            sin2_i: 0.0,
-            sin2_s: 0.0,
-            vxy2: 0.0,
-            vz2: 0.0,
-            lead: 0.0,
-            ratio: 0.0,
-        };
         Self {
-            geometry: [g; MAX_MEASUREMENTS],
+            geometry: [Geometry::filled(0.0); MAX_MEASUREMENTS],
             data: [0.0; MAX_MEASUREMENTS],
             valid: [0.0; MAX_MEASUREMENTS],
             surface: [0.0; MAX_MEASUREMENTS],

@@ -53,31 +53,28 @@ pub struct FreeScratch<R = f32> {
     g2: [R; MAX_MEASUREMENTS],
 }
 
+impl<R: Copy> FreeScratch<R> {
+    /// Every value set to `z`.
+    const fn filled(z: R) -> Self {
+        let z_k = [z; MAX_MEASUREMENTS];
+        Self {
+            geometry: [Geometry::filled(z); MAX_MEASUREMENTS],
+            data: z_k,
+            weight: z_k,
+            wd: z_k,
+            surface: z_k,
+            ws: z_k,
+            base: z_k,
+            g1: z_k,
+            g2: z_k,
+        }
+    }
+}
+
 impl FreeScratch<f32> {
     /// Zeroed scratch (`const`, so it can be a `static`).
     pub const fn new() -> Self {
-        let g = Geometry {
-            cos_i: 0.0,
-            cos_s: 0.0,
-            sin2_i: 0.0,
-            sin2_s: 0.0,
-            vxy2: 0.0,
-            vz2: 0.0,
-            lead: 0.0,
-            ratio: 0.0,
-        };
-        let z = [0.0f32; MAX_MEASUREMENTS];
-        Self {
-            geometry: [g; MAX_MEASUREMENTS],
-            data: z,
-            weight: z,
-            wd: z,
-            surface: z,
-            ws: z,
-            base: z,
-            g1: z,
-            g2: z,
-        }
+        Self::filled(0.0)
     }
 }
 
@@ -85,29 +82,7 @@ impl<R: Real> Default for FreeScratch<R> {
     /// Zeroed scratch in any precision (the f64 twin is the tests'
     /// reference).
     fn default() -> Self {
-        let z = R::c(0.0);
-        let g = Geometry {
-            cos_i: z,
-            cos_s: z,
-            sin2_i: z,
-            sin2_s: z,
-            vxy2: z,
-            vz2: z,
-            lead: z,
-            ratio: z,
-        };
-        let z = [z; MAX_MEASUREMENTS];
-        Self {
-            geometry: [g; MAX_MEASUREMENTS],
-            data: z,
-            weight: z,
-            wd: z,
-            surface: z,
-            ws: z,
-            base: z,
-            g1: z,
-            g2: z,
-        }
+        Self::filled(R::c(0.0))
     }
 }
 

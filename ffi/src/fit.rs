@@ -26,6 +26,21 @@ pub struct LaminarFitScratch {
     pub words: [u64; LAMINAR_FIT_SCRATCH_WORDS],
 }
 
+impl LaminarFitScratch {
+    /// Zeroed scratch (`const`, so it can be a `static`).
+    pub const fn new() -> Self {
+        Self {
+            words: [0; LAMINAR_FIT_SCRATCH_WORDS],
+        }
+    }
+}
+
+impl Default for LaminarFitScratch {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 const _: () = assert!(core::mem::size_of::<Scratch>() <= 8 * LAMINAR_FIT_SCRATCH_WORDS);
 const _: () = assert!(core::mem::size_of::<FreeScratch<f32>>() <= 8 * LAMINAR_FIT_SCRATCH_WORDS);
 // `u64` words are aligned as `f64` is, on every target.

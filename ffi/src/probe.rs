@@ -172,9 +172,7 @@ pub fn fit_values(k: usize) -> (Status, usize, u64) {
         beta_count: beta.len(),
     };
     let (geometry, data) = fit_case(k);
-    let mut scratch = crate::LaminarFitScratch {
-        words: [0; crate::LAMINAR_FIT_SCRATCH_WORDS],
-    };
+    let mut scratch = crate::LaminarFitScratch::new();
     let mut out = crate::LaminarFitResult::default();
     let s = crate::laminar_fit(
         0,
@@ -204,9 +202,7 @@ pub fn free_fit_values(k: usize) -> (Status, usize, u64, u64) {
         beta_hi: 1.0,
     };
     let (geometry, data) = fit_case(k);
-    let mut scratch = crate::LaminarFitScratch {
-        words: [0; crate::LAMINAR_FIT_SCRATCH_WORDS],
-    };
+    let mut scratch = crate::LaminarFitScratch::new();
     let mut out = crate::LaminarFreeFitResult::default();
     let s = crate::laminar_fit_free(
         0,

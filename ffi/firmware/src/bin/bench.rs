@@ -17,7 +17,6 @@ use laminar_core::{total_radiance_in, Angles, Correlation, Directions, Geometry,
 use laminar_ffi::{
     laminar_evaluate_f32, laminar_fit, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
     LaminarFreeFitResult, LaminarFreeGrid, LaminarGeometry, LaminarGrid, LaminarParamsF32,
-    LAMINAR_FIT_SCRATCH_WORDS,
 };
 use laminar_firmware::{timer, timer_start, INSTRUCTIONS_PER_TICK};
 
@@ -148,9 +147,7 @@ fn main() -> ! {
     // with everything a fit sets up, and the whole call's stack (the
     // scratch is the caller's, outside it).
     let (geometry, data) = laminar_ffi::probe::fit_case(32);
-    let mut scratch = LaminarFitScratch {
-        words: [0; LAMINAR_FIT_SCRATCH_WORDS],
-    };
+    let mut scratch = LaminarFitScratch::new();
     let (slope, n, a, beta) = ([0.92], [1.42], [0.3], [0.4]);
     bench("laminar_fit_one_point_k32", empty, || {
         let grid = LaminarGrid {
