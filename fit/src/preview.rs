@@ -48,6 +48,58 @@ impl Default for Scene {
     }
 }
 
+/// A scene option outside what a preview takes.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SceneError {
+    /// The image size in pixels.
+    #[error("size {0}: must lie in [16, 4096]")]
+    Size(usize),
+    /// The light's angle from the view axis, degrees.
+    #[error("light polar angle {0}: must lie in [0, 89] degrees")]
+    LightPolar(f64),
+    /// The light's azimuth, degrees.
+    #[error("light azimuth {0}: must be a finite number of degrees")]
+    LightAzimuth(f64),
+    /// The environment's radiance.
+    #[error("environment {0}: must be a finite number ≥ 0")]
+    Environment(f64),
+}
+
+impl Scene {
+    /// A scene of `size` pixels with the light's angles in degrees and the
+    /// environment's radiance, each [`Scene::default`]'s when `None`.
+    ///
+    /// # Errors
+    /// [`SceneError`] naming the first option outside its range.
+    pub fn new(
+        size: usize,
+        light_polar_degrees: Option<f64>,
+        light_azimuth_degrees: Option<f64>,
+        environment: Option<f64>,
+    ) -> Result<Self, SceneError> {
+        if !(16..=4096).contains(&size) {
+            return Err(SceneError::Size(size));
+        }
+        if let Some(p) = light_polar_degrees.filter(|p| !(0.0..=89.0).contains(p)) {
+            return Err(SceneError::LightPolar(p));
+        }
+        if let Some(a) = light_azimuth_degrees.filter(|a| !a.is_finite()) {
+            return Err(SceneError::LightAzimuth(a));
+        }
+        if let Some(e) = environment.filter(|e| !(*e >= 0.0 && e.is_finite())) {
+            return Err(SceneError::Environment(e));
+        }
+        let default = Self::default();
+        Ok(Self {
+            size,
+            light_polar: light_polar_degrees.map_or(default.light_polar, f64::to_radians),
+            light_azimuth: light_azimuth_degrees.map_or(default.light_azimuth, f64::to_radians),
+            environment: environment.unwrap_or(default.environment),
+            ..default
+        })
+    }
+}
+
 /// A rendered preview: linear radiance per pixel and channel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {

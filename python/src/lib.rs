@@ -765,20 +765,13 @@ fn render<'py>(
     environment: Option<f64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
     use laminar_fit::preview::{render as draw, Scene};
-    if !(models.len() == 1 || models.len() == 3) || !(16..=4096).contains(&size) {
+    if !(models.len() == 1 || models.len() == 3) {
         return Err(PyValueError::new_err(format!(
-            "render takes one or three models (got {}) and a size in [16, 4096] (got {size})",
+            "render takes one or three models (got {})",
             models.len()
         )));
     }
-    let default = Scene::default();
-    let scene = Scene {
-        size,
-        light_polar: light_polar.map_or(default.light_polar, f64::to_radians),
-        light_azimuth: light_azimuth.map_or(default.light_azimuth, f64::to_radians),
-        environment: environment.unwrap_or(default.environment),
-        ..default
-    };
+    let scene = Scene::new(size, light_polar, light_azimuth, environment).map_err(value_error)?;
     let fitted: Vec<laminar_fit::FittedModel> = models.iter().map(|m| m.fitted).collect();
     let image = py.detach(|| draw(&fitted, &scene)).map_err(value_error)?;
     let srgb = image.to_srgb8();

@@ -4,7 +4,7 @@ use super::options::{check_out, report_time};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::CliError;
-use laminar_fit::preview::{render, Scene};
+use laminar_fit::preview::{render, Scene, SceneError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -49,42 +49,22 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(Some(&args.out), std::slice::from_ref(&args.file))?;
-    if !(16..=4096).contains(&args.size) {
-        return Err(CliError::Usage(format!(
-            "--size {}: must lie in [16, 4096]",
-            args.size
-        )));
-    }
-    let default = Scene::default();
-    let scene = Scene {
-        size: args.size,
-        light_polar: args
-            .light_polar
-            .map_or(default.light_polar, f64::to_radians),
-        light_azimuth: args
-            .light_azimuth
-            .map_or(default.light_azimuth, f64::to_radians),
-        environment: args.environment.unwrap_or(default.environment),
-        ..default
-    };
-    if !(0.0..=89f64.to_radians()).contains(&scene.light_polar) {
-        return Err(CliError::Usage(format!(
-            "--light-polar {}: must lie in [0, 89] degrees",
-            scene.light_polar.to_degrees()
-        )));
-    }
-    if !scene.light_azimuth.is_finite() {
-        return Err(CliError::Usage(format!(
-            "--light-azimuth {}: must be a finite number of degrees",
-            scene.light_azimuth.to_degrees()
-        )));
-    }
-    if !(scene.environment >= 0.0 && scene.environment.is_finite()) {
-        return Err(CliError::Usage(format!(
-            "--environment {}: must be a finite number ≥ 0",
-            scene.environment
-        )));
-    }
+    let scene = Scene::new(
+        args.size,
+        args.light_polar,
+        args.light_azimuth,
+        args.environment,
+    )
+    .map_err(|e| {
+        CliError::Usage(match e {
+            SceneError::Size(v) => format!("--size {v}: must lie in [16, 4096]"),
+            SceneError::LightPolar(v) => format!("--light-polar {v}: must lie in [0, 89] degrees"),
+            SceneError::LightAzimuth(v) => {
+                format!("--light-azimuth {v}: must be a finite number of degrees")
+            }
+            SceneError::Environment(v) => format!("--environment {v}: must be a finite number ≥ 0"),
+        })
+    })?;
     let selections: Vec<Option<String>> = match args.select.len() {
         0 => vec![None],
         1 | 3 => args.select.iter().cloned().map(Some).collect(),
