@@ -1467,30 +1467,16 @@ fn albedo_and_render_of_a_fitted_model() {
 
     // The albedo in the fitted-model file, with the units stated; predict
     // still reads the file.
-    let with_energy = dir.path().join("energy.json");
+    let other = tempfile::tempdir().unwrap();
+    let mut extra = SMALL_GRID.to_vec();
+    extra.extend(["--albedo", "--units", "absolute"]);
+    let (geometry, _, with_energy) = eval_and_fit(other.path(), &extra);
     ok(&[
-        "fit",
-        "--measurements",
-        s(&dir.path().join("made.csv")),
-        "--quantity",
-        "radiance",
-        "--channels",
-        "total",
-        "--models",
-        "exp",
-        "--format",
-        "json",
-        "--albedo",
-        "--units",
-        "absolute",
-        "--slope",
-        "1.32:1.64:5",
-        "--n",
-        "1.4:1.48:5",
-        "--a",
-        "0:0.4:5",
-        "--out",
+        "predict",
+        "--fit",
         s(&with_energy),
+        "--geometry",
+        s(&geometry),
     ]);
     let energy = &json(&with_energy)["fits"][0]["energy"];
     assert_eq!(energy["units"], "absolute");
