@@ -13,6 +13,12 @@ pub mod speed;
 pub mod tables;
 pub mod terminal;
 
+/// The README's Rust code, compiled and run by `cargo test --doc` (its other
+/// blocks run in `tests/docs.rs` and the Python and web tests).
+#[doc = include_str!("../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
+
 use thiserror::Error;
 
 /// Why a command failed (the binary prints it and exits with status 2).

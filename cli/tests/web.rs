@@ -96,7 +96,8 @@ fn package() -> Result<&'static Package, String> {
 fn web_tools() -> Result<PathBuf, String> {
     let web = root().join("web");
     let modules = web.join("node_modules");
-    if !modules.join("typescript").exists() || !modules.join("playwright-core").exists() {
+    let tools = ["typescript", "playwright-core", "@types/node"];
+    if !tools.iter().all(|t| modules.join(t).exists()) {
         run(Command::new("npm")
             .current_dir(&web)
             .args(["ci", "--no-audit", "--no-fund"]))
@@ -395,6 +396,112 @@ fn packed_package_imports_in_typescript() {
         "f64 total through the package"
     );
     let _ = writeln!(std::io::stderr(), "TypeScript example: {out}");
+}
+
+/// The ```ts blocks of the README and of docs/, each with the first line of
+/// its block (page:line).
+fn typescript_blocks() -> Vec<(String, String)> {
+    let mut pages: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
+        .expect("docs/")
+        .map(|e| e.expect("docs/ lists").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    pages.sort();
+    pages.insert(0, root().join("README.md"));
+    let mut blocks = Vec::new();
+    for page in pages {
+        let text = std::fs::read_to_string(&page).expect("the page reads");
+        let name = page
+            .file_name()
+            .expect("a name")
+            .to_string_lossy()
+            .to_string();
+        let mut current: Option<(usize, String)> = None;
+        for (k, line) in text.lines().enumerate() {
+            match (&mut current, line.trim()) {
+                (None, "```ts") => current = Some((k + 1, String::new())),
+                (Some(_), "```") => {
+                    let (at, code) = current.take().expect("a block");
+                    blocks.push((format!("{name}:{at}"), code));
+                }
+                (Some((_, code)), _) => {
+                    code.push_str(line);
+                    code.push('\n');
+                }
+                (None, _) => {}
+            }
+        }
+    }
+    blocks
+}
+
+/// Every TypeScript block of the docs type-checks (strict `tsc`) against
+/// the packed package and runs under node, in a project holding a
+/// fitted-model file `fits.json` (docs/testing.md).
+#[test]
+fn the_docs_typescript_compiles_and_runs() {
+    let (package, tools) = match package().and_then(|p| web_tools().map(|t| (p, t))) {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let blocks = typescript_blocks();
+    assert!(blocks.len() >= 2, "the docs' TypeScript blocks: {blocks:?}");
+    let project = scratch("ts-docs");
+    std::fs::copy(
+        root().join("wasm/tests/ts-example/package.json"),
+        project.join("package.json"),
+    )
+    .expect("copy");
+    let files: Vec<String> = (0..blocks.len()).map(|k| format!("doc{k}.ts")).collect();
+    let config = std::fs::read_to_string(root().join("wasm/tests/ts-example/tsconfig.json"))
+        .expect("tsconfig")
+        .replace(
+            "\"files\": [\"example.ts\"]",
+            &format!("\"files\": {files:?}"),
+        )
+        .replace(
+            "\"types\": []",
+            &format!(
+                "\"types\": [\"node\"], \"typeRoots\": [{:?}]",
+                tools.join("@types")
+            ),
+        );
+    std::fs::write(project.join("tsconfig.json"), config).expect("tsconfig");
+    for (file, (_, code)) in files.iter().zip(&blocks) {
+        std::fs::write(project.join(file), code).expect("a block");
+    }
+    run(Command::new("npm")
+        .current_dir(&project)
+        .args(["install", "--no-audit", "--no-fund", "--offline"])
+        .arg(&package.tarball))
+    .unwrap_or_else(|e| panic!("npm install: {e}"));
+    run(Command::new(env!("CARGO_BIN_EXE_laminar"))
+        .current_dir(&project)
+        .args([
+            "fit",
+            "--models",
+            "exp",
+            "--format",
+            "json",
+            "--out",
+            "fits.json",
+        ]))
+    .unwrap_or_else(|e| panic!("laminar fit: {e}"));
+    run(Command::new("node")
+        .arg(tools.join("typescript/bin/tsc"))
+        .arg("-p")
+        .arg(&project))
+    .unwrap_or_else(|e| panic!("tsc on the docs' blocks {blocks:?}: {e}"));
+    for (file, (at, _)) in files.iter().zip(&blocks) {
+        let js = format!("dist/{}", file.replace(".ts", ".js"));
+        run(Command::new("node").current_dir(&project).arg(&js))
+            .unwrap_or_else(|e| panic!("{at} ({js}): {e}"));
+    }
+    let _ = writeln!(
+        std::io::stderr(),
+        "docs' TypeScript: {} blocks compiled and ran",
+        blocks.len()
+    );
 }
 
 #[test]

@@ -359,7 +359,7 @@ mod exports {
 
     /// Builds `count` geometries from `f64` angles with `f64`
     /// trigonometry (bitwise the fitting library's `f32` geometry; on a
-    /// single-precision FPU about 19,000 instructions each, see the README).
+    /// single-precision FPU about 19,000 instructions each, see docs/c.md).
     #[no_mangle]
     pub extern "C" fn laminar_geometry_from_angles(
         angles: *const LaminarAngles,

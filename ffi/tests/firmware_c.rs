@@ -89,7 +89,7 @@ fn gcc_firmware_prints_the_hosts_bits() {
     let scratch = dir.join("../target/firmware-c");
     std::fs::create_dir_all(&scratch).unwrap();
 
-    // The device: exactly the command line of the README's firmware section.
+    // The device: exactly the command line of docs/c.md's firmware section.
     let image = scratch.join("laminar-c-firmware.elf");
     ok(Command::new("arm-none-eabi-gcc")
         .args(ARM_FLAGS)

@@ -2,8 +2,8 @@
 //! "s": instructions and stack per function (the `bench` image under QEMU
 //! `-icount`; instructions, not cycles), and the flash of the
 //! evaluation-only image (`eval_only`), which must link no `f64` software
-//! routine and no panic path. Asserts the README's targets and prints the
-//! table the README shows. Skips as `common` says.
+//! routine and no panic path. Asserts docs/c.md's targets and prints the
+//! table docs/c.md shows. Skips as `common` says.
 
 mod common;
 

@@ -6,7 +6,7 @@ cluster with a progress bar, and the result written to another store.
     python examples/btf_zarr.py                         # 256 × 256, LocalCluster 2 × 1
     python examples/btf_zarr.py --size 64 --search-only
     python examples/btf_zarr.py --scheduler tcp://HOST:8786 --out /shared/fits.zarr
-    python examples/btf_zarr.py --size 64 --measure     # the README's throughput table
+    python examples/btf_zarr.py --size 64 --measure     # docs/python.md's throughput table
 
 The input is made chunk by chunk on the workers, so neither the client nor
 a worker holds it whole. --measure times fit_batch in one process (2
