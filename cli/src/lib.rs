@@ -12,6 +12,7 @@ pub mod selection;
 pub mod speed;
 pub mod tables;
 pub mod terminal;
+pub mod usage;
 
 /// The README's Rust code, compiled and run by `cargo test --doc` (its other
 /// blocks run in `tests/docs.rs` and the Python and web tests).
@@ -39,10 +40,19 @@ pub enum CliError {
     /// Measurements that cannot be fitted.
     #[error(transparent)]
     Measurements(#[from] laminar_fit::MeasurementError),
+    /// A CSV output could not be written.
+    #[error("writing {to}: {source}")]
+    Output {
+        /// Where (`stdout`, `CSV`).
+        to: &'static str,
+        /// Why.
+        source: csv::Error,
+    },
     /// A figure could not be drawn.
     #[error("drawing a figure: {0}")]
     Figure(String),
-    /// Options that do not fit together.
-    #[error("{0}")]
-    Usage(String),
+    /// Options that do not fit together, values out of range, inputs that
+    /// do not match.
+    #[error(transparent)]
+    Usage(#[from] usage::UsageError),
 }

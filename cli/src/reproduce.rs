@@ -5,6 +5,7 @@
 use crate::figures::{data_vs_model_svg, energy_budget_svg, profile_svg};
 use crate::selection::{material, Job};
 use crate::tables::paper_tables;
+use crate::usage::UsageError;
 use crate::CliError;
 use laminar_fit::preview::{render, Scene};
 use laminar_fit::{Fit, Fitter, Model, ModelParams};
@@ -76,11 +77,11 @@ fn previous_files(out: &Path) -> Result<Vec<String>, CliError> {
     }
     if !foreign.is_empty() {
         foreign.sort();
-        return Err(CliError::Usage(format!(
-            "{} holds entries reproduce does not write ({}); it replaces its output directory whole, so choose a new or empty one",
-            out.display(),
-            foreign.join(", ")
-        )));
+        return Err(UsageError::ForeignEntries {
+            dir: out.to_path_buf(),
+            entries: foreign,
+        }
+        .into());
     }
     Ok(names)
 }

@@ -2,6 +2,7 @@
 //! directory, or a measurement file (CSV, or MERL sampled at given
 //! geometries), as scenes to fit.
 
+use crate::usage::UsageError;
 use crate::CliError;
 use laminar_fit::{synthetic, MeasurementSet, Scene};
 use laminar_io::curet::{CuretDir, OrenNayarRow};
@@ -57,7 +58,7 @@ pub fn material(sample: &str) -> &'static str {
 ///
 /// # Errors
 /// A message naming the entry that is not a positive integer.
-pub fn parse_samples(text: &str) -> Result<Option<Vec<u32>>, String> {
+pub fn parse_samples(text: &str) -> Result<Option<Vec<u32>>, UsageError> {
     if text.trim() == "all" {
         return Ok(None);
     }
@@ -67,7 +68,7 @@ pub fn parse_samples(text: &str) -> Result<Option<Vec<u32>>, String> {
                 .parse::<u32>()
                 .ok()
                 .filter(|&v| v > 0)
-                .ok_or_else(|| format!("sample `{s}` is not a positive integer"))
+                .ok_or_else(|| UsageError::Sample(s.to_string()))
         })
         .collect::<Result<Vec<_>, _>>()
         .map(Some)
@@ -95,10 +96,7 @@ pub fn curet_jobs(
         brdf.to_vec()
     };
     if files.is_empty() {
-        return Err(CliError::Usage(format!(
-            "{}: no BRDF file (abrdf.dat, rbrdf.dat, gbrdf.dat, bbrdf.dat) found",
-            dir.display()
-        )));
+        return Err(UsageError::NoBrdfFile(dir.to_path_buf()).into());
     }
     let mut jobs = Vec::new();
     for s in curet.samples(&files, samples)? {
@@ -154,10 +152,7 @@ impl FileInput {
         match self.path.extension().and_then(|e| e.to_str()) {
             Some("csv") => Ok(InputFormat::Csv),
             Some("binary") => Ok(InputFormat::Merl),
-            _ => Err(CliError::Usage(format!(
-                "{}: cannot tell the format from the extension (.csv or .binary); give --input-format csv|merl",
-                self.path.display()
-            ))),
+            _ => Err(UsageError::UnknownFormat(self.path.clone()).into()),
         }
     }
 
@@ -177,12 +172,10 @@ impl FileInput {
         match self.format()? {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
             InputFormat::Merl => {
-                let at = self.sample_at.as_ref().ok_or_else(|| {
-                    CliError::Usage(format!(
-                        "{}: a MERL file is a dense table; give --sample-at GEOMETRY.csv with the geometries to fit at",
-                        self.path.display()
-                    ))
-                })?;
+                let at = self
+                    .sample_at
+                    .as_ref()
+                    .ok_or_else(|| UsageError::MerlWithoutSampleAt(self.path.clone()))?;
                 let geometry = read_geometry(at, self.angles)?;
                 let table = merl::read_merl(&self.path)?;
                 let (set, missing) = merl::sample(&self.path, &table, &geometry)?;

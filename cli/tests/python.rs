@@ -58,13 +58,20 @@ fn python_package() {
             "-rs",
             "-p",
             "no:cacheprovider",
+            "--durations=8",
             "tests",
         ])
         .env("LAMINAR_BIN", env!("CARGO_BIN_EXE_laminar"));
     let out = run(&mut pytest).unwrap_or_else(|e| panic!("pytest: {e}"));
     let summary = out
         .lines()
-        .filter(|l| l.contains("passed") || l.starts_with("SKIPPED"))
+        .filter(|l| {
+            // The summary, skips, and the slowest tests (`--durations`).
+            l.contains("passed")
+                || l.starts_with("SKIPPED")
+                || l.contains("s call ")
+                || l.contains("s setup ")
+        })
         .collect::<Vec<_>>()
         .join("\n");
     let _ = writeln!(std::io::stderr(), "Python package tests: {summary}");

@@ -2,6 +2,7 @@
 //! uncertainty to compute (docs/conventions.md §11). Both objectives and
 //! every front end read these settings.
 
+use crate::error::UnknownName;
 use std::fmt;
 use std::str::FromStr;
 
@@ -44,13 +45,15 @@ impl fmt::Display for Uncertainty {
 }
 
 impl FromStr for Uncertainty {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         [Self::Off, Self::Profile, Self::Jacobian, Self::Both]
             .into_iter()
             .find(|u| u.to_string() == s)
-            .ok_or_else(|| {
-                format!("unknown uncertainty `{s}` (expected off, profile, jacobian or both)")
+            .ok_or_else(|| UnknownName {
+                what: "uncertainty",
+                given: s.to_string(),
+                expected: "off, profile, jacobian or both",
             })
     }
 }

@@ -5,6 +5,19 @@
 use laminar_core::InputError;
 use thiserror::Error;
 
+/// A name that is none of a fixed set of choices (an objective, an
+/// uncertainty, a search path, a quantity).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error("unknown {what} `{given}` (expected {expected})")]
+pub struct UnknownName {
+    /// What was named (`objective`, …).
+    pub what: &'static str,
+    /// The name given.
+    pub given: String,
+    /// The choices, as a phrase.
+    pub expected: &'static str,
+}
+
 /// A search grid that cannot be used.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum GridError {

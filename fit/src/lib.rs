@@ -78,7 +78,7 @@ pub mod synthetic;
 
 pub use analysis::{Analysis, Uncertainty};
 pub use edges::Edge;
-pub use error::{FitError, GridError, MeasurementError, ModelError};
+pub use error::{FitError, GridError, MeasurementError, ModelError, UnknownName};
 pub use estimate::Estimate;
 pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};

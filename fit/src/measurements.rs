@@ -10,7 +10,7 @@
 //! angles), maps the angles to the paper frame, converts BRDF to radiance and
 //! normalises by the maximum: the [`Scene`] that every search path fits.
 
-use crate::error::MeasurementError;
+use crate::error::{MeasurementError, UnknownName};
 use crate::scene::Scene;
 use laminar_core::measures::{check_data, DataFault};
 use laminar_core::{wrap_pi, Angles, InputError};
@@ -51,14 +51,16 @@ impl fmt::Display for Quantity {
 }
 
 impl FromStr for Quantity {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         match s {
             "brdf" => Ok(Self::Brdf),
             "radiance" => Ok(Self::Radiance),
-            _ => Err(format!(
-                "unknown quantity `{s}` (expected brdf or radiance)"
-            )),
+            _ => Err(UnknownName {
+                what: "quantity",
+                given: s.to_string(),
+                expected: "brdf or radiance",
+            }),
         }
     }
 }

@@ -1,5 +1,6 @@
 //! Which objective a fit minimises (docs/conventions.md §4, §4b).
 
+use crate::error::UnknownName;
 use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -68,11 +69,15 @@ impl fmt::Display for Objective {
 }
 
 impl FromStr for Objective {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         Self::ALL
             .into_iter()
             .find(|o| o.name() == s)
-            .ok_or_else(|| format!("unknown objective `{s}` (expected free or paper)"))
+            .ok_or_else(|| UnknownName {
+                what: "objective",
+                given: s.to_string(),
+                expected: "free or paper",
+            })
     }
 }

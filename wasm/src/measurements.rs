@@ -15,7 +15,11 @@ pub struct Measurements {
 }
 
 /// The library's own parser of an option's text, its error naming the option.
-fn option<T: std::str::FromStr<Err = String>>(name: &str, text: &str) -> Result<T, JsError> {
+fn option<T>(name: &str, text: &str) -> Result<T, JsError>
+where
+    T: std::str::FromStr,
+    T::Err: std::fmt::Display,
+{
     text.parse().map_err(|e| error(format_args!("{name}: {e}")))
 }
 

@@ -3,6 +3,7 @@
 use super::options::{check_out, emit, report_time};
 use super::select::FitFileArgs;
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::albedo::albedo_table;
 use laminar_fit::Axis;
@@ -41,10 +42,7 @@ pub fn run(args: &AlbedoArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref(), std::slice::from_ref(&args.fit.file))?;
     if !(args.tolerance > 0.0 && args.tolerance < 1.0) {
-        return Err(CliError::Usage(format!(
-            "--tolerance {}: must lie in (0, 1)",
-            args.tolerance
-        )));
+        return Err(UsageError::Tolerance(args.tolerance).into());
     }
     if let Some(bad) = args
         .theta_v
@@ -52,9 +50,7 @@ pub fn run(args: &AlbedoArgs) -> Result<(), CliError> {
         .iter()
         .find(|t| !(0.0..=90.0).contains(*t))
     {
-        return Err(CliError::Usage(format!(
-            "--theta-v: {bad}° is outside [0, 90]"
-        )));
+        return Err(UsageError::ThetaV(*bad).into());
     }
     let sel = args.fit.selected()?;
     let radians: Vec<f64> = args.theta_v.values.iter().map(|t| t.to_radians()).collect();

@@ -2,6 +2,7 @@
 
 use super::options::report_time;
 use clap::{Args, ValueEnum};
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_core::{components, Angles, Components, Geometry, Params};
 use laminar_fit::Model;
@@ -86,27 +87,27 @@ pub struct EvalArgs {
 /// Runs `laminar eval`.
 pub fn run(args: &EvalArgs) -> Result<(), CliError> {
     let start = Instant::now();
-    let corr = args.model.correlation().ok_or_else(|| {
-        CliError::Usage(format!(
-            "eval supports exp, gauss, rh-exp and rh-gauss, not {}",
-            args.model
-        ))
-    })?;
+    let corr = args
+        .model
+        .correlation()
+        .ok_or(UsageError::EvalModel(args.model))?;
     if args.model.is_ragheb_hancock() && args.a != 0.0 {
-        return Err(CliError::Usage(format!(
-            "{} is the a = 0 model; --a {} is not accepted (use exp or gauss)",
-            args.model, args.a
-        )));
+        return Err(UsageError::AbsorptionOfRaghebHancock {
+            model: args.model,
+            a: args.a,
+        }
+        .into());
     }
-    let p = Params::new(args.slope, args.beta, args.n, args.a)
-        .map_err(|e| CliError::Usage(e.to_string()))?;
+    let p = Params::new(args.slope, args.beta, args.n, args.a).map_err(UsageError::from)?;
     let angles: Vec<Angles> = match &args.geometry {
         Some(path) => read_geometry(path, args.angles)?
             .iter()
             .enumerate()
             .map(|(k, g)| {
-                g.paper().map_err(|e| {
-                    CliError::Usage(format!("{}: geometry {}: {e}", path.display(), k + 1))
+                g.paper().map_err(|source| UsageError::Geometry {
+                    file: path.clone(),
+                    row: k + 1,
+                    source,
                 })
             })
             .collect::<Result<_, _>>()?,
@@ -115,13 +116,16 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
             args.theta_s.unwrap_or_default(),
             args.phi_s.unwrap_or_default(),
         )
-        .map_err(|e| CliError::Usage(e.to_string()))?],
+        .map_err(UsageError::from)?],
     };
     let mut w = csv::Writer::from_writer(std::io::stdout());
     let header = ["theta_i", "theta_s", "phi_s"]
         .into_iter()
         .chain(Components::<f64>::NAMES);
-    let io = |e: csv::Error| CliError::Usage(format!("writing stdout: {e}"));
+    let io = |source: csv::Error| CliError::Output {
+        to: "stdout",
+        source,
+    };
     w.write_record(header).map_err(io)?;
     for g in &angles {
         let v: [f64; 7] = match args.precision {
@@ -138,8 +142,7 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         rec.extend(v.iter().map(|x| format!("{x:e}")));
         w.write_record(&rec).map_err(io)?;
     }
-    w.flush()
-        .map_err(|e| CliError::Usage(format!("writing stdout: {e}")))?;
+    w.flush().map_err(|e| io(e.into()))?;
     report_time("eval", start, angles.len() as f64, "geometries");
     Ok(())
 }

@@ -3,6 +3,7 @@
 use super::options::{check_out, report_time};
 use super::select::FitFileArgs;
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::MeasurementAngles;
 use laminar_io::merl::{write_merl, Merl, PLANE};
@@ -57,12 +58,15 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         [brdf; 3]
     });
     if let Some((theta_i, theta_v, phi)) = overflow.get() {
-        return Err(CliError::Usage(format!(
-            "{} ({}): the BRDF at θi = {theta_i:.4}, θv = {theta_v:.4}, φv − φi = {phi:.4} is not a finite number (the fit's constants overflow it); nothing was written to {}",
-            args.fit.file.display(),
-            sel.label,
-            args.merl.display()
-        )));
+        return Err(UsageError::ExportOverflow {
+            fits: args.fit.file.clone(),
+            label: sel.label,
+            theta_i,
+            theta_v,
+            phi,
+            out: args.merl.clone(),
+        }
+        .into());
     }
     write_merl(&args.merl, &table)?;
     laminar_cli::note!(

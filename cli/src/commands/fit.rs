@@ -6,6 +6,7 @@ use super::options::{
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::{synthetic, FittedModel, Model, ModelParams};
 use laminar_io::fits::{self, Energy, FitEntry, Units};
@@ -120,9 +121,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         .collect();
     check_out(args.out.as_ref(), &inputs)?;
     if args.albedo && !matches!(args.format, Format::Json) {
-        return Err(CliError::Usage(
-            "--albedo: the albedo goes into the fitted-model file; add --format json".into(),
-        ));
+        return Err(UsageError::AlbedoWithoutJson.into());
     }
     let fitter = fitter(
         &args.grid,

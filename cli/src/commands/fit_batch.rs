@@ -5,6 +5,7 @@ use super::options::{
     PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::{MeasurementSet, Model, Quantity, Scene};
 use laminar_io::values::ValueRows;
@@ -71,12 +72,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     let json = match args.out.extension().and_then(|e| e.to_str()) {
         Some("json") => true,
         Some("csv") => false,
-        _ => {
-            return Err(CliError::Usage(format!(
-                "{}: --out must end in .csv or .json",
-                args.out.display()
-            )))
-        }
+        _ => return Err(UsageError::BatchOutExtension(args.out.clone()).into()),
     };
     check_out(
         Some(&args.out),
@@ -92,13 +88,13 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     let geometry = read_geometry(&args.geometry, args.angles)?;
     let mut values = ValueRows::open(&args.values)?;
     if values.cols() != geometry.len() {
-        return Err(CliError::Usage(format!(
-            "{} has {} values per set but {} has {} geometries",
-            args.values.display(),
-            values.cols(),
-            args.geometry.display(),
-            geometry.len()
-        )));
+        return Err(UsageError::ValuesAgainstGeometry {
+            values: args.values.clone(),
+            per_set: values.cols(),
+            geometry: args.geometry.clone(),
+            geometries: geometry.len(),
+        }
+        .into());
     }
     let scene = |row: usize, set: Vec<f64>| -> Result<Scene, CliError> {
         let wrap = |source| {

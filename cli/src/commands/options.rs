@@ -6,9 +6,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use laminar_cli::selection::{
     curet_jobs, parse_samples, synthetic_jobs, FileInput, InputFormat, Job, PAPER_SAMPLES,
 };
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Analysis, Axis, Fitter, Objective, Quantity, Uncertainty};
+use laminar_fit::{Analysis, Axis, Fitter, Objective, Quantity, Uncertainty, UnknownName};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -41,14 +42,12 @@ impl CuretArgs {
     pub fn jobs(&self) -> Result<Option<Vec<Job>>, CliError> {
         let Some(dir) = &self.data else {
             if !self.brdf.is_empty() || self.samples.is_some() {
-                return Err(CliError::Usage(
-                    "--brdf and --samples select from a CUReT directory: give --data DIR (or set CURET_DIR)".into(),
-                ));
+                return Err(UsageError::CuretOptionsWithoutData.into());
             }
             return Ok(None);
         };
         let samples = match &self.samples {
-            Some(s) => parse_samples(s).map_err(|e| CliError::Usage(format!("--samples: {e}")))?,
+            Some(s) => parse_samples(s)?,
             None => Some(PAPER_SAMPLES.to_vec()),
         };
         curet_jobs(dir, &self.brdf, samples.as_deref()).map(Some)
@@ -125,9 +124,7 @@ pub fn jobs(
         return input.jobs(channels.channels.as_deref());
     }
     if file.sample_at.is_some() {
-        return Err(CliError::Usage(
-            "--sample-at samples a MERL file: give --measurements FILE.binary".into(),
-        ));
+        return Err(UsageError::SampleAtWithoutMerl.into());
     }
     Ok(curet.jobs()?.unwrap_or_else(synthetic_jobs))
 }
@@ -209,7 +206,7 @@ pub struct ObjectiveArgs {
     pub objective: Objective,
 }
 
-fn parse_objective(s: &str) -> Result<Objective, String> {
+fn parse_objective(s: &str) -> Result<Objective, UnknownName> {
     s.parse()
 }
 
@@ -230,7 +227,7 @@ pub struct AnalysisArgs {
     pub uncertainty: Uncertainty,
 }
 
-fn parse_uncertainty(s: &str) -> Result<Uncertainty, String> {
+fn parse_uncertainty(s: &str) -> Result<Uncertainty, UnknownName> {
     s.parse()
 }
 
@@ -266,15 +263,16 @@ pub fn fitter(
 pub fn global_threads(threads: &ThreadArgs) -> Result<(), CliError> {
     if let Some(t) = threads.threads {
         if !(1..=laminar_fit::fit::MAX_THREADS).contains(&t) {
-            return Err(CliError::Usage(format!(
-                "--threads {t}: give 1 to {} threads",
-                laminar_fit::fit::MAX_THREADS
-            )));
+            return Err(UsageError::Threads {
+                given: t,
+                most: laminar_fit::fit::MAX_THREADS,
+            }
+            .into());
         }
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build_global()
-            .map_err(|e| CliError::Usage(e.to_string()))?;
+            .map_err(UsageError::from)?;
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ use super::options::{
     jobs, report_time, ChannelArgs, CuretArgs, FileArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::search::batch::search_batch;
 use laminar_fit::search::{search, Arith, Method, Path, SearchResult, Twins};
@@ -45,9 +46,7 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
         .filter(|m| m.correlation().is_some())
         .collect();
     if models.is_empty() {
-        return Err(CliError::Usage(
-            "parity compares the grid values of the layered models; --models names none of exp, gauss, rh-exp, rh-gauss".into(),
-        ));
+        return Err(UsageError::ParityWithoutLayered.into());
     }
     global_threads(&args.threads)?;
     let grid = args.grid.grid(laminar_fit::Objective::Paper)?;

@@ -4,6 +4,7 @@ use super::options::{check_out, emit, report_time};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::selection::{FileInput, InputFormat};
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_core::{rms_error, Angles};
 use laminar_fit::{MeasurementSet, Quantity, Scene};
@@ -74,11 +75,12 @@ fn scene_of(
     } else if names.len() == 1 {
         names[0].to_string()
     } else {
-        return Err(CliError::Usage(format!(
-            "{}: no channel `{channel}` among {}; choose one with --channel",
-            file.display(),
-            names.join(", ")
-        )));
+        return Err(UsageError::NoChannel {
+            file: file.to_path_buf(),
+            channel: channel.to_string(),
+            channels: names.iter().map(|n| n.to_string()).collect(),
+        }
+        .into());
     };
     set.scene(&name).map_err(|source| {
         CliError::Read(ReadError::Measurements {
@@ -109,8 +111,10 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                 .iter()
                 .enumerate()
                 .map(|(k, g)| {
-                    g.paper().map_err(|e| {
-                        CliError::Usage(format!("{}: geometry {}: {e}", path.display(), k + 1))
+                    g.paper().map_err(|source| UsageError::Geometry {
+                        file: path.clone(),
+                        row: k + 1,
+                        source,
                     })
                 })
                 .collect::<Result<Vec<_>, _>>()?;
@@ -136,18 +140,14 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
                         .unwrap_or(Channel::Avg);
                     PathBuf::from(c.file_name())
                 });
-                let sample: u32 = sel.sample.parse().map_err(|_| {
-                    CliError::Usage(format!(
-                        "the fit's sample `{}` is not a CUReT sample number",
-                        sel.sample
-                    ))
-                })?;
+                let sample: u32 = sel
+                    .sample
+                    .parse()
+                    .map_err(|_| UsageError::NotCuretSample(sel.sample.clone()))?;
                 let s = curet.samples(&[file], Some(&[sample]))?.remove(0);
                 scene_of(&s.set, s.channel.name(), &s.file)?
             } else {
-                return Err(CliError::Usage(
-                    "give --geometry FILE.csv, --measurements FILE or --data DIR".into(),
-                ));
+                return Err(UsageError::NothingToPredictAt.into());
             };
             (
                 scene.rows().to_vec(),
@@ -164,7 +164,7 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
     if data.is_some() {
         header.extend(["data", "residual"]);
     }
-    let io = |e: csv::Error| CliError::Usage(format!("writing CSV: {e}"));
+    let io = |source: csv::Error| CliError::Output { to: "CSV", source };
     w.write_record(&header).map_err(io)?;
     for (k, (a, p)) in angles.iter().zip(&prediction).enumerate() {
         let mut rec = vec![
@@ -180,9 +180,7 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
         }
         w.write_record(&rec).map_err(io)?;
     }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| CliError::Usage(format!("writing CSV: {e}")))?;
+    let bytes = w.into_inner().map_err(|e| io(e.into_error().into()))?;
     emit(args.out.as_ref(), &String::from_utf8_lossy(&bytes))?;
     if let Some(d) = &data {
         let rms = rms_error(d, &prediction).unwrap_or(f64::NAN);

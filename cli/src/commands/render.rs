@@ -3,6 +3,7 @@
 use super::options::{check_out, report_time};
 use super::select::FitFileArgs;
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::preview::{render, Scene, SceneError};
 use std::path::PathBuf;
@@ -55,24 +56,16 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         args.light_azimuth,
         args.environment,
     )
-    .map_err(|e| {
-        CliError::Usage(match e {
-            SceneError::Size(v) => format!("--size {v}: must lie in [16, 4096]"),
-            SceneError::LightPolar(v) => format!("--light-polar {v}: must lie in [0, 89] degrees"),
-            SceneError::LightAzimuth(v) => {
-                format!("--light-azimuth {v}: must be a finite number of degrees")
-            }
-            SceneError::Environment(v) => format!("--environment {v}: must be a finite number ≥ 0"),
-        })
+    .map_err(|e| match e {
+        SceneError::Size(v) => UsageError::Size(v),
+        SceneError::LightPolar(v) => UsageError::LightPolar(v),
+        SceneError::LightAzimuth(v) => UsageError::LightAzimuth(v),
+        SceneError::Environment(v) => UsageError::Environment(v),
     })?;
     let selections: Vec<Option<String>> = match args.select.len() {
         0 => vec![None],
         1 | 3 => args.select.iter().cloned().map(Some).collect(),
-        n => {
-            return Err(CliError::Usage(format!(
-                "--select given {n} times: give it once (grey) or three times (red, green, blue)"
-            )))
-        }
+        n => return Err(UsageError::SelectCount(n).into()),
     };
     let mut models = Vec::new();
     let mut labels = Vec::new();

@@ -9,6 +9,7 @@ use clap::{Args, Subcommand};
 use laminar_cli::scaling::scaling;
 use laminar_cli::selection::synthetic_jobs;
 use laminar_cli::speed::speed_vs_error;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::search::Path as SearchPath;
 use laminar_fit::Scene;
@@ -94,9 +95,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
         || args.sets == 0
         || args.batch_sets == 0
     {
-        return Err(CliError::Usage(
-            "--ks, --scales, --sets and --batch-sets must be positive".into(),
-        ));
+        return Err(UsageError::ScalingCounts.into());
     }
     let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let bar = progress((args.ks.len() + args.scales.len()) as u64, "scaling");

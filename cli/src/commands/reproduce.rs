@@ -5,6 +5,7 @@ use super::options::{
 };
 use clap::Args;
 use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::Objective;
 use std::path::PathBuf;
@@ -47,11 +48,10 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
         &args.analysis,
         Objective::Paper,
     )?;
-    let jobs = args.curet.jobs()?.ok_or_else(|| {
-        CliError::Usage(
-            "reproduce needs --data DIR (or CURET_DIR) with table.txt and abrdf.dat".into(),
-        )
-    })?;
+    let jobs = args
+        .curet
+        .jobs()?
+        .ok_or_else(|| CliError::from(UsageError::ReproduceWithoutData))?;
     let total = fit_jobs_shards(&fitter, &jobs, &FITTED);
     let bar = progress(total, "reproduce");
     let tick = bar.clone();

@@ -1,6 +1,7 @@
 //! Choosing one fitted model from a fitted-model file (`--fit`, `--select`).
 
 use clap::Args;
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_io::fits::read_fits;
 use laminar_io::selection::SelectError;
@@ -26,15 +27,16 @@ impl FitFileArgs {
     pub fn selected(&self) -> Result<Selected, CliError> {
         let file = read_fits(&self.file)?;
         let selected = file.select(self.select.as_deref()).map_err(|e| {
-            let path = self.file.display();
-            CliError::Usage(match e {
-                SelectError::Empty => format!("{path}: holds no fit"),
-                SelectError::Ambiguous { count, labels } => format!(
-                    "{path} holds {count} fits; choose one with --select SAMPLE/CHANNEL/MODEL: {}",
-                    labels.join(", ")
-                ),
-                SelectError::NoMatch { .. } => format!("{path}: {e}"),
-            })
+            let file = self.file.clone();
+            match e {
+                SelectError::Empty => UsageError::NoFit(file),
+                SelectError::Ambiguous { count, labels } => UsageError::SelectOne {
+                    file,
+                    count,
+                    labels,
+                },
+                source @ SelectError::NoMatch { .. } => UsageError::NoMatch { file, source },
+            }
         })?;
         // The model's parameters are checked here, once, for every command
         // that predicts with it: an error names the file and the fit.

@@ -24,7 +24,7 @@ pub mod one_pass;
 pub mod packed;
 pub mod sums;
 
-use crate::error::GridError;
+use crate::error::{GridError, UnknownName};
 use crate::grid::{Axis, Grid};
 use crate::scene::Scene;
 use laminar_core::{f32x8, Correlation, Lane};
@@ -114,15 +114,15 @@ impl fmt::Display for Path {
 }
 
 impl FromStr for Path {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownName;
+    fn from_str(s: &str) -> Result<Self, UnknownName> {
         Path::all()
             .into_iter()
             .find(|p| p.to_string() == s)
-            .ok_or_else(|| {
-                format!(
-                    "unknown search path `{s}` (expected METHOD-ARITH with METHOD one of direct, onepass, envelope and ARITH one of f32x8, f32, f64)"
-                )
+            .ok_or_else(|| UnknownName {
+                what: "search path",
+                given: s.to_string(),
+                expected: "METHOD-ARITH with METHOD one of direct, onepass, envelope and ARITH one of f32x8, f32, f64",
             })
     }
 }

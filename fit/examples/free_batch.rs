@@ -1,0 +1,70 @@
+//! One `fit_batch` of the free objective with the defaults, on the sets of
+//! `cargo bench --bench free` (CUReT sample 21's geometry when `CURET_DIR`
+//! is set, else the built-in scene's): a workload for profilers
+//! (`valgrind --tool=callgrind`, `perf record`). Run:
+//! `cargo run --release -p laminar-fit --example free_batch -- [SETS] [THREADS]`.
+
+use laminar_fit::coverage::{draw, noisy_scene_on, NoiseModel};
+use laminar_fit::synthetic::{self, Noise};
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
+use laminar_io::curet::CuretDir;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// `LAMINAR_ANALYSIS`: `none`, `refine`, `profile`, `jacobian` or `both`
+/// (the default): what follows the grid stage.
+fn analysis() -> Analysis {
+    let (refine, uncertainty) = match std::env::var("LAMINAR_ANALYSIS").as_deref() {
+        Ok("none") => (false, Uncertainty::Off),
+        Ok("refine") => (true, Uncertainty::Off),
+        Ok("profile") => (true, Uncertainty::Profile),
+        Ok("jacobian") => (true, Uncertainty::Jacobian),
+        _ => (true, Uncertainty::Both),
+    };
+    Analysis {
+        refine,
+        uncertainty,
+    }
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let count: usize = args.next().map_or(Ok(64), |a| a.parse())?;
+    let threads: usize = args.next().map_or(Ok(1), |a| a.parse())?;
+    let scene = match std::env::var_os("CURET_DIR") {
+        Some(dir) => CuretDir::open(Path::new(&dir))?
+            .samples(&[PathBuf::from("abrdf.dat")], Some(&[21]))?
+            .remove(0)
+            .set
+            .scene("avg")?,
+        None => synthetic::default_scene(),
+    };
+    let mut rng = Noise::new(5);
+    let sets: Vec<Scene> = (0..count)
+        .map(|_| {
+            let truth = draw(Model::Exp, Objective::Free, &mut rng);
+            noisy_scene_on(
+                scene.angles().to_vec(),
+                Model::Exp,
+                Objective::Free,
+                truth,
+                NoiseModel::Every(0.01),
+                &mut rng,
+            )
+        })
+        .collect();
+    let fitter = Fitter::new(Grid::user())?
+        .objective(Objective::Free)
+        .analysis(analysis())
+        .threads(threads)?;
+    let start = Instant::now();
+    let fits = fitter.fit_batch(&sets, Model::Exp);
+    let seconds = start.elapsed().as_secs_f64();
+    let rms: f64 = fits.iter().map(|f| f.best.rms).sum::<f64>() / count as f64;
+    println!(
+        "{count} sets, K = {}, {threads} thread(s): {seconds:.3} s, {:.0} sets/s, mean Δ_RMS {rms:.4}",
+        scene.angles().len(),
+        count as f64 / seconds
+    );
+    Ok(())
+}
