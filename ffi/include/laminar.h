@@ -317,7 +317,7 @@ enum LaminarStatus laminar_validate_params_f32(struct LaminarParamsF32 p);
 
 // Builds `count` geometries from `f64` angles with `f64`
 // trigonometry (bitwise the fitting library's `f32` geometry; on a
-// single-precision FPU about 19,000 instructions each, see the README).
+// single-precision FPU about 19,000 instructions each, see docs/c.md).
 enum LaminarStatus laminar_geometry_from_angles(const struct LaminarAngles *angles,
                                                 size_t count,
                                                 struct LaminarGeometry *out);
