@@ -1,6 +1,6 @@
 """Type stubs of the laminar package."""
 
-from typing import Literal, Optional
+from typing import Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -10,13 +10,14 @@ from ._laminar import FLAG_BITS as FLAG_BITS
 from ._laminar import FitResult as FitResult
 from ._laminar import FittedModel as FittedModel
 from ._laminar import render as render
-from ._laminar import Grid, Measurements as Measurements
+from ._laminar import AngleUnit, Grid, LayeredModel, Model, Objective, Precision, Quantity, Uncertainty
+from ._laminar import Measurements as Measurements
 from ._laminar import paper_angles as paper_angles
 
 BATCH_DTYPE: np.dtype[np.void]
 
 def evaluate(
-    model: str,
+    model: LayeredModel,
     theta_i: npt.ArrayLike,
     theta_s: npt.ArrayLike,
     phi_s: npt.ArrayLike,
@@ -24,25 +25,25 @@ def evaluate(
     beta: npt.ArrayLike,
     n: npt.ArrayLike,
     a: npt.ArrayLike,
-    precision: str = "f64",
+    precision: Precision = "f64",
 ) -> dict[str, npt.NDArray[np.float64]]: ...
 def fit(
     measurements: Measurements,
-    model: str = "exp",
+    model: Model = "exp",
     grid: Grid = None,
     refine: bool = True,
-    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
+    uncertainty: Uncertainty = "both",
     threads: Optional[int] = None,
-    objective: Literal["free", "paper"] = "free",
+    objective: Objective = "free",
 ) -> FitResult: ...
 def fit_batch(
     geometry: npt.ArrayLike,
     values: npt.ArrayLike,
-    model: str = "exp",
+    model: LayeredModel = "exp",
     grid: Grid = None,
     threads: Optional[int] = None,
-    quantity: str = "brdf",
+    quantity: Quantity = "brdf",
     refine: bool = True,
-    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
-    objective: Literal["free", "paper"] = "free",
+    uncertainty: Uncertainty = "both",
+    objective: Objective = "free",
 ) -> npt.NDArray[np.void]: ...

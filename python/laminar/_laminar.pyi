@@ -6,6 +6,15 @@ from typing import Literal, Mapping, Optional, Sequence, Union
 import numpy as np
 import numpy.typing as npt
 
+#: Every option value the library accepts (the Rust parsers' names).
+Model = Literal["exp", "gauss", "rh-exp", "rh-gauss", "jensen", "oren-nayar"]
+LayeredModel = Literal["exp", "gauss", "rh-exp", "rh-gauss"]
+Objective = Literal["free", "paper"]
+Uncertainty = Literal["off", "profile", "jacobian", "both"]
+Quantity = Literal["brdf", "radiance"]
+AngleUnit = Literal["rad", "deg"]
+Precision = Literal["f64", "f32"]
+
 Array = npt.NDArray[np.float64]
 AxisSpec = Union[str, Sequence[float]]
 Grid = Optional[Mapping[str, AxisSpec]]
@@ -14,7 +23,7 @@ BATCH_COLUMNS: list[str]
 FLAG_BITS: dict[str, int]
 
 def evaluate(
-    model: str,
+    model: LayeredModel,
     theta_i: Array,
     theta_s: Array,
     phi_s: Array,
@@ -22,7 +31,7 @@ def evaluate(
     beta: Array,
     n: Array,
     a: Array,
-    precision: str = "f64",
+    precision: Precision = "f64",
 ) -> dict[str, Array]: ...
 def paper_angles(theta_i: float, phi_i: float, theta_v: float, phi_v: float) -> tuple[float, float, float]: ...
 
@@ -35,15 +44,15 @@ class Measurements:
         phi_v: Array,
         values: Array,
         sigma: Optional[Array] = None,
-        quantity: str = "brdf",
+        quantity: Quantity = "brdf",
         name: str = "arrays",
     ) -> Measurements: ...
     @staticmethod
     def from_csv(
         path: Union[str, PathLike[str]],
         channel: Optional[str] = None,
-        angles: str = "rad",
-        quantity: str = "brdf",
+        angles: AngleUnit = "rad",
+        quantity: Quantity = "brdf",
     ) -> Measurements: ...
     @staticmethod
     def from_curet(dir: Union[str, PathLike[str]], sample: int, channel: str = "avg") -> Measurements: ...
@@ -52,7 +61,7 @@ class Measurements:
         path: Union[str, PathLike[str]],
         sample_at: Union[str, PathLike[str]],
         channel: Optional[str] = None,
-        angles: str = "rad",
+        angles: AngleUnit = "rad",
     ) -> Measurements: ...
     @property
     def channels(self) -> list[str]: ...
@@ -90,7 +99,7 @@ class FitResult:
     @property
     def beta_eq8(self) -> Optional[float]: ...
     @property
-    def objective(self) -> Literal["free", "paper"]: ...
+    def objective(self) -> Objective: ...
     @property
     def amplitude(self) -> Optional[float]: ...
     @property
@@ -105,7 +114,7 @@ class FittedModel:
     def from_file(path: str, select: Optional[str] = None) -> FittedModel: ...
     @staticmethod
     def from_params(
-        model: str, params: Mapping[str, float], amplitude: float = 1.0, data_scale: float = 1.0
+        model: Model, params: Mapping[str, float], amplitude: float = 1.0, data_scale: float = 1.0
     ) -> FittedModel: ...
     @staticmethod
     def from_fit(fit: FitResult) -> FittedModel: ...
@@ -127,21 +136,21 @@ def render(
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]: ...
 def fit(
     measurements: Measurements,
-    model: str = "exp",
+    model: Model = "exp",
     grid: Grid = None,
     refine: bool = True,
-    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
+    uncertainty: Uncertainty = "both",
     threads: Optional[int] = None,
-    objective: Literal["free", "paper"] = "free",
+    objective: Objective = "free",
 ) -> FitResult: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
     values: npt.NDArray[np.float64],
-    model: str = "exp",
+    model: LayeredModel = "exp",
     grid: Grid = None,
     threads: Optional[int] = None,
-    quantity: str = "brdf",
+    quantity: Quantity = "brdf",
     refine: bool = True,
-    uncertainty: Literal["off", "profile", "jacobian", "both"] = "both",
-    objective: Literal["free", "paper"] = "free",
+    uncertainty: Uncertainty = "both",
+    objective: Objective = "free",
 ) -> dict[str, Array]: ...

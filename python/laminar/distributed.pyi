@@ -1,7 +1,9 @@
-from typing import Any, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
+
+from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 
 FIELDS: tuple[str, ...]
 DEFAULT_CHUNK: int
@@ -10,12 +12,12 @@ def flag_attrs() -> dict[str, Any]: ...
 def fit_dask(
     geometry: npt.ArrayLike,
     values: Any,
-    model: Literal["exp", "gauss", "rh-exp", "rh-gauss"] = "exp",
+    model: LayeredModel = "exp",
     grid: Optional[Mapping[str, Union[str, Sequence[float]]]] = None,
-    quantity: Literal["brdf", "radiance"] = "brdf",
+    quantity: Quantity = "brdf",
     refine: bool = True,
-    uncertainty: Literal["profile", "jacobian", "both", "off"] = "both",
-    objective: Literal["free", "paper"] = "free",
+    uncertainty: Uncertainty = "both",
+    objective: Objective = "free",
     dim: str = "set",
 ) -> Any: ...
 def to_records(dataset: Any) -> npt.NDArray[np.void]: ...
@@ -23,10 +25,10 @@ def fit_batch_dask(
     client: Any,
     geometry: npt.ArrayLike,
     values: npt.ArrayLike,
-    model: str = "exp",
+    model: LayeredModel = "exp",
     grid: Optional[Mapping[str, Union[str, Sequence[float]]]] = None,
-    quantity: str = "brdf",
+    quantity: Quantity = "brdf",
     block: int = 512,
     refine: bool = True,
-    uncertainty: str = "both",
+    uncertainty: Uncertainty = "both",
 ) -> npt.NDArray[np.void]: ...

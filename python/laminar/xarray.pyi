@@ -1,7 +1,9 @@
-from typing import Any, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
+
+from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 
 GEOMETRY: tuple[str, str, str, str]
 
@@ -9,10 +11,10 @@ def geometry_of(data: Any, dim: str) -> npt.NDArray[np.float64]: ...
 def fit(
     data: Any,
     dim: str = "measurement",
-    model: Literal["exp", "gauss", "rh-exp", "rh-gauss"] = "exp",
+    model: LayeredModel = "exp",
     grid: Optional[Mapping[str, Union[str, Sequence[float]]]] = None,
-    quantity: Literal["brdf", "radiance"] = "brdf",
+    quantity: Quantity = "brdf",
     refine: bool = True,
-    uncertainty: Literal["profile", "jacobian", "both", "off"] = "both",
-    objective: Literal["free", "paper"] = "free",
+    uncertainty: Uncertainty = "both",
+    objective: Objective = "free",
 ) -> Any: ...

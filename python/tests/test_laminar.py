@@ -263,3 +263,53 @@ def test_every_function_takes_arguments_of_any_type():
     assert run.returncode == 0, run.stderr[-3000:]
     tally = eval(run.stdout)
     assert tally["calls"] == 3000 and tally["returned"] > 0 and tally["raised"] > 0, tally
+
+
+def stub_literals():
+    """The ``Literal`` aliases of ``laminar/_laminar.pyi``: {name: values}."""
+    import ast
+
+    tree = ast.parse((Path(laminar.__file__).parent / "_laminar.pyi").read_text())
+    found = {}
+    for node in tree.body:
+        value = getattr(node, "value", None)
+        if isinstance(node, ast.Assign) and isinstance(value, ast.Subscript) and getattr(value.value, "id", "") == "Literal":
+            elts = value.slice.elts if isinstance(value.slice, ast.Tuple) else [value.slice]
+            found[node.targets[0].id] = [e.value for e in elts]
+    return found
+
+
+def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
+    """Every value of each option's ``Literal`` in the stubs is accepted,
+    and a value outside it is refused with a ValueError naming the option."""
+    lit = stub_literals()
+    assert set(lit) == {"Model", "LayeredModel", "Objective", "Uncertainty", "Quantity", "AngleUnit", "Precision"}
+    for model in lit["LayeredModel"]:
+        for precision in lit["Precision"]:
+            laminar.evaluate(model, 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=precision)
+    for bad in [("jensen", "f64"), ("exp", "f16")]:
+        with pytest.raises(ValueError):
+            laminar.evaluate(bad[0], 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=bad[1])
+    g = np.array([[ti, 0.0, tv, pv] for ti in (0.2, 0.5, 0.8) for tv in (0.1, 0.4, 0.7, 1.0) for pv in (0.5, 1.5, 2.5)])
+    paper = np.array([laminar.paper_angles(*row) for row in g])
+    values = laminar.evaluate("exp", paper[:, 0], paper[:, 1], paper[:, 2], 1.3, 0.4, 1.45, 0.2)["total"]
+    for quantity in lit["Quantity"]:
+        m = laminar.Measurements.from_arrays(*g.T, values, quantity=quantity)
+    for model in lit["Model"]:
+        for objective in lit["Objective"]:
+            laminar.fit(m, model, refine=False, uncertainty="off", objective=objective)
+    for uncertainty in lit["Uncertainty"]:
+        laminar.fit(m, "exp", uncertainty=uncertainty)
+    csv = tmp_path / "m.csv"
+    csv.write_text("theta_i,phi_i,theta_v,phi_v,value\n" + "".join(f"{r[0]},{r[1]},{r[2]},{r[3]},{v}\n" for r, v in zip(g, values)))
+    for unit in lit["AngleUnit"]:
+        laminar.Measurements.from_csv(csv, angles=unit)
+    for call in [
+        lambda: laminar.fit(m, "lambert"),
+        lambda: laminar.fit(m, "exp", objective="max"),
+        lambda: laminar.fit(m, "exp", uncertainty="some"),
+        lambda: laminar.Measurements.from_arrays(*g.T, values, quantity="watts"),
+        lambda: laminar.Measurements.from_csv(csv, angles="grad"),
+    ]:
+        with pytest.raises(ValueError):
+            call()
