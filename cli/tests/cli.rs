@@ -1,5 +1,7 @@
 //! The `laminar` binary: each command's contract, through the binary.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -1130,22 +1132,6 @@ fn hostile_inputs_are_refused_not_panicked() {
     }
 }
 
-/// A version-1.0 `.npy` file of little-endian f32 or f64 values, written by
-/// hand from the format's definition.
-fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
-    let mut header =
-        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend(payload);
-    out
-}
-
 /// `fit-batch` on CSV and `.npy` (f64, f32) values gives, per row, the
 /// columns `fit` gives for that row alone (sample = row index).
 #[test]
@@ -1185,7 +1171,7 @@ fn fit_batch_equals_fit_per_row() {
         .flat_map(|v| v.to_le_bytes())
         .collect();
     let values_npy = d.path().join("values.npy");
-    std::fs::write(&values_npy, npy("<f8", 3, total.len(), f64_bytes)).unwrap();
+    std::fs::write(&values_npy, common::npy("<f8", 3, total.len(), f64_bytes)).unwrap();
     let grid = ["--slope", "1.32:1.64:5", "--a", "0:0.4:5"];
     let tail = |line: &str| line.splitn(4, ',').nth(3).unwrap().to_string();
     for values in [&values_csv, &values_npy] {
@@ -1251,7 +1237,7 @@ fn fit_batch_equals_fit_per_row() {
         .flat_map(|v| (*v as f32).to_le_bytes())
         .collect();
     let npy32 = d.path().join("v32.npy");
-    std::fs::write(&npy32, npy("<f4", 3, total.len(), f32_bytes)).unwrap();
+    std::fs::write(&npy32, common::npy("<f4", 3, total.len(), f32_bytes)).unwrap();
     let out = d.path().join("b32.json");
     ok(&[
         &[

@@ -70,18 +70,6 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// The README and every page of `docs/`, in a fixed order.
-fn pages() -> Vec<PathBuf> {
-    let mut pages: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
-        .expect("docs/ is there")
-        .map(|e| e.expect("docs/ lists").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
-        .collect();
-    pages.sort();
-    pages.insert(0, root().join("README.md"));
-    pages
-}
-
 /// One command of a code block: its page, its first line there, the text.
 struct Shell {
     page: String,
@@ -99,25 +87,8 @@ fn shell_commands(page: &Path) -> Vec<Shell> {
         .display()
         .to_string();
     let mut out = Vec::new();
-    let mut in_sh = false;
-    let mut in_other = false;
     let mut pending: Option<Shell> = None;
-    for (k, line) in text.lines().enumerate() {
-        let fence = line.trim_start().starts_with("```");
-        if fence && !in_sh && !in_other {
-            let info = line.trim_start().trim_start_matches('`').trim();
-            in_sh = info == "sh";
-            in_other = !in_sh;
-            continue;
-        }
-        if fence {
-            in_sh = false;
-            in_other = false;
-            continue;
-        }
-        if !in_sh {
-            continue;
-        }
+    for (k, line) in common::code_blocks(&text, "sh").into_iter().flatten() {
         let code = strip_comment(line);
         let (body, continues) = match code.trim_end().strip_suffix('\\') {
             Some(body) => (body.to_string(), true),
@@ -125,7 +96,7 @@ fn shell_commands(page: &Path) -> Vec<Shell> {
         };
         let command = pending.get_or_insert_with(|| Shell {
             page: name.clone(),
-            line: k + 1,
+            line: k,
             text: String::new(),
         });
         command.text.push(' ');
@@ -140,10 +111,7 @@ fn shell_commands(page: &Path) -> Vec<Shell> {
             }
         }
     }
-    assert!(
-        !in_sh && !in_other && pending.is_none(),
-        "{name}: a code block is not closed"
-    );
+    assert!(pending.is_none(), "{name}: a block ends in a continuation");
     out
 }
 
@@ -253,26 +221,6 @@ fn brdf(dir: &Path, g: &[[f64; 4]], slope: f64) -> Vec<f64> {
         .collect()
 }
 
-/// A `.npy` file of float64 rows, little-endian, C order.
-fn npy(rows: &[Vec<f64>]) -> Vec<u8> {
-    let cols = rows.first().map_or(0, Vec::len);
-    let mut header = format!(
-        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {cols}), }}",
-        rows.len()
-    );
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    for v in rows.iter().flatten() {
-        out.extend_from_slice(&v.to_le_bytes());
-    }
-    out
-}
-
 /// Writes the files the pages' commands name into `dir`.
 fn fixtures(dir: &Path) {
     let g = geometry_degrees();
@@ -310,7 +258,13 @@ fn fixtures(dir: &Path) {
     let sets: Vec<Vec<f64>> = (0..8)
         .map(|k| brdf(dir, &g, 0.6 + 0.25 * k as f64))
         .collect();
-    std::fs::write(dir.join("values.npy"), npy(&sets)).expect("write");
+    let payload = sets
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let values = common::npy("<f8", sets.len(), g.len(), payload);
+    std::fs::write(dir.join("values.npy"), values).expect("write");
 }
 
 /// The `laminar` arguments of `command`, or `None` for another program.
@@ -339,7 +293,7 @@ fn every_command_of_the_docs_runs() {
     let mut ran = 0;
     let mut skipped = 0;
     let mut elsewhere = 0;
-    for page in pages() {
+    for page in common::doc_pages() {
         let commands = shell_commands(&page);
         let dir = tempfile::tempdir().expect("a scratch directory");
         if commands

@@ -106,6 +106,14 @@ fn web_tools() -> Result<PathBuf, String> {
     Ok(modules)
 }
 
+/// Strict `tsc` (web/package.json's) on the TypeScript project `project`.
+fn tsc(tools: &Path, project: &Path) -> Result<String, String> {
+    run(Command::new("node")
+        .arg(tools.join("typescript/bin/tsc"))
+        .arg("-p")
+        .arg(project))
+}
+
 /// Geometries: the core's probe cases and a lattice over the whole domain
 /// (1,441, not a multiple of 8, so the f32x8 path pads its last chunk).
 fn geometries() -> Vec<Angles> {
@@ -292,11 +300,7 @@ fn packed_package_imports_in_typescript() {
         .args(["install", "--no-audit", "--no-fund", "--offline"])
         .arg(&package.tarball))
     .unwrap_or_else(|e| panic!("npm install of the packed tarball: {e}"));
-    run(Command::new("node")
-        .arg(tools.join("typescript/bin/tsc"))
-        .arg("-p")
-        .arg(&project))
-    .unwrap_or_else(|e| panic!("tsc: {e}"));
+    tsc(&tools, &project).unwrap_or_else(|e| panic!("tsc: {e}"));
     let out = stdout(
         Command::new("node")
             .current_dir(&project)
@@ -401,35 +405,19 @@ fn packed_package_imports_in_typescript() {
 /// The ```ts blocks of the README and of docs/, each with the first line of
 /// its block (page:line).
 fn typescript_blocks() -> Vec<(String, String)> {
-    let mut pages: Vec<PathBuf> = std::fs::read_dir(root().join("docs"))
-        .expect("docs/")
-        .map(|e| e.expect("docs/ lists").path())
-        .filter(|p| p.extension().is_some_and(|e| e == "md"))
-        .collect();
-    pages.sort();
-    pages.insert(0, root().join("README.md"));
     let mut blocks = Vec::new();
-    for page in pages {
+    for page in common::doc_pages() {
         let text = std::fs::read_to_string(&page).expect("the page reads");
         let name = page
             .file_name()
             .expect("a name")
             .to_string_lossy()
             .to_string();
-        let mut current: Option<(usize, String)> = None;
-        for (k, line) in text.lines().enumerate() {
-            match (&mut current, line.trim()) {
-                (None, "```ts") => current = Some((k + 1, String::new())),
-                (Some(_), "```") => {
-                    let (at, code) = current.take().expect("a block");
-                    blocks.push((format!("{name}:{at}"), code));
-                }
-                (Some((_, code)), _) => {
-                    code.push_str(line);
-                    code.push('\n');
-                }
-                (None, _) => {}
-            }
+        for lines in common::code_blocks(&text, "ts") {
+            // The fence's line, as the page shows it.
+            let at = lines.first().map_or(0, |(k, _)| k - 1);
+            let code: String = lines.iter().map(|(_, l)| format!("{l}\n")).collect();
+            blocks.push((format!("{name}:{at}"), code));
         }
     }
     blocks
@@ -487,11 +475,7 @@ fn the_docs_typescript_compiles_and_runs() {
             "fits.json",
         ]))
     .unwrap_or_else(|e| panic!("laminar fit: {e}"));
-    run(Command::new("node")
-        .arg(tools.join("typescript/bin/tsc"))
-        .arg("-p")
-        .arg(&project))
-    .unwrap_or_else(|e| panic!("tsc on the docs' blocks {blocks:?}: {e}"));
+    tsc(&tools, &project).unwrap_or_else(|e| panic!("tsc on the docs' blocks {blocks:?}: {e}"));
     for (file, (at, _)) in files.iter().zip(&blocks) {
         let js = format!("dist/{}", file.replace(".ts", ".js"));
         run(Command::new("node").current_dir(&project).arg(&js))

@@ -9,8 +9,8 @@
 //! Run: `cargo bench --bench free`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use laminar_fit::coverage::{draw, noisy_scene_on, NoiseModel};
-use laminar_fit::synthetic::{self, Noise};
+use laminar_fit::coverage::{noisy_sets, NoiseModel};
+use laminar_fit::synthetic;
 use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
@@ -37,20 +37,14 @@ fn scene() -> (String, Scene) {
 /// `count` sets of the exp model on `scene`'s geometry (noise on every
 /// measurement, not given to the fit).
 fn sets(scene: &Scene, count: usize) -> Vec<Scene> {
-    let mut rng = Noise::new(5);
-    (0..count)
-        .map(|_| {
-            let truth = draw(Model::Exp, Objective::Free, &mut rng);
-            noisy_scene_on(
-                scene.angles().to_vec(),
-                Model::Exp,
-                Objective::Free,
-                truth,
-                NoiseModel::Every(0.01),
-                &mut rng,
-            )
-        })
-        .collect()
+    noisy_sets(
+        scene.angles(),
+        Model::Exp,
+        Objective::Free,
+        NoiseModel::Every(0.01),
+        count,
+        5,
+    )
 }
 
 fn free(c: &mut Criterion) {

@@ -4,9 +4,9 @@
 //! (`valgrind --tool=callgrind`, `perf record`). Run:
 //! `cargo run --release -p laminar-fit --example free_batch -- [SETS] [THREADS]`.
 
-use laminar_fit::coverage::{draw, noisy_scene_on, NoiseModel};
-use laminar_fit::synthetic::{self, Noise};
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
+use laminar_fit::coverage::{noisy_sets, NoiseModel};
+use laminar_fit::synthetic;
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -39,20 +39,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .scene("avg")?,
         None => synthetic::default_scene(),
     };
-    let mut rng = Noise::new(5);
-    let sets: Vec<Scene> = (0..count)
-        .map(|_| {
-            let truth = draw(Model::Exp, Objective::Free, &mut rng);
-            noisy_scene_on(
-                scene.angles().to_vec(),
-                Model::Exp,
-                Objective::Free,
-                truth,
-                NoiseModel::Every(0.01),
-                &mut rng,
-            )
-        })
-        .collect();
+    // The sets of `cargo bench --bench free`.
+    let sets = noisy_sets(
+        scene.angles(),
+        Model::Exp,
+        Objective::Free,
+        NoiseModel::Every(0.01),
+        count,
+        5,
+    );
     let fitter = Fitter::new(Grid::user())?
         .objective(Objective::Free)
         .analysis(analysis())

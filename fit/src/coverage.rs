@@ -185,6 +185,27 @@ pub fn noisy_scene_on(
     Scene::from_radiance(angles, radiance, rows, nonpositive, given)
 }
 
+/// `count` sets of `model` on the geometries `angles`, each at a truth
+/// drawn from `seed` ([`draw`]) with `noise` ([`noisy_scene_on`]): the
+/// many sets on one geometry of the free objective's batch benchmark and
+/// of its profiling example.
+pub fn noisy_sets(
+    angles: &[Angles],
+    model: Model,
+    objective: Objective,
+    noise: NoiseModel,
+    count: usize,
+    seed: u64,
+) -> Vec<Scene> {
+    let mut rng = Noise::new(seed);
+    (0..count)
+        .map(|_| {
+            let truth = draw(model, objective, &mut rng);
+            noisy_scene_on(angles.to_vec(), model, objective, truth, noise, &mut rng)
+        })
+        .collect()
+}
+
 /// Fits `trials` noisy scenes of `model` ([`noisy_scene`]; truths drawn
 /// from `seed`, [`draw`]) with `fitter` and counts how often each
 /// parameter's intervals contain the truth.

@@ -42,3 +42,56 @@ pub fn stdout(cmd: &mut Command) -> Result<String, String> {
         ))
     }
 }
+
+/// A version-1.0 `.npy` file of little-endian f32 or f64 values, written by
+/// hand from the format's definition.
+pub fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
+    let mut header =
+        format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend(payload);
+    out
+}
+
+/// The README and every page of `docs/`, the README first, the pages in
+/// name order: where the docs tests look for code blocks.
+pub fn doc_pages() -> Vec<std::path::PathBuf> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut pages: Vec<std::path::PathBuf> = std::fs::read_dir(root.join("docs"))
+        .expect("docs/ is there")
+        .map(|e| e.expect("docs/ lists").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "md"))
+        .collect();
+    pages.sort();
+    pages.insert(0, root.join("README.md"));
+    pages
+}
+
+/// The fenced code blocks of `text` whose info string is `lang`: each as its
+/// lines with their line numbers (from 1). Panics on a block left open.
+pub fn code_blocks<'a>(text: &'a str, lang: &str) -> Vec<Vec<(usize, &'a str)>> {
+    let mut blocks = Vec::new();
+    let mut open: Option<(bool, Vec<(usize, &str)>)> = None;
+    for (k, line) in text.lines().enumerate() {
+        let fence = line.trim_start().strip_prefix("```");
+        match (&mut open, fence) {
+            (None, Some(info)) => open = Some((info.trim() == lang, Vec::new())),
+            (Some(_), Some(_)) => {
+                let (wanted, lines) = open.take().expect("a block is open");
+                if wanted {
+                    blocks.push(lines);
+                }
+            }
+            (Some((_, lines)), None) => lines.push((k + 1, line)),
+            (None, None) => {}
+        }
+    }
+    assert!(open.is_none(), "a code block is not closed");
+    blocks
+}
