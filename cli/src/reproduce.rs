@@ -92,17 +92,10 @@ fn previous_files(out: &Path) -> Result<Vec<String>, CliError> {
 /// # Errors
 /// [`CliError`] when the given parameters are outside their domain.
 pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError> {
-    match (model, job.oren_nayar) {
-        (Model::OrenNayar, Some(given)) => Ok(fitter.assess(
-            &job.scene,
-            model,
-            ModelParams::OrenNayar {
-                sigma: given.sigma,
-                rho: given.rho,
-            },
-        )?),
-        _ => Ok(fitter.fit(&job.scene, model)),
-    }
+    Ok(match given(job, model) {
+        Some(params) => fitter.assess(&job.scene, model, params)?,
+        None => fitter.fit(&job.scene, model),
+    })
 }
 
 /// Fits every model of `models` to every job, in job-major order (the order
@@ -114,32 +107,25 @@ pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError
 /// As [`fit_job`].
 pub fn fit_jobs(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> Result<Vec<Fit>, CliError> {
     let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
-    let mut by_model = Vec::with_capacity(models.len());
-    for &model in models {
-        by_model.push(if model.correlation().is_some() {
-            fitter.fit_batch(&scenes, model)
-        } else {
-            jobs.iter()
-                .map(|j| fit_job(fitter, j, model))
-                .collect::<Result<Vec<_>, _>>()?
-        });
+    Ok(fitter.fit_all(&scenes, models, |j, model| given(&jobs[j], model))?)
+}
+
+/// The parameters a job gives for `model` instead of a search: its data
+/// set's own Oren–Nayar parameters.
+fn given(job: &Job, model: Model) -> Option<ModelParams> {
+    match (model, job.oren_nayar) {
+        (Model::OrenNayar, Some(g)) => Some(ModelParams::OrenNayar {
+            sigma: g.sigma,
+            rho: g.rho,
+        }),
+        _ => None,
     }
-    let mut records = Vec::with_capacity(jobs.len() * models.len());
-    for j in 0..jobs.len() {
-        for fits in &by_model {
-            records.push(fits[j].clone());
-        }
-    }
-    Ok(records)
 }
 
 /// Progress calls of [`fit_jobs`].
 pub fn fit_jobs_shards(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> u64 {
     let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
-    models
-        .iter()
-        .map(|&m| fitter.batch_shards(&scenes, m))
-        .sum()
+    fitter.fit_all_shards(&scenes, models)
 }
 
 /// Checks before any work that `out` can be replaced by a reproduction: it

@@ -146,31 +146,35 @@ fn parameter_cell(p: &Parameter) -> String {
 
 /// Tables III and IV: the estimated parameters of an absorptive model.
 pub fn parameter_table(records: &[Fit], model: Model) -> Table {
-    let names = ["slope", "beta", "n", "a"];
-    let rows =
-        groups(records)
-            .iter()
-            .filter_map(|g| {
-                let fit = g.iter().find(|r| r.model == model)?;
-                let e = fit.estimate();
-                let mut row = key(g);
-                row.extend(names.iter().map(
-                    |n| match fit.parameters.iter().find(|p| p.name == *n) {
-                        Some(p) => parameter_cell(p),
-                        None => e.get(n).map(format_value).unwrap_or_default(),
-                    },
-                ));
-                row.push(
-                    e.fitted
-                        .beta_eq8
-                        .map(|b| format!("{b:.4}"))
+    let names = model.params();
+    let rows = groups(records)
+        .iter()
+        .filter_map(|g| {
+            let fit = g.iter().find(|r| r.model == model)?;
+            let e = fit.estimate();
+            let mut row = key(g);
+            row.extend(names.iter().map(|&n| {
+                match fit.parameters.iter().find(|p| p.name == n) {
+                    Some(p) => parameter_cell(p),
+                    None => e
+                        .fitted
+                        .params
+                        .value(n)
+                        .map(format_value)
                         .unwrap_or_default(),
-                );
-                row.push(cell(Some(fit.best.rms)));
-                row.push(cell(fit.refined.as_ref().map(|r| r.rms)));
-                Some(row)
-            })
-            .collect();
+                }
+            }));
+            row.push(
+                e.fitted
+                    .beta_eq8
+                    .map(|b| format!("{b:.4}"))
+                    .unwrap_or_default(),
+            );
+            row.push(cell(Some(fit.best.rms)));
+            row.push(cell(fit.refined.as_ref().map(|r| r.rms)));
+            Some(row)
+        })
+        .collect();
     let (name, number, label) = if model == Model::Gauss {
         ("table4_gauss_params", "IV", "Gaussian")
     } else {
@@ -182,7 +186,13 @@ pub fn parameter_table(records: &[Fit], model: Model) -> Table {
         note: format!(
             "Each parameter: the refined value (local refinement from the best grid point, docs/conventions.md §11) and in brackets its 68% interval from the profile of the error surface (noise variance from the residuals); `<` or `>` before an end: the interval does not close within the range searched on that side, so the data do not bound the parameter there. ‡ marks a grid value at the first or last value of its axis (the optimum may lie outside the range searched: not a measurement of that parameter), † a value at a bound of the model's domain (a = 0 or 1, β = 0 or 1, n = 1). slope = σ/T; beta is the balance of the paper normalisation (each term divided by its own max before mixing), beta_eq8 the balance of eq. 8 with the same lobe shape (docs/conventions.md §4). rms is the grid's Δ_RMS, rms_refined the refined one. {RMS_NOTE}"
         ),
-        header: header(&["slope", "beta", "n", "a", "beta_eq8", "rms", "rms_refined"]),
+        header: header(
+            &names
+                .iter()
+                .map(|p| p.name())
+                .chain(["beta_eq8", "rms", "rms_refined"])
+                .collect::<Vec<_>>(),
+        ),
         rows,
     }
 }

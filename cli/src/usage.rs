@@ -71,7 +71,7 @@ pub enum UsageError {
         geometries: usize,
     },
     /// `eval` of a model that is not layered.
-    #[error("eval supports exp, gauss, rh-exp and rh-gauss, not {0}")]
+    #[error("eval supports the layered models ({layered}), not {0}", layered = Model::names(Model::layered()))]
     EvalModel(Model),
     /// `eval` of a Ragheb–Hancock model with absorption.
     #[error("{model} is the a = 0 model; --a {a} is not accepted (use exp or gauss)")]
@@ -150,9 +150,6 @@ pub enum UsageError {
     /// `report scaling` counts that are not positive.
     #[error("--ks, --scales, --sets and --batch-sets must be positive")]
     ScalingCounts,
-    /// `parity --models` without a layered model.
-    #[error("parity compares the grid values of the layered models; --models names none of exp, gauss, rh-exp, rh-gauss")]
-    ParityWithoutLayered,
     /// A fitted-model file holds no fit.
     #[error("{}: holds no fit", .0.display())]
     NoFit(PathBuf),

@@ -135,7 +135,7 @@ const CASES: &[Case] = &[
         surface: "fit-batch options",
         args: "fit-batch --geometry {d}/g.csv --values {d}/v.csv --models exp,lambert --out {d}/out.csv",
         files: || vec![("g.csv", GEOMETRY.to_vec()), ("v.csv", VALUES.to_vec())],
-        needles: &["unknown model `lambert`"],
+        needles: &["invalid value 'lambert'", "exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar"],
     },
     Case {
         surface: "fit-batch options",

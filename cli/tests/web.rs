@@ -21,6 +21,7 @@ mod common;
 
 use common::{run, stdout};
 use laminar_core::{probe, total_radiance, Angles, Correlation, Geometry, Params};
+use laminar_fit::Model;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -313,6 +314,25 @@ fn packed_package_imports_in_typescript() {
         "node has WebAssembly SIMD: load() should pick it"
     );
     assert_eq!(v["message"], "beta = 1.5 is outside [0, 1]");
+    // The package lists every model of the descriptor and fits each by its
+    // name; every correlation's name evaluates.
+    let names: Vec<&str> = Model::ALL.iter().map(|m| m.name()).collect();
+    assert_eq!(v["models"], serde_json::json!(names));
+    assert_eq!(v["fittedModels"], serde_json::json!(names));
+    let params: Vec<String> = Model::ALL
+        .iter()
+        .map(|m| {
+            m.params()
+                .iter()
+                .map(|p| p.name())
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    assert_eq!(v["modelParams"], serde_json::json!(params));
+    let correlations: Vec<&str> = Correlation::ALL.iter().map(|c| c.name()).collect();
+    assert_eq!(v["correlations"], serde_json::json!(correlations));
+    assert_eq!(v["lobes"], serde_json::json!(vec![2; correlations.len()]));
     // `laminar-wasm/eval` types and runs: the same bits as the whole package.
     assert_eq!(
         (&v["evalSame"], &v["evalSimd"]),

@@ -2,15 +2,16 @@
 //! validated values and never checks again.
 
 use crate::lane::Real;
+use crate::param::{Input, Param};
 use core::fmt;
 
 /// An input value outside the model's domain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum InputError {
-    /// `name` had `value`, outside `allowed`.
+    /// `input` had `value`, outside `allowed`.
     OutOfRange {
-        /// The parameter or angle (e.g. `"n"`, `"theta_i"`).
-        name: &'static str,
+        /// The parameter or angle.
+        input: Input,
         /// The value given.
         value: f64,
         /// The allowed domain, in words.
@@ -36,10 +37,11 @@ impl fmt::Display for InputError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::OutOfRange {
-                name,
+                input,
                 value,
                 allowed,
             } => {
+                let name = input.name();
                 // Very large or small values in scientific notation, not
                 // hundreds of digits.
                 let a = value.abs();
@@ -68,7 +70,7 @@ impl core::error::Error for InputError {}
 /// a code (the C ABI) drops its strings and the widening of `v`.
 #[inline(always)]
 pub(crate) fn check_range<S: Real>(
-    name: &'static str,
+    input: Input,
     v: S,
     lo: f64,
     hi: f64,
@@ -78,9 +80,22 @@ pub(crate) fn check_range<S: Real>(
         Ok(v)
     } else {
         Err(InputError::OutOfRange {
-            name,
+            input,
             value: v.to_f64(),
             allowed,
         })
     }
+}
+
+/// [`check_range`] on parameter `p`'s domain ([`Param::domain`]; an open
+/// lower end is the smallest positive normal number).
+#[inline(always)]
+pub(crate) fn check_param<S: Real>(p: Param, v: S) -> Result<S, InputError> {
+    let (lo, hi) = p.domain();
+    let lo = if p.lower_open() {
+        f64::MIN_POSITIVE
+    } else {
+        lo
+    };
+    check_range(Input::Param(p), v, lo, hi, p.allowed())
 }

@@ -5,6 +5,7 @@
 use crate::error::{check_range, InputError};
 use crate::fresnel::refract_cos;
 use crate::lane::Lane;
+use crate::param::{Angle, Input};
 use crate::trig::{sin_cos, P1, P2};
 use core::f64::consts::{FRAC_PI_2, PI};
 
@@ -24,17 +25,17 @@ impl Angles {
     /// # Errors
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
     pub fn new(theta_i: f64, theta_s: f64, phi_s: f64) -> Result<Self, InputError> {
-        let zenith = |name, v| check_range(name, v, 0.0, FRAC_PI_2, "[0, π/2]");
+        let zenith = |a, v| check_range(Input::Angle(a), v, 0.0, FRAC_PI_2, "[0, π/2]");
         if !phi_s.is_finite() {
             return Err(InputError::OutOfRange {
-                name: "phi_s",
+                input: Input::Angle(Angle::PhiS),
                 value: phi_s,
                 allowed: "a finite angle",
             });
         }
         Ok(Self {
-            theta_i: zenith("theta_i", theta_i)?,
-            theta_s: zenith("theta_s", theta_s)?,
+            theta_i: zenith(Angle::ThetaI, theta_i)?,
+            theta_s: zenith(Angle::ThetaS, theta_s)?,
             phi_s,
         })
     }
@@ -196,9 +197,9 @@ impl Directions {
                 Err(out_of_range(name, unit, "cos² + sin² − 1 within 1e-4"))
             }
         };
-        pair("theta_i", self.cos_i, self.sin_i, 0.0)?;
-        pair("theta_s", self.cos_s, self.sin_s, 0.0)?;
-        pair("phi_s", self.cos_phi, self.sin_phi, -1.0)
+        pair(Angle::ThetaI, self.cos_i, self.sin_i, 0.0)?;
+        pair(Angle::ThetaS, self.cos_s, self.sin_s, 0.0)?;
+        pair(Angle::PhiS, self.cos_phi, self.sin_phi, -1.0)
     }
 }
 
@@ -211,9 +212,9 @@ const F32_FRAC_PI_2: f32 = 1.570_796_2;
 const F32_PI: f32 = 3.141_592_5;
 
 #[inline(always)]
-fn out_of_range(name: &'static str, value: f32, allowed: &'static str) -> InputError {
+fn out_of_range(angle: Angle, value: f32, allowed: &'static str) -> InputError {
     InputError::OutOfRange {
-        name,
+        input: Input::Angle(angle),
         value: value as f64,
         allowed,
     }
@@ -232,10 +233,11 @@ impl Geometry<f32> {
     /// [`InputError::OutOfRange`] naming `theta_i`, `theta_s` or `phi_s`.
     #[inline(always)] // as `from_angles_f32`
     pub fn check_angles_f32(theta_i: f32, theta_s: f32, phi_s: f32) -> Result<(), InputError> {
-        let zenith = |name, v| check_range(name, v, 0.0, F32_FRAC_PI_2 as f64, "[0, π/2]");
-        zenith("theta_i", theta_i)?;
-        zenith("theta_s", theta_s)?;
-        check_range("phi_s", phi_s, -F32_PI as f64, F32_PI as f64, "[−π, π]")?;
+        let zenith = |a, v| check_range(Input::Angle(a), v, 0.0, F32_FRAC_PI_2 as f64, "[0, π/2]");
+        zenith(Angle::ThetaI, theta_i)?;
+        zenith(Angle::ThetaS, theta_s)?;
+        let phi = Input::Angle(Angle::PhiS);
+        check_range(phi, phi_s, -F32_PI as f64, F32_PI as f64, "[−π, π]")?;
         Ok(())
     }
 

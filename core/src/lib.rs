@@ -93,6 +93,7 @@ pub mod lane;
 pub mod linear;
 pub mod measures;
 pub mod onepass;
+pub mod param;
 pub mod prediction;
 pub mod probe;
 pub mod radiance;
@@ -112,6 +113,7 @@ pub use fresnel::{
 pub use geometry::{wrap_pi, Angles, Directions, Geometry};
 pub use lane::{Lane, Mask, Real};
 pub use measures::{chi_square_per_dof, normalise_by_max, rms_error, ChiSquare, Normalisation};
+pub use param::{Angle, Input, Param};
 pub use prediction::Scaling;
 pub use radiance::{
     components, components_in, mix, total_radiance, total_radiance_in, Components, LaneParams,

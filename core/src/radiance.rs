@@ -2,18 +2,14 @@
 //! of eq. 8.
 
 use crate::absorption::absorbed;
-use crate::error::{check_range, InputError};
+use crate::error::{check_param, InputError};
 use crate::geometry::Geometry;
 use crate::lane::{Lane, Real};
+use crate::param::Param;
 use crate::subsurface::{absorption_factor, subsurface_base, Interface};
 use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
 
-/// Smallest accepted RMS slope σ/T. Below it `(T/σ)²` leaves the `f32` range.
-pub const SLOPE_MIN: f64 = 1.0e-3;
-/// Largest accepted RMS slope σ/T.
-pub const SLOPE_MAX: f64 = 1.0e3;
-/// Largest accepted refractive index.
-pub const INDEX_MAX: f64 = 10.0;
+pub use crate::param::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
 
 /// Parameters of the absorptive model, validated once by [`Params::new`]:
 /// RMS slope `σ/T = σ′/T′ ∈ [1e-3, 1e3]`, balance `β ∈ [0, 1]`, refractive
@@ -99,10 +95,10 @@ impl<S: Real> LaneParams<S> {
     #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn new(slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
         Ok(Self::rounded(
-            check_range("slope", slope, SLOPE_MIN, SLOPE_MAX, "[1e-3, 1e3]")?,
-            check_range("beta", beta, 0.0, 1.0, "[0, 1]")?,
-            check_range("n", n, 1.0, INDEX_MAX, "[1, 10]")?,
-            check_range("a", a, 0.0, 1.0, "[0, 1]")?,
+            check_param(Param::Slope, slope)?,
+            check_param(Param::Beta, beta)?,
+            check_param(Param::N, n)?,
+            check_param(Param::A, a)?,
         ))
     }
 
@@ -272,11 +268,18 @@ pub fn total_radiance_in<L: Lane>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::param::Input;
 
     #[test]
     fn invalid_parameters_are_rejected_by_name() {
         let e = Params::new(0.5, 0.5, 0.9, 0.0).unwrap_err();
-        assert!(matches!(e, InputError::OutOfRange { name: "n", .. }));
+        assert!(matches!(
+            e,
+            InputError::OutOfRange {
+                input: Input::Param(Param::N),
+                ..
+            }
+        ));
         assert!(Params::new(0.0, 0.5, 1.3, 0.0).is_err());
         assert!(Params::new(-1.0, 0.5, 1.3, 0.0).is_err());
         assert!(Params::new(0.5, 1.5, 1.3, 0.0).is_err());

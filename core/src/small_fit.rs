@@ -19,6 +19,7 @@ use crate::error::InputError;
 use crate::geometry::Geometry;
 use crate::measures::{check_data, DataFault};
 use crate::onepass::{self, normalise, DataSums, Layout, Terms, Widened};
+use crate::param::Param;
 use crate::radiance::Params;
 use crate::subsurface::{absorption_factor, subsurface_base, Interface};
 use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
@@ -85,15 +86,15 @@ pub fn stepped(start: f64, step: f64, i: usize) -> f64 {
 /// A grid axis outside what a search takes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum AxisError {
-    /// The axis (`"slope"`, `"n"`, `"a"` or `"beta"`) has no value.
+    /// The axis (σ/T, n, a or β) has no value.
     Empty {
         /// The axis.
-        axis: &'static str,
+        axis: Param,
     },
     /// A value of the axis is outside the model's domain.
     OutOfDomain {
         /// The axis.
-        axis: &'static str,
+        axis: Param,
         /// The value and its domain.
         error: InputError,
     },
@@ -159,10 +160,10 @@ impl Axes<'_> {
         let inside = [1.0, 0.5, 1.5, 0.5];
         // Each axis with its place in that point.
         let axes = [
-            ("slope", self.slope, 0),
-            ("n", self.n, 2),
-            ("a", self.a, 3),
-            ("beta", self.beta, 1),
+            (Param::Slope, self.slope, 0),
+            (Param::N, self.n, 2),
+            (Param::A, self.a, 3),
+            (Param::Beta, self.beta, 1),
         ];
         for (axis, values, place) in axes {
             if values.is_empty() {

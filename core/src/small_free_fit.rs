@@ -26,6 +26,7 @@ use crate::lane::Real;
 use crate::linear::{Linear, Quadratic};
 use crate::measures::check_data;
 use crate::onepass::rms_of_sum;
+use crate::param::Param;
 use crate::small_fit::{Axes, AxisError, SmallFitError, MAX_MEASUREMENTS};
 use crate::subsurface::{absorption_factor, subsurface_base, Interface};
 use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
@@ -126,7 +127,7 @@ impl FreeAxes<'_> {
     ///
     /// # Errors
     /// The first [`AxisError`]; an empty box is [`AxisError::Empty`] of
-    /// `"beta"`.
+    /// [`Param::Beta`].
     pub fn validate(&self) -> Result<(), AxisError> {
         let (lo, hi) = self.beta;
         Axes {
@@ -139,7 +140,7 @@ impl FreeAxes<'_> {
         if lo <= hi {
             Ok(())
         } else {
-            Err(AxisError::Empty { axis: "beta" })
+            Err(AxisError::Empty { axis: Param::Beta })
         }
     }
 }
@@ -512,7 +513,7 @@ mod tests {
         };
         assert_eq!(
             run(&[1.0, 2.0, 1.0], None, &empty),
-            Err(SmallFitError::Axis(AxisError::Empty { axis: "beta" }))
+            Err(SmallFitError::Axis(AxisError::Empty { axis: Param::Beta }))
         );
         let outside = FreeAxes {
             beta: (0.0, 1.5),
@@ -521,7 +522,7 @@ mod tests {
         assert!(matches!(
             run(&[1.0, 2.0, 1.0], None, &outside),
             Err(SmallFitError::Axis(AxisError::OutOfDomain {
-                axis: "beta",
+                axis: Param::Beta,
                 ..
             }))
         ));

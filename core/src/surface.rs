@@ -14,6 +14,44 @@ pub enum Correlation {
 }
 
 impl Correlation {
+    /// Every correlation function, in the order of the C ABI's codes (0, 1, …).
+    pub const ALL: [Correlation; 2] = [Correlation::Exponential, Correlation::Gaussian];
+
+    /// The name of its absorptive model in every interface (`exp`, `gauss`).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Self::Exponential => "exp",
+            Self::Gaussian => "gauss",
+        }
+    }
+
+    /// The correlation of a name ([`Correlation::name`]).
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|c| c.name() == name)
+    }
+
+    /// The correlation of a C ABI code: its index in [`Correlation::ALL`].
+    #[must_use]
+    pub fn from_code(code: u32) -> Option<Self> {
+        Self::ALL.get(code as usize).copied()
+    }
+
+    /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
+    /// `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes (`x = ∞`).
+    /// The free objective's Jacobian uses it.
+    #[must_use]
+    pub fn log_slope_derivative(self, x: f64) -> f64 {
+        if !x.is_finite() {
+            return 0.0;
+        }
+        match self {
+            Self::Exponential => 3.0 * x / (1.0 + x),
+            Self::Gaussian => 0.5 * x,
+        }
+    }
+
     /// The roughness factor of eqs. 1–2 as a function of
     /// `x = (T/σ)² v_xy² / v_z²`: Gaussian `exp(−x/4)`, Exponential
     /// `(1 + x)^(−3/2)` (computed as `y·sqrt(y)`, `y = 1/(1 + x)`, so large

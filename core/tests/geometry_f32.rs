@@ -165,7 +165,7 @@ fn f32_geometry_is_within_its_budget() {
 fn f32_constructors_reject_bad_input_by_name() {
     use laminar_core::InputError;
     let name = |r: Result<Geometry<f32>, InputError>| match r {
-        Err(InputError::OutOfRange { name, .. }) => name,
+        Err(InputError::OutOfRange { input, .. }) => input.name(),
         other => panic!("expected an error, got {other:?}"),
     };
     assert_eq!(name(Geometry::from_angles_f32(-0.1, 0.2, 0.0)), "theta_i");

@@ -37,8 +37,8 @@ pub use fit::{
 };
 pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
 use laminar_core::{
-    components_in, total_radiance_in, Angles, Correlation, Geometry, InputError, Lane, LaneParams,
-    Params,
+    components_in, total_radiance_in, Angle, Angles, Correlation, Geometry, Input, InputError,
+    Lane, LaneParams, Param, Params,
 };
 
 /// What a call did. `Ok` is 0; every other value names what was wrong.
@@ -132,28 +132,31 @@ pub struct LaminarAngles {
 /// term, subsurface term, total (eq. 8).
 pub const LAMINAR_COMPONENTS: usize = 7;
 
-#[inline(always)] // the names fold away where the error is built inline
+/// The status of each input the core checks. The C ABI takes the layered
+/// models' parameters and the paper frame's angles; the baselines'
+/// parameters and the lab frame's angles never reach it (their arms
+/// keep the match total).
+#[inline(always)] // the match folds away where the error is built inline
 pub(crate) fn status_of(e: InputError) -> Status {
     match e {
-        InputError::OutOfRange { name, .. } => match name {
-            "slope" => Status::BadSlope,
-            "beta" => Status::BadBeta,
-            "n" => Status::BadN,
-            "a" => Status::BadA,
-            "theta_i" => Status::BadThetaI,
-            "theta_s" => Status::BadThetaS,
-            _ => Status::BadPhiS,
+        InputError::OutOfRange { input, .. } => match input {
+            Input::Param(Param::Slope) => Status::BadSlope,
+            Input::Param(Param::Beta) => Status::BadBeta,
+            Input::Param(Param::N) => Status::BadN,
+            Input::Param(Param::A) => Status::BadA,
+            Input::Param(Param::SigmaA | Param::SigmaS | Param::Sigma | Param::Rho) => {
+                Status::BadSlope
+            }
+            Input::Angle(Angle::ThetaI) => Status::BadThetaI,
+            Input::Angle(Angle::ThetaS | Angle::ThetaV) => Status::BadThetaS,
+            Input::Angle(Angle::PhiS | Angle::PhiI | Angle::PhiV) => Status::BadPhiS,
         },
         _ => Status::NullPointer,
     }
 }
 
 fn correlation(code: u32) -> Result<Correlation, Status> {
-    match code {
-        0 => Ok(Correlation::Exponential),
-        1 => Ok(Correlation::Gaussian),
-        _ => Err(Status::BadCorrelation),
-    }
+    Correlation::from_code(code).ok_or(Status::BadCorrelation)
 }
 
 fn params(p: &LaminarParams) -> Result<Params, Status> {
@@ -530,6 +533,49 @@ mod tests {
         n: 1.45,
         a: 0.2,
     };
+
+    use std::format;
+
+    /// Each layered parameter and each paper-frame angle out of its domain
+    /// gives the status named after it (`BadSlope` for `slope`, `BadThetaI`
+    /// for `theta_i`, …), and each correlation's code is its index.
+    #[test]
+    fn every_parameter_angle_and_correlation_has_its_code() {
+        let named = |s: Status, name: &str| {
+            format!("{s:?}").to_lowercase() == format!("bad{}", name.replace('_', ""))
+        };
+        for (k, p) in [Param::Slope, Param::Beta, Param::N, Param::A]
+            .into_iter()
+            .enumerate()
+        {
+            let mut v = [P.slope, P.beta, P.n, P.a];
+            v[k] = f64::NAN;
+            let (slope, beta, n, a) = (v[0], v[1], v[2], v[3]);
+            let s = laminar_validate_params(LaminarParams { slope, beta, n, a });
+            assert!(named(s, p.name()), "{p}: {s:?}");
+        }
+        for (k, angle) in [Angle::ThetaI, Angle::ThetaS, Angle::PhiS]
+            .into_iter()
+            .enumerate()
+        {
+            let mut v = [0.3, 0.4, 0.5];
+            v[k] = f64::NAN;
+            let (theta_i, theta_s, phi_s) = (v[0], v[1], v[2]);
+            let s = laminar_validate_angles(LaminarAngles {
+                theta_i,
+                theta_s,
+                phi_s,
+            });
+            assert!(named(s, angle.name()), "{}: {s:?}", angle.name());
+        }
+        for (code, corr) in Correlation::ALL.into_iter().enumerate() {
+            assert_eq!(correlation(code as u32), Ok(corr));
+        }
+        assert_eq!(
+            correlation(Correlation::ALL.len() as u32),
+            Err(Status::BadCorrelation)
+        );
+    }
 
     #[test]
     fn components_are_the_cores_and_bad_input_writes_nothing() {

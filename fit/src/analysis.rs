@@ -53,7 +53,7 @@ impl FromStr for Uncertainty {
             .ok_or_else(|| UnknownName {
                 what: "uncertainty",
                 given: s.to_string(),
-                expected: "off, profile, jacobian or both",
+                expected: "off, profile, jacobian or both".into(),
             })
     }
 }

@@ -6,13 +6,14 @@
 //! free-amplitude one analytically, [`crate::free::intervals`]); this is
 //! what a fit reports of it.
 
+use crate::model::Param;
 use nalgebra::DMatrix;
 
 /// The covariance and correlation of the free parameters of a refined fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Covariance {
-    /// Names, in the fit's parameter order.
-    pub names: Vec<String>,
+    /// The parameters, in the fit's order.
+    pub names: Vec<Param>,
     /// `C_ij`.
     pub matrix: Vec<Vec<f64>>,
 }
@@ -25,14 +26,14 @@ impl Covariance {
     /// `s² (JᵀJ)⁻¹` of the Jacobian `jacobian` (one column per parameter
     /// of `names`), or `None` when `JᵀJ` is singular (a parameter the data
     /// do not constrain at all).
-    pub fn from_jacobian(names: &[&str], jacobian: &DMatrix<f64>, s2: f64) -> Option<Self> {
+    pub fn from_jacobian(names: &[Param], jacobian: &DMatrix<f64>, s2: f64) -> Option<Self> {
         let p = jacobian.ncols();
         let inverse = (jacobian.transpose() * jacobian).cholesky()?.inverse();
         let matrix = (0..p)
             .map(|i| (0..p).map(|j| s2 * inverse[(i, j)]).collect())
             .collect();
         Some(Self {
-            names: names.iter().map(|n| n.to_string()).collect(),
+            names: names.to_vec(),
             matrix,
         })
     }
@@ -48,14 +49,14 @@ impl Covariance {
     }
 
     /// Every pair whose correlation is at least [`TRADE_OFF`] in magnitude,
-    /// as (name, name, correlation).
-    pub fn trade_offs(&self) -> Vec<(String, String, f64)> {
+    /// as (parameter, parameter, correlation).
+    pub fn trade_offs(&self) -> Vec<(Param, Param, f64)> {
         let mut out = Vec::new();
         for i in 0..self.names.len() {
             for j in i + 1..self.names.len() {
                 let r = self.correlation(i, j);
                 if r.abs() >= TRADE_OFF {
-                    out.push((self.names[i].clone(), self.names[j].clone(), r));
+                    out.push((self.names[i], self.names[j], r));
                 }
             }
         }

@@ -14,7 +14,7 @@
 
 use crate::fit::Fitter;
 use crate::fitted::{FittedModel, ModelParams};
-use crate::model::Model;
+use crate::model::{Model, Param};
 use crate::objective::Objective;
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
@@ -51,8 +51,8 @@ impl NoiseModel {
 /// Per parameter: how many intervals held the truth.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Covered {
-    /// The parameter's name.
-    pub name: String,
+    /// The parameter.
+    pub name: Param,
     /// Trials whose 68.27% interval held the truth.
     pub in68: usize,
     /// Trials whose 95% interval held the truth.
@@ -79,7 +79,7 @@ pub struct Coverage {
 
 impl Coverage {
     /// The realised rate of parameter `name` at level 0 (68.27%) or 1 (95%).
-    pub fn rate(&self, name: &str, level: usize) -> Option<f64> {
+    pub fn rate(&self, name: Param, level: usize) -> Option<f64> {
         let p = self.parameters.iter().find(|p| p.name == name)?;
         let n = if level == 0 { p.in68 } else { p.in95 };
         Some(n as f64 / self.trials as f64)
@@ -238,12 +238,12 @@ pub fn coverage(
         .count();
     for ((truth, _), fit) in cases.iter().zip(&fits) {
         for p in &fit.parameters {
-            let t = truth.get(&p.name).expect("the model's parameter");
+            let t = truth.value(p.name).expect("the model's parameter");
             let slot = match parameters.iter().position(|q| q.name == p.name) {
                 Some(i) => i,
                 None => {
                     parameters.push(Covered {
-                        name: p.name.clone(),
+                        name: p.name,
                         in68: 0,
                         in95: 0,
                         with_sd: 0,

@@ -1,19 +1,20 @@
 //! Where each fitted parameter sits relative to what was searched
 //! (docs/conventions.md §6): at the first or last value of its grid axis
 //! (`range_edge`: the optimum may lie outside the range searched), or at a
-//! bound of the model's domain ([`Model::domain`]; `domain_bound`: the data
+//! bound of the model's domain ([`crate::model::domain`]; `domain_bound`: the data
 //! push the parameter as far as it can go). A value with a flag is not a
 //! measurement of that parameter in the way an interior value is. The
 //! intervals ([`crate::paper::intervals`], [`crate::free::intervals`]) add
 //! the flags of intervals that stay open.
 
 use crate::grid::Axis;
-use crate::model::Model;
+use crate::model::{domain, Param};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// What an edge flag says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 #[serde(rename_all = "snake_case")]
 pub enum Edge {
     /// Paper objective: the grid value is the first or last value of the
@@ -74,10 +75,10 @@ impl fmt::Display for Edge {
     }
 }
 
-/// The flags of parameter `name` of `model` whose chosen grid value is
-/// `value` on `axis`: [`Edge::RangeEdge`] and [`Edge::DomainBound`].
-pub fn flags(model: Model, name: &str, value: f64, axis: &Axis) -> Vec<Edge> {
-    let (lo, hi) = model.domain(name);
+/// The flags of parameter `p` whose chosen grid value is `value` on
+/// `axis`: [`Edge::RangeEdge`] and [`Edge::DomainBound`].
+pub fn flags(p: Param, value: f64, axis: &Axis) -> Vec<Edge> {
+    let (lo, hi) = domain(p);
     let first = axis.values.iter().copied().fold(f64::INFINITY, f64::min);
     let last = axis
         .values
@@ -111,19 +112,16 @@ mod tests {
     #[test]
     fn ends_of_the_range_and_of_the_domain_are_flagged() {
         let g = Grid::paper();
-        assert_eq!(flags(Model::Exp, "beta", 0.5, &g.beta), vec![]);
+        assert_eq!(flags(Param::Beta, 0.5, &g.beta), vec![]);
+        assert_eq!(flags(Param::Slope, 4.04, &g.slope), vec![Edge::RangeEdge]);
         assert_eq!(
-            flags(Model::Exp, "slope", 4.04, &g.slope),
-            vec![Edge::RangeEdge]
-        );
-        assert_eq!(
-            flags(Model::Exp, "a", 0.0, &g.a),
+            flags(Param::A, 0.0, &g.a),
             vec![Edge::RangeEdge, Edge::DomainBound]
         );
         // A domain bound inside a wider range: β = 1 on an axis to 1.
         let beta = Axis::linspace(0.0, 1.0, 11);
         assert_eq!(
-            flags(Model::Gauss, "beta", 1.0, &beta),
+            flags(Param::Beta, 1.0, &beta),
             vec![Edge::RangeEdge, Edge::DomainBound]
         );
     }

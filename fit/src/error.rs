@@ -15,7 +15,16 @@ pub struct UnknownName {
     /// The name given.
     pub given: String,
     /// The choices, as a phrase.
-    pub expected: &'static str,
+    pub expected: String,
+}
+
+/// Names as a phrase of choices: `a`, `a or b`, `a, b or c`.
+pub fn choices(names: &[&str]) -> String {
+    match names {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [init @ .., last] => format!("{} or {last}", init.join(", ")),
+    }
 }
 
 /// A search grid that cannot be used.
@@ -62,14 +71,14 @@ pub enum GridError {
     /// An axis with no value.
     #[error("axis {axis} is empty")]
     Empty {
-        /// The axis name.
-        axis: &'static str,
+        /// The axis.
+        axis: laminar_core::Param,
     },
     /// A value outside the model's domain.
     #[error("axis {axis}: {error}")]
     OutOfDomain {
-        /// The axis name.
-        axis: &'static str,
+        /// The axis.
+        axis: laminar_core::Param,
         /// The core's description of the value and its domain.
         error: InputError,
     },
@@ -207,17 +216,20 @@ pub enum MeasurementError {
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
     /// A name that is not a model.
-    #[error(
-        "unknown model `{0}` (expected one of exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar)"
-    )]
-    UnknownModel(String),
+    #[error("unknown model `{given}` (expected one of {expected})")]
+    UnknownModel {
+        /// The name given.
+        given: String,
+        /// The models' names ([`crate::Model::names`]).
+        expected: String,
+    },
     /// Parameters of another model.
     #[error("model {model} takes parameters {expected}")]
     WrongParameters {
         /// The model.
         model: String,
         /// Its parameter names.
-        expected: &'static str,
+        expected: String,
     },
     /// A parameter outside its domain.
     #[error("{0}")]

@@ -9,7 +9,7 @@ use crate::error::FitError;
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
 use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
-use crate::model::Model;
+use crate::model::{Model, Param};
 use crate::objective::Objective;
 use crate::paper::intervals::cutoffs;
 use crate::paper::profiles::{profile_curves, ProfileCurve};
@@ -180,13 +180,48 @@ impl Fitter {
         self.run(|| self.fit_here(scene, model))
     }
 
-    /// Fits every model of `models` to every scene, in order (scene-major).
-    pub fn fit_all(&self, scenes: &[Scene], models: &[Model]) -> Vec<Fit> {
-        scenes
-            .iter()
-            .flat_map(|s| models.iter().map(move |&m| (s, m)))
-            .map(|(s, m)| self.fit(s, m))
-            .collect()
+    /// Fits every model of `models` to every scene, scene-major (the order
+    /// of `laminar fit`'s output): what `laminar fit` does. Layered models
+    /// go through one batch per model ([`Fitter::fit_batch`]: scenes that
+    /// share their geometry share the search; the results are bit for bit
+    /// those of fitting each scene alone). Where `given(scene, model)`
+    /// supplies parameters, they are assessed ([`Fitter::assess`]) instead
+    /// of searched: a data set's own Oren–Nayar parameters, for example.
+    ///
+    /// # Errors
+    /// [`FitError::Model`] when given parameters are outside their domain or not the model's.
+    pub fn fit_all(
+        &self,
+        scenes: &[Scene],
+        models: &[Model],
+        given: impl Fn(usize, Model) -> Option<ModelParams>,
+    ) -> Result<Vec<Fit>, FitError> {
+        let mut by_model = Vec::with_capacity(models.len());
+        for &model in models {
+            let searched = (0..scenes.len()).all(|j| given(j, model).is_none());
+            by_model.push(if model.is_layered() && searched {
+                self.fit_batch(scenes, model)
+            } else {
+                scenes
+                    .iter()
+                    .enumerate()
+                    .map(|(j, scene)| match given(j, model) {
+                        Some(params) => self.assess(scene, model, params),
+                        None => Ok(self.fit(scene, model)),
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+            });
+        }
+        let mut fits = Vec::with_capacity(scenes.len() * models.len());
+        for j in 0..scenes.len() {
+            fits.extend(by_model.iter().map(|f| f[j].clone()));
+        }
+        Ok(fits)
+    }
+
+    /// The progress calls [`Fitter::fit_all`] makes (for a progress bar's length).
+    pub fn fit_all_shards(&self, scenes: &[Scene], models: &[Model]) -> u64 {
+        models.iter().map(|&m| self.batch_shards(scenes, m)).sum()
     }
 
     /// The fit record of `model` at given parameters, without a search (e.g.
@@ -472,7 +507,7 @@ impl Fitter {
             grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
         let best =
             Estimate::new(scene, model, params(x, y)).expect("grid values are in the domain");
-        let names: Vec<&'static str> = best.fitted.params.pairs().iter().map(|p| p.0).collect();
+        let names = model.params();
         let searched = [
             Searched {
                 axis: 0,
@@ -524,10 +559,10 @@ fn grid_index(grid: &Grid, params: &ModelParams) -> Option<usize> {
 fn layered_searched(grid: &Grid, flat: usize) -> Vec<Searched<'_>> {
     let (slope, n, a, beta) = point(grid, flat);
     [
-        (0, "slope", slope, &grid.slope),
-        (1, "n", n, &grid.n),
-        (2, "a", a, &grid.a),
-        (3, "beta", beta, &grid.beta),
+        (0, Param::Slope, slope, &grid.slope),
+        (1, Param::N, n, &grid.n),
+        (2, Param::A, a, &grid.a),
+        (3, Param::Beta, beta, &grid.beta),
     ]
     .into_iter()
     .filter(|s| s.3.len() > 1)

@@ -13,7 +13,7 @@
 //! `laminar eval` prints) is the fitted prediction divided by `eq8_scale`.
 
 use crate::error::ModelError;
-use crate::model::Model;
+use crate::model::{Model, Param};
 use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
 use laminar_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
@@ -23,19 +23,9 @@ use laminar_core::prediction::scaled;
 use laminar_core::{components, mix, Angles, Geometry, Params, Scaling};
 use serde::{Deserialize, Serialize};
 
-/// The free parameters of `model` in output order: its parameters, without
-/// a of the Ragheb–Hancock variants (fixed at 0).
-pub fn free_names(model: Model) -> Vec<&'static str> {
-    ModelParams::from_values(model, |_| 0.0)
-        .pairs()
-        .into_iter()
-        .map(|(name, _)| name)
-        .filter(|&name| !(model.is_ragheb_hancock() && name == "a"))
-        .collect()
-}
-
 /// The parameters of a model, named as in every output.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 #[serde(untagged)]
 pub enum ModelParams {
     /// The layered models: RMS slope σ/T, balance β, refractive index n, absorption a.
@@ -66,43 +56,61 @@ pub enum ModelParams {
 }
 
 impl ModelParams {
-    /// `model`'s parameters, each taken from `value(name)`.
-    pub fn from_values(model: Model, value: impl Fn(&str) -> f64) -> Self {
+    /// `model`'s parameters ([`Model::params`]), each taken from `value(p)`.
+    pub fn from_values(model: Model, value: impl Fn(Param) -> f64) -> Self {
         match model {
             Model::Jensen => Self::Jensen {
-                sigma_a: value("sigma_a"),
-                sigma_s: value("sigma_s"),
+                sigma_a: value(Param::SigmaA),
+                sigma_s: value(Param::SigmaS),
             },
             Model::OrenNayar => Self::OrenNayar {
-                sigma: value("sigma"),
-                rho: value("rho"),
+                sigma: value(Param::Sigma),
+                rho: value(Param::Rho),
             },
             _ => Self::Layered {
-                slope: value("slope"),
-                beta: value("beta"),
-                n: value("n"),
-                a: value("a"),
+                slope: value(Param::Slope),
+                beta: value(Param::Beta),
+                n: value(Param::N),
+                a: value(Param::A),
             },
         }
     }
 
-    /// `(name, value)` pairs in output order.
-    pub fn pairs(&self) -> Vec<(&'static str, f64)> {
-        match *self {
-            Self::Layered { slope, beta, n, a } => {
-                vec![("slope", slope), ("beta", beta), ("n", n), ("a", a)]
-            }
-            Self::Jensen { sigma_a, sigma_s } => vec![("sigma_a", sigma_a), ("sigma_s", sigma_s)],
-            Self::OrenNayar { sigma, rho } => vec![("sigma", sigma), ("rho", rho)],
+    /// The parameters these values are of, in output order.
+    pub fn params(&self) -> &'static [Param] {
+        match self {
+            Self::Layered { .. } => Model::Exp.params(),
+            Self::Jensen { .. } => Model::Jensen.params(),
+            Self::OrenNayar { .. } => Model::OrenNayar.params(),
         }
     }
 
-    /// The value of a named parameter.
+    /// `(parameter, value)` pairs in output order.
+    pub fn pairs(&self) -> Vec<(Param, f64)> {
+        self.params()
+            .iter()
+            .map(|&p| (p, self.value(p).unwrap_or(f64::NAN)))
+            .collect()
+    }
+
+    /// The value of parameter `p` (`None` when these are another model's).
+    pub fn value(&self, p: Param) -> Option<f64> {
+        match (*self, p) {
+            (Self::Layered { slope, .. }, Param::Slope) => Some(slope),
+            (Self::Layered { beta, .. }, Param::Beta) => Some(beta),
+            (Self::Layered { n, .. }, Param::N) => Some(n),
+            (Self::Layered { a, .. }, Param::A) => Some(a),
+            (Self::Jensen { sigma_a, .. }, Param::SigmaA) => Some(sigma_a),
+            (Self::Jensen { sigma_s, .. }, Param::SigmaS) => Some(sigma_s),
+            (Self::OrenNayar { sigma, .. }, Param::Sigma) => Some(sigma),
+            (Self::OrenNayar { rho, .. }, Param::Rho) => Some(rho),
+            _ => None,
+        }
+    }
+
+    /// The value of a parameter by its name ([`Param::name`]).
     pub fn get(&self, name: &str) -> Option<f64> {
-        self.pairs()
-            .into_iter()
-            .find(|(k, _)| *k == name)
-            .map(|(_, v)| v)
+        Param::from_name(name).and_then(|p| self.value(p))
     }
 
     /// `name=value` pairs joined by `;`, values rounded to 10 decimals
@@ -113,7 +121,7 @@ impl ModelParams {
 
     /// [`ModelParams::text`] with `mask` in place of the value of each
     /// parameter `masked` names.
-    pub fn text_masked(&self, masked: impl Fn(&str) -> bool, mask: &str) -> String {
+    pub fn text_masked(&self, masked: impl Fn(Param) -> bool, mask: &str) -> String {
         self.pairs()
             .iter()
             .map(|&(k, v)| {
@@ -138,11 +146,23 @@ impl ModelParams {
                 Params::new(slope, beta, n, a).map_err(ModelError::OutOfDomain)
             }
             _ => Err(ModelError::WrongParameters {
-                model: "exp/gauss/rh-exp/rh-gauss".into(),
-                expected: "slope, beta, n, a",
+                model: Model::layered()
+                    .map(Model::name)
+                    .collect::<Vec<_>>()
+                    .join("/"),
+                expected: param_names(Model::Exp.params()),
             }),
         }
     }
+}
+
+/// Parameters' names joined by `", "`.
+pub fn param_names(params: &[Param]) -> String {
+    params
+        .iter()
+        .map(|p| p.name())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A value without float noise (rounded to 10 decimals), as printed in `params`.
@@ -153,6 +173,7 @@ pub fn format_value(v: f64) -> String {
 
 /// The constants of the normalisation a fit used (docs/conventions.md §4).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 #[serde(untagged)]
 pub enum NormalisationConstants {
     /// Layered models: the maxima over the fit's kept measurements of the
@@ -200,6 +221,7 @@ pub enum NormalisationConstants {
 /// # Ok::<(), laminar_fit::ModelError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 pub struct FittedModel {
     /// The model.
     pub model: Model,
@@ -262,7 +284,7 @@ impl Geometries {
                 if model.is_ragheb_hancock() && a != 0.0 {
                     return Err(ModelError::WrongParameters {
                         model: model.name().into(),
-                        expected: "slope, beta, n and a = 0",
+                        expected: format!("{} and a = 0", param_names(model.free_params())),
                     });
                 }
                 let p = params.layered()?;
@@ -292,11 +314,7 @@ impl Geometries {
             }
             _ => Err(ModelError::WrongParameters {
                 model: model.name().into(),
-                expected: match model {
-                    Model::Jensen => "sigma_a, sigma_s",
-                    Model::OrenNayar => "sigma, rho",
-                    _ => "slope, beta, n, a",
-                },
+                expected: param_names(model.params()),
             }),
         }
     }
@@ -491,7 +509,7 @@ impl FittedModel {
             _ => {
                 return Err(ModelError::WrongParameters {
                     model: self.model.name().into(),
-                    expected: "normalisation constants of its own kind",
+                    expected: "normalisation constants of its own kind".into(),
                 })
             }
         })

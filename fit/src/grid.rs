@@ -2,7 +2,8 @@
 //! `start:stop:count` axes, validated against the model's domain and a size
 //! limit before anything is allocated.
 
-use crate::error::GridError;
+use crate::error::{GridError, UnknownName};
+use crate::model::Param;
 use laminar_core::small_fit::{stepped, Axes, AxisError, PAPER};
 use std::fmt;
 
@@ -195,6 +196,46 @@ impl Grid {
             a: Axis::linspace(0.0, 1.0, 21),
             beta: Axis::linspace(0.0, 1.0, 101),
         }
+    }
+
+    /// The parameters the grid has an axis of, in the order front ends
+    /// list them.
+    pub const PARAMS: [Param; 4] = [Param::Slope, Param::Beta, Param::N, Param::A];
+
+    /// The axis of parameter `p` (`None` for a baseline's parameter).
+    pub fn axis(&self, p: Param) -> Option<&Axis> {
+        match p {
+            Param::Slope => Some(&self.slope),
+            Param::Beta => Some(&self.beta),
+            Param::N => Some(&self.n),
+            Param::A => Some(&self.a),
+            _ => None,
+        }
+    }
+
+    /// The axis of parameter `p` to change (`None` for a baseline's parameter).
+    pub fn axis_mut(&mut self, p: Param) -> Option<&mut Axis> {
+        match p {
+            Param::Slope => Some(&mut self.slope),
+            Param::Beta => Some(&mut self.beta),
+            Param::N => Some(&mut self.n),
+            Param::A => Some(&mut self.a),
+            _ => None,
+        }
+    }
+
+    /// The axis named `name` ([`Param::name`]) to change.
+    ///
+    /// # Errors
+    /// [`UnknownName`] listing the axes ([`Grid::PARAMS`]).
+    pub fn axis_named(&mut self, name: &str) -> Result<&mut Axis, UnknownName> {
+        Param::from_name(name)
+            .and_then(|p| self.axis_mut(p))
+            .ok_or_else(|| UnknownName {
+                what: "axis",
+                given: name.to_string(),
+                expected: Self::PARAMS.map(Param::name).join(", "),
+            })
     }
 
     /// The grid's axes as the core's search sees them.

@@ -15,7 +15,9 @@
 //!   radiance), turned into a [`Scene`] per channel in one place.
 //! * [`Grid`] and [`Axis`]: the search grid (paper preset by default).
 //! * [`Fitter`]: objective, grid, [`Path`], threads, progress; [`Fitter::fit`]
-//!   returns a [`Fit`].
+//!   returns a [`Fit`], [`Fitter::fit_all`] every model on every scene.
+//! * [`Settings`]: every option by name, as each front end hands it over.
+//! * [`Model`] and [`Param`]: the model descriptor every list derives from.
 //! * [`FittedModel`]: model, parameters and normalisation constants, which
 //!   predict at any geometry exactly what the fit predicted at its own.
 //!
@@ -74,6 +76,7 @@ pub mod profile;
 pub mod report;
 pub mod scene;
 pub mod search;
+pub mod settings;
 pub mod synthetic;
 
 pub use analysis::{Analysis, Uncertainty};
@@ -84,9 +87,10 @@ pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
 pub use grid::{Axis, Grid};
 pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
-pub use model::Model;
+pub use model::{Model, Param};
 pub use objective::Objective;
 pub use paper::profiles::ProfileCurve;
 pub use report::{Fit, Parameter};
 pub use scene::Scene;
 pub use search::Path;
+pub use settings::{SettingError, Settings};

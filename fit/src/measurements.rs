@@ -13,7 +13,7 @@
 use crate::error::{MeasurementError, UnknownName};
 use crate::scene::Scene;
 use laminar_core::measures::{check_data, DataFault};
-use laminar_core::{wrap_pi, Angles, InputError};
+use laminar_core::{wrap_pi, Angle, Angles, Input, InputError};
 use std::f64::consts::PI;
 use std::fmt;
 use std::str::FromStr;
@@ -59,7 +59,7 @@ impl FromStr for Quantity {
             _ => Err(UnknownName {
                 what: "quantity",
                 given: s.to_string(),
-                expected: "brdf or radiance",
+                expected: "brdf or radiance".into(),
             }),
         }
     }
@@ -107,10 +107,10 @@ impl MeasurementAngles {
                 theta_v,
                 phi_v,
             } => {
-                for (name, v) in [("phi_i", phi_i), ("phi_v", phi_v)] {
+                for (angle, v) in [(Angle::PhiI, phi_i), (Angle::PhiV, phi_v)] {
                     if !v.is_finite() {
                         return Err(InputError::OutOfRange {
-                            name,
+                            input: Input::Angle(angle),
                             value: v,
                             allowed: "a finite angle",
                         });
@@ -118,11 +118,11 @@ impl MeasurementAngles {
                 }
                 Angles::new(theta_i, theta_v, wrap_pi(phi_v - phi_i - PI)).map_err(|e| match e {
                     InputError::OutOfRange {
-                        name: "theta_s",
+                        input: Input::Angle(Angle::ThetaS),
                         value,
                         allowed,
                     } => InputError::OutOfRange {
-                        name: "theta_v",
+                        input: Input::Angle(Angle::ThetaV),
                         value,
                         allowed,
                     },

@@ -1,15 +1,23 @@
-//! The models laminar fits (docs/conventions.md §3, §7).
+//! The models laminar fits (docs/conventions.md §3, §7): the one
+//! descriptor every front end derives its lists from. Each [`Model`] names
+//! itself, its correlation function, its parameters ([`Param`], from
+//! `laminar-core`, with their domains) and which of them a fit estimates.
+//! Command-line options and help, the Python and WebAssembly accepted
+//! names, the C status codes and the TypeScript types are built from here.
 
 use crate::error::ModelError;
-use laminar_core::radiance::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
 use laminar_core::Correlation;
+pub use laminar_core::Param;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
-use std::f64::consts::FRAC_PI_2;
 use std::fmt;
 use std::str::FromStr;
 
 /// A model that laminar can fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
+// Serialised by [`Model::name`]; laminar-io's test `typescript` checks
+// that these names are those.
+#[cfg_attr(feature = "typescript", ts(rename_all = "kebab-case"))]
 pub enum Model {
     /// Absorptive, Exponential correlation (eq. 13).
     Exp,
@@ -39,8 +47,8 @@ impl Model {
     /// The name used in every interface (`exp`, `rh-gauss`, …).
     pub fn name(self) -> &'static str {
         match self {
-            Self::Exp => "exp",
-            Self::Gauss => "gauss",
+            Self::Exp => Correlation::Exponential.name(),
+            Self::Gauss => Correlation::Gaussian.name(),
             Self::RhExp => "rh-exp",
             Self::RhGauss => "rh-gauss",
             Self::Jensen => "jensen",
@@ -71,40 +79,103 @@ impl Model {
         }
     }
 
+    /// True for the models of eq. 8 (exp, gauss and their Ragheb–Hancock variants).
+    pub fn is_layered(self) -> bool {
+        self.correlation().is_some()
+    }
+
+    /// The layered models ([`Model::is_layered`]), in output order.
+    pub fn layered() -> impl Iterator<Item = Model> {
+        Self::ALL.into_iter().filter(|m| m.is_layered())
+    }
+
+    /// What the model is, in a few words (help texts, the page's list).
+    pub fn description(self) -> &'static str {
+        match self {
+            Self::Exp => "absorptive, exponential correlation (eq. 13)",
+            Self::Gauss => "absorptive, Gaussian correlation (eq. 12)",
+            Self::RhExp => "Ragheb–Hancock, exponential (a = 0)",
+            Self::RhGauss => "Ragheb–Hancock, Gaussian (a = 0)",
+            Self::Jensen => "Jensen et al. 2001 dipole diffusion (σa, σs′)",
+            Self::OrenNayar => "Oren–Nayar 1994, full model (σ, ρ)",
+        }
+    }
+
+    /// The model's parameters in output order: what its fitted model holds
+    /// ([`crate::ModelParams`]) and every output lists.
+    pub fn params(self) -> &'static [Param] {
+        match self {
+            Self::Jensen => &[Param::SigmaA, Param::SigmaS],
+            Self::OrenNayar => &[Param::Sigma, Param::Rho],
+            _ => &[Param::Slope, Param::Beta, Param::N, Param::A],
+        }
+    }
+
+    /// The parameters a fit estimates: [`Model::params`] without the
+    /// Ragheb–Hancock variants' a (fixed at 0).
+    pub fn free_params(self) -> &'static [Param] {
+        match self {
+            Self::RhExp | Self::RhGauss => &[Param::Slope, Param::Beta, Param::N],
+            _ => self.params(),
+        }
+    }
+
+    /// The absorptive model of a correlation function (its name is the
+    /// correlation's, [`Correlation::name`]).
+    pub fn absorptive(corr: Correlation) -> Model {
+        Self::ALL
+            .into_iter()
+            .find(|m| m.correlation() == Some(corr) && !m.is_ragheb_hancock())
+            .expect("every correlation has its absorptive model")
+    }
+
     /// Number of fitted parameters p, for χ²/ν (docs/conventions.md §5).
     pub fn parameter_count(self) -> usize {
-        match self {
-            Self::Exp | Self::Gauss => 4,
-            Self::RhExp | Self::RhGauss => 3,
-            Self::Jensen | Self::OrenNayar => 2,
+        self.free_params().len()
+    }
+
+    /// Every model's name joined by `", "` (help texts and errors).
+    pub fn names(models: impl IntoIterator<Item = Model>) -> String {
+        models
+            .into_iter()
+            .map(Model::name)
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// The parameters of every model, in order of first appearance in
+/// [`Model::ALL`] (output columns).
+pub fn all_params(models: impl IntoIterator<Item = Model>) -> Vec<Param> {
+    let mut out: Vec<Param> = Vec::new();
+    for model in models {
+        for &p in model.params() {
+            if !out.contains(&p) {
+                out.push(p);
+            }
         }
     }
+    out
+}
 
-    /// The closed ends of parameter `name`'s domain (the checks of
-    /// `laminar-core`); an open end is NaN (Jensen's σa, σs′ > 0).
-    pub fn domain(self, name: &str) -> (f64, f64) {
-        match (self, name) {
-            (_, "slope") => (SLOPE_MIN, SLOPE_MAX),
-            (_, "beta" | "a" | "rho") => (0.0, 1.0),
-            (_, "n") => (1.0, INDEX_MAX),
-            (Self::OrenNayar, "sigma") => (0.0, FRAC_PI_2),
-            // Jensen's σa, σs′ ∈ (0, 100]: only the upper end is attainable.
-            _ => (f64::NAN, 100.0),
-        }
-    }
+/// The closed ends of a parameter's domain (the checks of `laminar-core`,
+/// [`Param::domain`]); an open end is NaN (Jensen's σa, σs′ > 0).
+pub fn domain(p: Param) -> (f64, f64) {
+    let (lo, hi) = p.domain();
+    (if p.lower_open() { f64::NAN } else { lo }, hi)
+}
 
-    /// [`Model::domain`] with an open lower end replaced by the smallest
-    /// value a fit takes there (Jensen's σa, σs′ > 0: 10⁻⁹).
-    pub fn attainable_domain(self, name: &str) -> (f64, f64) {
-        let (lo, hi) = self.domain(name);
-        (if lo.is_nan() { 1e-9 } else { lo }, hi)
-    }
+/// [`domain`] with an open lower end replaced by the smallest value a fit
+/// takes there (Jensen's σa, σs′ > 0: 10⁻⁹).
+pub fn attainable_domain(p: Param) -> (f64, f64) {
+    let (lo, hi) = domain(p);
+    (if lo.is_nan() { 1e-9 } else { lo }, hi)
+}
 
-    /// True when `value` is a bound of parameter `name`'s domain.
-    pub fn at_bound(self, name: &str, value: f64) -> bool {
-        let (lo, hi) = self.domain(name);
-        value == lo || value == hi
-    }
+/// True when `value` is a bound of parameter `p`'s domain.
+pub fn at_bound(p: Param, value: f64) -> bool {
+    let (lo, hi) = domain(p);
+    value == lo || value == hi
 }
 
 impl fmt::Display for Model {
@@ -119,7 +190,10 @@ impl FromStr for Model {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| ModelError::UnknownModel(s.to_string()))
+            .ok_or_else(|| ModelError::UnknownModel {
+                given: s.to_string(),
+                expected: Model::names(Model::ALL),
+            })
     }
 }
 
@@ -133,5 +207,33 @@ impl<'de> Deserialize<'de> for Model {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let name = String::deserialize(d)?;
         name.parse().map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every correlation has its absorptive and Ragheb–Hancock models, the
+    /// absorptive one named as the correlation; every name reads back.
+    #[test]
+    fn the_descriptor_is_consistent() {
+        for corr in Correlation::ALL {
+            let m = Model::absorptive(corr);
+            assert_eq!(m.name(), corr.name());
+            let rh = m.ragheb_hancock().expect("an a = 0 variant");
+            assert_eq!(rh.correlation(), Some(corr));
+            assert!(!rh.free_params().contains(&Param::A));
+        }
+        for m in Model::ALL {
+            assert_eq!(m.name().parse::<Model>(), Ok(m));
+            assert!(m.free_params().iter().all(|p| m.params().contains(p)));
+            assert_eq!(m.is_layered(), m.correlation().is_some());
+        }
+        let e = "lambert".parse::<Model>().unwrap_err().to_string();
+        assert!(
+            e.contains("exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar"),
+            "{e}"
+        );
     }
 }

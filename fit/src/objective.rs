@@ -1,6 +1,6 @@
 //! Which objective a fit minimises (docs/conventions.md §4, §4b).
 
-use crate::error::UnknownName;
+use crate::error::{choices, UnknownName};
 use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -9,13 +9,13 @@ use std::str::FromStr;
 /// The objective of a fit.
 ///
 /// ```
-/// use laminar_fit::{synthetic, Fitter, Grid, Model, Objective};
+/// use laminar_fit::{synthetic, Fitter, Grid, Model, Objective, Param};
 /// // The built-in scene: exp at σ/T 1.48, n 1.44, a 0.17, noise σ = 0.005.
 /// let scene = synthetic::default_scene();
 /// let fit = Fitter::new(Grid::user())?
 ///     .objective(Objective::Free)
 ///     .fit(&scene, Model::Exp);
-/// for (name, truth) in [("slope", 1.48), ("n", 1.44), ("a", 0.17)] {
+/// for (name, truth) in [(Param::Slope, 1.48), (Param::N, 1.44), (Param::A, 0.17)] {
 ///     let p = fit.parameters.iter().find(|p| p.name == name).unwrap();
 ///     let (lo, hi) = p.bounds.unwrap();
 ///     assert!(lo <= p.value() && p.value() <= hi, "{name}: in the box");
@@ -26,6 +26,7 @@ use std::str::FromStr;
 /// # Ok::<(), laminar_fit::FitError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
     /// Weighted least squares with a free amplitude (docs/conventions.md
@@ -77,7 +78,7 @@ impl FromStr for Objective {
             .ok_or_else(|| UnknownName {
                 what: "objective",
                 given: s.to_string(),
-                expected: "free or paper",
+                expected: choices(&Self::ALL.map(Self::name)),
             })
     }
 }

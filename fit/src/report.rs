@@ -7,9 +7,10 @@
 use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::estimate::Estimate;
-use crate::model::Model;
+use crate::model::{Model, Param};
 use crate::objective::Objective;
 use crate::profile::Interval;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 
 /// The result of fitting one (sample, channel, model).
@@ -75,7 +76,7 @@ impl Fit {
     /// ([`Edge::NotIdentified`], e.g. Oren–Nayar's ρ under a free
     /// amplitude, a pure scale): every output then says so instead of a
     /// value. The fitted model keeps a value, which predicts the same.
-    pub fn not_identified(&self, name: &str) -> bool {
+    pub fn not_identified(&self, name: Param) -> bool {
         self.parameters
             .iter()
             .any(|p| p.name == name && p.flags.contains(&Edge::NotIdentified))
@@ -97,7 +98,9 @@ impl Fit {
 pub const NOT_IDENTIFIED: &str = "not_identified";
 
 /// Where an interval comes from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
+#[serde(rename_all = "snake_case")]
 pub enum Source {
     /// The profile of the error surface ([`crate::profile`]).
     Profile,
@@ -117,8 +120,8 @@ impl fmt::Display for Source {
 /// One searched parameter of a fit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Parameter {
-    /// The parameter's name (as in [`crate::ModelParams`]).
-    pub name: String,
+    /// The parameter.
+    pub name: Param,
     /// The chosen grid value.
     pub grid: f64,
     /// The refined value (when refined).
@@ -143,7 +146,8 @@ pub struct Parameter {
 }
 
 /// What releasing a bound of the box gives: a diagnostic, not an estimate.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 pub struct Released {
     /// The parameter's value with its bound released (within the model's domain).
     pub value: f64,
@@ -155,9 +159,9 @@ pub struct Released {
 
 impl Parameter {
     /// A parameter with its grid value only.
-    pub fn new(name: &str, grid: f64) -> Self {
+    pub fn new(name: Param, grid: f64) -> Self {
         Self {
-            name: name.to_string(),
+            name,
             grid,
             refined: None,
             interval68: None,
@@ -196,14 +200,14 @@ mod tests {
 
     #[test]
     fn flagged_parameters_are_listed_with_their_flags() {
-        let p = |name: &str, flags| Parameter {
+        let p = |name: Param, flags| Parameter {
             flags,
             ..Parameter::new(name, 0.0)
         };
         let list = [
-            p("slope", vec![Edge::RangeEdge]),
-            p("beta", vec![]),
-            p("a", vec![Edge::RangeEdge, Edge::DomainBound]),
+            p(Param::Slope, vec![Edge::RangeEdge]),
+            p(Param::Beta, vec![]),
+            p(Param::A, vec![Edge::RangeEdge, Edge::DomainBound]),
         ];
         assert_eq!(
             edges_text(&list),

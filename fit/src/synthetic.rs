@@ -59,10 +59,7 @@ impl Noise {
 /// The paper-normalised prediction of the absorptive model `corr` at
 /// `params` on `angles` (docs/conventions.md §4).
 pub fn normalised(corr: Correlation, params: &Params, angles: &[Angles]) -> Vec<f64> {
-    let model = match corr {
-        Correlation::Exponential => Model::Exp,
-        Correlation::Gaussian => Model::Gauss,
-    };
+    let model = Model::absorptive(corr);
     let p = ModelParams::Layered {
         slope: params.slope(),
         beta: params.beta(),

@@ -10,7 +10,7 @@
 
 use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel};
 use laminar_fit::synthetic::Noise;
-use laminar_fit::{Edge, Fit, Fitter, Grid, Model, ModelParams, Objective};
+use laminar_fit::{Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
@@ -49,7 +49,7 @@ fn check(model: Model) {
         assert_eq!(c.outside_box, 0, "{model}: an estimate outside the box");
         assert_eq!(c.parameters.len(), model.parameter_count());
         for p in &c.parameters {
-            let (r68, r95) = (c.rate(&p.name, 0).unwrap(), c.rate(&p.name, 1).unwrap());
+            let (r68, r95) = (c.rate(p.name, 0).unwrap(), c.rate(p.name, 1).unwrap());
             eprintln!(
                 "coverage {model} | {} | {}: 68.27% {r68:.3} ± {:.3}, 95% {r95:.3} ± {:.3}; Jacobian ±1 sd {}/{}",
                 noise.label(),
@@ -119,7 +119,7 @@ fn intervals_shrink_with_the_noise_and_an_exact_truth_is_found() {
         &mut Noise::new(7),
     );
     for p in &fit.parameters {
-        let t = truth.get(&p.name).unwrap();
+        let t = truth.value(p.name).unwrap();
         assert!((p.value() - t).abs() <= 1e-6, "{}: {}", p.name, p.value());
     }
 }
@@ -201,7 +201,7 @@ fn an_estimate_on_the_box_face_says_what_releasing_the_bound_gives() {
         NoiseModel::Every(0.002),
         &mut Noise::new(5),
     );
-    let n = fit.parameters.iter().find(|p| p.name == "n").unwrap();
+    let n = fit.parameters.iter().find(|p| p.name == Param::N).unwrap();
     assert_eq!(n.value(), 2.5, "{n:?}");
     assert!(n.flags.contains(&Edge::RangeEdge) && n.flags.contains(&Edge::OpenAbove));
     let i = n.interval95.unwrap();
@@ -235,8 +235,8 @@ fn paper_objective_rates_for_the_docs() {
                     "paper objective {model} | {} | {}: 68.27% {:.3}, 95% {:.3}",
                     noise.label(),
                     p.name,
-                    c.rate(&p.name, 0).unwrap(),
-                    c.rate(&p.name, 1).unwrap()
+                    c.rate(p.name, 0).unwrap(),
+                    c.rate(p.name, 1).unwrap()
                 );
             }
         }

@@ -285,9 +285,25 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         &|| {},
     )
     .unwrap_err();
-    assert!(matches!(e, GridError::Empty { axis: "a" }), "{e}");
+    assert!(
+        matches!(
+            e,
+            GridError::Empty {
+                axis: laminar_fit::model::Param::A
+            }
+        ),
+        "{e}"
+    );
     let e = error_surface(&scene, &empty, Correlation::Exponential, Path::DEFAULT).unwrap_err();
-    assert!(matches!(e, GridError::Empty { axis: "a" }), "{e}");
+    assert!(
+        matches!(
+            e,
+            GridError::Empty {
+                axis: laminar_fit::model::Param::A
+            }
+        ),
+        "{e}"
+    );
     let outside = Grid {
         n: Axis { values: vec![0.5] },
         ..Grid::paper()

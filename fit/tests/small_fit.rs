@@ -6,7 +6,7 @@
 
 use laminar_core::measures::DataFault;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
-use laminar_core::{Correlation, Geometry};
+use laminar_core::{Correlation, Geometry, Param};
 use laminar_fit::search::{self, Arith, Method};
 use laminar_fit::{synthetic, Grid, Path};
 
@@ -101,13 +101,16 @@ fn small_fit_refuses_bad_input_by_kind() {
     assert!(
         matches!(
             e,
-            SmallFitError::Axis(AxisError::OutOfDomain { axis: "n", .. })
+            SmallFitError::Axis(AxisError::OutOfDomain { axis: Param::N, .. })
         ),
         "{e:?}"
     );
     let empty = Axes { beta: &[], ..axes };
     let e = small_fit::fit(corr, &g[..8], &[0.5; 8], &empty, &mut scratch).unwrap_err();
-    assert_eq!(e, SmallFitError::Axis(AxisError::Empty { axis: "beta" }));
+    assert_eq!(
+        e,
+        SmallFitError::Axis(AxisError::Empty { axis: Param::Beta })
+    );
 }
 
 /// The free-amplitude small fit (`laminar_core::small_free_fit`, the
@@ -142,7 +145,7 @@ fn small_free_fit_finds_the_library_grid_minimum() {
                 let small = fit_free(corr, &g32, (scene.data(), None), &axes, &mut scratch)
                     .expect("a valid fit");
                 let library = free::fit(&scene, model, &grid, Analysis::NONE);
-                let at = |name: &str| {
+                let at = |name: Param| {
                     library
                         .parameters
                         .iter()
@@ -154,7 +157,7 @@ fn small_free_fit_finds_the_library_grid_minimum() {
                 checked += 1;
                 // The library reports σ/T back through its logarithm.
                 let near = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
-                if near(slope, at("slope")) && n == at("n") && a == at("a") {
+                if near(slope, at(Param::Slope)) && n == at(Param::N) && a == at(Param::A) {
                     same += 1;
                     continue;
                 }
@@ -171,12 +174,12 @@ fn small_free_fit_finds_the_library_grid_minimum() {
                         .objective
                 };
                 let picked = objective((slope, n, a));
-                let best = objective((at("slope"), at("n"), at("a")));
+                let best = objective((at(Param::Slope), at(Param::N), at(Param::A)));
                 println!(
                     "K = {k} {corr:?}: f32 picks ({slope}, {n}, {a}), the library ({}, {}, {}): f64 objectives {picked:.9e} and {best:.9e}",
-                    at("slope"),
-                    at("n"),
-                    at("a")
+                    at(Param::Slope),
+                    at(Param::N),
+                    at(Param::A)
                 );
                 assert!(
                     picked <= best * (1.0 + 1e-4),

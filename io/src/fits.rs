@@ -11,16 +11,18 @@
 
 use crate::error::ReadError;
 use laminar_fit::fitted::format_value;
+use laminar_fit::model::{all_params, Param};
 use laminar_fit::profile::Interval;
-use laminar_fit::report::{edges_text, NOT_IDENTIFIED};
+use laminar_fit::report::{edges_text, Released, Source, NOT_IDENTIFIED};
 use laminar_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 
 fn paper() -> Objective {
     Objective::Paper
 }
-use serde::{Deserialize, Serialize};
-use std::io::Write;
-use std::path::{Path, PathBuf};
 
 /// The first columns of the CSV (a contract: scripts read these columns);
 /// [`csv_header`] adds the refinement's.
@@ -67,35 +69,13 @@ pub const FIT_COLUMNS: [&str; 5] = [
     "chi2w_dof",
 ];
 
-/// The parameter names of `models`, in order of first appearance.
-fn parameter_names(models: impl IntoIterator<Item = Model>) -> Vec<&'static str> {
-    let mut names: Vec<&'static str> = Vec::new();
-    for model in models {
-        for name in model_parameters(model) {
-            if !names.contains(&name) {
-                names.push(name);
-            }
-        }
-    }
-    names
-}
-
-/// A model's parameter names in output order.
-fn model_parameters(model: Model) -> Vec<&'static str> {
-    match model {
-        Model::Jensen => vec!["sigma_a", "sigma_s"],
-        Model::OrenNayar => vec!["sigma", "rho"],
-        _ => vec!["slope", "beta", "n", "a"],
-    }
-}
-
 /// The full CSV header for fits of `models`: [`CSV_HEADER`], then
 /// `rms_grid`, `rms_refined`, then for each parameter of those models
 /// `{name}_{column}` for each of [`PARAMETER_COLUMNS`], then [`FIT_COLUMNS`].
 pub fn csv_header(models: &[Model]) -> Vec<String> {
     let mut header: Vec<String> = CSV_HEADER.iter().map(|c| c.to_string()).collect();
     header.extend(["rms_grid".to_string(), "rms_refined".to_string()]);
-    for name in parameter_names(models.iter().copied()) {
+    for name in all_params(models.iter().copied()) {
         header.extend(PARAMETER_COLUMNS.iter().map(|c| format!("{name}_{c}")));
     }
     header.extend(FIT_COLUMNS.iter().map(|c| c.to_string()));
@@ -154,7 +134,7 @@ fn parameter_cells(p: Option<&Parameter>) -> Vec<String> {
     ]
 }
 
-fn row(r: &Fit, names: &[&str]) -> Vec<String> {
+fn row(r: &Fit, names: &[Param]) -> Vec<String> {
     let reported = r.reported();
     let chi = reported.chi2;
     let rh = r.rh.as_ref();
@@ -209,7 +189,7 @@ pub fn csv(records: &[Fit]) -> String {
 /// holding every record): the header first, then [`CsvRows::write`] per fit.
 pub struct CsvRows<W: Write> {
     writer: csv::Writer<W>,
-    names: Vec<&'static str>,
+    names: Vec<Param>,
 }
 
 impl<W: Write> CsvRows<W> {
@@ -222,7 +202,7 @@ impl<W: Write> CsvRows<W> {
         writer.write_record(csv_header(models))?;
         Ok(Self {
             writer,
-            names: parameter_names(models.iter().copied()),
+            names: all_params(models.iter().copied()),
         })
     }
 
@@ -258,6 +238,7 @@ pub const READ_VERSIONS: [u32; 2] = [1, 2];
 /// One fit in the fitted-model file: the CSV's columns (params as an
 /// object) and the portable fitted models.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
 pub struct FitEntry {
     /// Sample label.
     pub sample: String,
@@ -276,14 +257,14 @@ pub struct FitEntry {
     pub chi2_used: Option<usize>,
     /// Measurements left out of χ² (D ≤ 0).
     pub chi2_left_out: Option<usize>,
-    /// Parameters, rounded to 10 decimals.
-    pub params: serde_json::Map<String, serde_json::Value>,
+    /// Parameters by name, rounded to 10 decimals.
+    pub params: BTreeMap<String, ParamValue>,
     /// Δ_RMS of the Ragheb–Hancock best (exp, gauss).
     pub rh_rms: Option<f64>,
     /// Its χ²/ν.
     pub rh_chi2_dof: Option<f64>,
     /// Its parameters.
-    pub rh_params: Option<serde_json::Map<String, serde_json::Value>>,
+    pub rh_params: Option<BTreeMap<String, f64>>,
     /// Kept measurements K.
     pub measurements: usize,
     /// Kept measurements with value ≤ 0.
@@ -304,10 +285,10 @@ pub struct FitEntry {
     pub rms_refined: Option<f64>,
     /// Correlations of the refined estimate from the Jacobian, `"a~b": r`.
     #[serde(default)]
-    pub correlations: serde_json::Map<String, serde_json::Value>,
+    pub correlations: BTreeMap<String, f64>,
     /// Pairs whose correlation is at least 0.9 in magnitude, `"a~b": r`.
     #[serde(default)]
-    pub trade_offs: serde_json::Map<String, serde_json::Value>,
+    pub trade_offs: BTreeMap<String, f64>,
     /// The Ragheb–Hancock best as a fitted model.
     pub rh_fitted: Option<FittedModel>,
     /// Free objective: the fitted amplitude c of the estimate.
@@ -316,12 +297,10 @@ pub struct FitEntry {
     /// Free objective: the weighted χ²/ν of the estimate.
     #[serde(default)]
     pub chi2w_dof: Option<f64>,
-    /// Each searched parameter under its name: `grid`, `refined`, `lo68`,
-    /// `hi68`, `lo95`, `hi95`, `interval` (`profile` or `jacobian`), `sd`
-    /// and `flags` (`range_edge`, `domain_bound`, `open_below`,
-    /// `open_above`). Absent in files written before it existed.
+    /// Each searched parameter under its name. Absent in files written
+    /// before it existed.
     #[serde(default)]
-    pub parameters: serde_json::Map<String, serde_json::Value>,
+    pub parameters: BTreeMap<String, ParameterEntry>,
     /// The fitted model's energy, when asked for (`laminar fit --albedo`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy: Option<Energy>,
@@ -330,6 +309,7 @@ pub struct FitEntry {
 /// The units of the fitted data, as the user states them: what `ρ ≤ 1`
 /// means depends on them (docs/conventions.md §12).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
 #[serde(rename_all = "lowercase")]
 pub enum Units {
     /// A BRDF in absolute units (sr⁻¹): ρ > 1 is a gain of energy.
@@ -341,6 +321,7 @@ pub enum Units {
 
 /// A fitted model's directional albedo over view angles, in the file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
 pub struct Energy {
     /// The fitted data's units, as stated.
     pub units: Units,
@@ -382,64 +363,150 @@ impl Energy {
 
 /// The fitted-model file: `laminar fit --format json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
 pub struct FitsFile {
     /// Always [`FORMAT`].
     pub format: String,
     /// [`VERSION`].
     pub version: u32,
     /// What the numbers are, for a reader of the file.
-    pub quantities: serde_json::Value,
+    pub quantities: BTreeMap<String, String>,
     /// The fits.
     pub fits: Vec<FitEntry>,
 }
 
-/// `e`'s parameters as a JSON object, [`NOT_IDENTIFIED`] in place of the
-/// value of each parameter `unidentified` names.
-fn params_object(
-    e: &Estimate,
-    unidentified: impl Fn(&str) -> bool,
-) -> serde_json::Map<String, serde_json::Value> {
+/// A parameter's value in `params`: a number, or [`NOT_IDENTIFIED`] when
+/// the data do not determine it ([`Fit::not_identified`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+#[serde(untagged)]
+pub enum ParamValue {
+    /// The value.
+    Value(f64),
+    /// The data do not determine it.
+    Marker(NotIdentified),
+}
+
+/// The word [`NOT_IDENTIFIED`] in place of a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+#[serde(rename_all = "snake_case")]
+pub enum NotIdentified {
+    /// `not_identified`.
+    NotIdentified,
+}
+
+impl ParamValue {
+    /// `v`, or the marker when `unidentified`.
+    fn of(v: f64, unidentified: bool) -> Self {
+        if unidentified {
+            Self::Marker(NotIdentified::NotIdentified)
+        } else {
+            Self::Value(v)
+        }
+    }
+
+    /// The number, when there is one.
+    pub fn value(self) -> Option<f64> {
+        match self {
+            Self::Value(v) => Some(v),
+            Self::Marker(_) => None,
+        }
+    }
+}
+
+/// `e`'s parameters by name, rounded to 10 decimals ([`format_value`]),
+/// the marker in place of each parameter `unidentified` names.
+fn params_map(e: &Estimate, unidentified: impl Fn(Param) -> bool) -> BTreeMap<String, ParamValue> {
     e.fitted
         .params
         .pairs()
-        .iter()
-        .map(|&(k, v)| {
-            let value = if unidentified(k) {
-                serde_json::json!(NOT_IDENTIFIED)
-            } else {
-                serde_json::json!(format_value(v).parse::<f64>().unwrap_or(v))
-            };
-            (k.to_string(), value)
+        .into_iter()
+        .map(|(k, v)| {
+            (
+                k.name().to_string(),
+                ParamValue::of(rounded(v), unidentified(k)),
+            )
         })
         .collect()
 }
 
-/// A parameter as its JSON object (absent numbers are `null`).
-fn parameter_object(p: &Parameter) -> serde_json::Value {
-    let ends = |i: Option<Interval>| (i.map(|i| i.lo), i.map(|i| i.hi));
-    let (lo68, hi68) = ends(p.interval68);
-    let (lo95, hi95) = ends(p.interval95);
-    serde_json::json!({
-        "grid": p.grid,
-        "refined": if p.flags.contains(&Edge::NotIdentified) {
-            serde_json::json!(NOT_IDENTIFIED)
-        } else {
-            serde_json::json!(p.refined)
-        },
-        "lo68": lo68,
-        "hi68": hi68,
-        "lo95": lo95,
-        "hi95": hi95,
-        "interval": p.source.map(|s| s.to_string()),
-        "sd": p.sd,
-        "flags": p.flags,
-        "box": p.bounds.map(|(lo, hi)| [lo, hi]),
-        "released": p.released.map(|r| serde_json::json!({
-            "value": r.value,
-            "rms": r.rms,
-            "rms_in_box": r.rms_in_box,
-        })),
-    })
+/// `v` to 10 decimals, as the `params` column prints it.
+fn rounded(v: f64) -> f64 {
+    format_value(v).parse::<f64>().unwrap_or(v)
+}
+
+/// One searched parameter of a fit in the fitted-model file
+/// (docs/conventions.md §11, §11b).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+#[cfg_attr(test, ts(rename = "FitParameter"))]
+pub struct ParameterEntry {
+    /// The best grid point's value.
+    pub grid: f64,
+    /// After refinement (absent when not refined); [`NOT_IDENTIFIED`] when
+    /// the data do not determine the parameter (its flags say so).
+    pub refined: Option<ParamValue>,
+    /// The 68.27% interval's lower end (absent when not computed).
+    pub lo68: Option<f64>,
+    /// Its upper end.
+    pub hi68: Option<f64>,
+    /// The 95% interval's lower end.
+    pub lo95: Option<f64>,
+    /// Its upper end.
+    pub hi95: Option<f64>,
+    /// Where the interval ends come from.
+    pub interval: Option<Source>,
+    /// The Jacobian's standard deviation (absent at a domain bound).
+    pub sd: Option<f64>,
+    /// Edge flags (empty for an interior value).
+    pub flags: Vec<Edge>,
+    /// The box searched (free objective; absent for the paper's).
+    #[serde(rename = "box", default, serialize_with = "pair_as_list")]
+    #[cfg_attr(test, ts(type = "[number, number] | null"))]
+    pub bounds: Option<[f64; 2]>,
+    /// For an estimate on a face of the box that is not a bound of the
+    /// model's domain: one local fit with that bound released.
+    #[serde(default)]
+    pub released: Option<Released>,
+}
+
+/// A pair as a list, not a tuple: the same JSON, and a Python list too
+/// (a serde tuple becomes a Python tuple).
+fn pair_as_list<S: serde::Serializer>(pair: &Option<[f64; 2]>, s: S) -> Result<S::Ok, S::Error> {
+    match pair {
+        Some(pair) => s.collect_seq(pair),
+        None => s.serialize_none(),
+    }
+}
+
+impl ParameterEntry {
+    /// The entry of a fit's parameter.
+    pub fn new(p: &Parameter) -> Self {
+        let ends = |i: Option<Interval>| (i.map(|i| i.lo), i.map(|i| i.hi));
+        let (lo68, hi68) = ends(p.interval68);
+        let (lo95, hi95) = ends(p.interval95);
+        Self {
+            grid: p.grid,
+            refined: p
+                .refined
+                .map(|v| ParamValue::of(v, p.flags.contains(&Edge::NotIdentified))),
+            lo68,
+            hi68,
+            lo95,
+            hi95,
+            interval: p.source,
+            sd: p.sd,
+            flags: p.flags.clone(),
+            bounds: p.bounds.map(|(lo, hi)| [lo, hi]),
+            released: p.released,
+        }
+    }
+}
+
+/// The `"a~b"` key of a pair of parameters.
+fn pair_key(a: Param, b: Param) -> String {
+    format!("{a}~{b}")
 }
 
 impl FitEntry {
@@ -455,10 +522,15 @@ impl FitEntry {
             chi2_dof: reported.chi2.map(|c| c.per_dof),
             chi2_used: reported.chi2.map(|c| c.used),
             chi2_left_out: reported.chi2.map(|c| c.left_out),
-            params: params_object(reported, |name| r.not_identified(name)),
+            params: params_map(reported, |name| r.not_identified(name)),
             rh_rms: r.rh.as_ref().map(|e| e.rms),
             rh_chi2_dof: r.rh.as_ref().and_then(|e| e.chi2).map(|c| c.per_dof),
-            rh_params: r.rh.as_ref().map(|e| params_object(e, |_| false)),
+            rh_params: r.rh.as_ref().map(|e| {
+                params_map(e, |_| false)
+                    .into_iter()
+                    .filter_map(|(k, v)| Some((k, v.value()?)))
+                    .collect()
+            }),
             measurements: r.measurements,
             nonpositive: r.nonpositive,
             search_rms: r.search_rms,
@@ -473,11 +545,10 @@ impl FitEntry {
                 .covariance
                 .as_ref()
                 .map(|c| {
-                    let mut out = serde_json::Map::new();
+                    let mut out = BTreeMap::new();
                     for i in 0..c.names.len() {
                         for j in i + 1..c.names.len() {
-                            let key = format!("{}~{}", c.names[i], c.names[j]);
-                            out.insert(key, serde_json::json!(c.correlation(i, j)));
+                            out.insert(pair_key(c.names[i], c.names[j]), c.correlation(i, j));
                         }
                     }
                     out
@@ -489,14 +560,14 @@ impl FitEntry {
                 .map(|c| {
                     c.trade_offs()
                         .into_iter()
-                        .map(|(a, b, r)| (format!("{a}~{b}"), serde_json::json!(r)))
+                        .map(|(a, b, r)| (pair_key(a, b), r))
                         .collect()
                 })
                 .unwrap_or_default(),
             parameters: r
                 .parameters
                 .iter()
-                .map(|p| (p.name.clone(), parameter_object(p)))
+                .map(|p| (p.name.to_string(), ParameterEntry::new(p)))
                 .collect(),
             energy: None,
         }
@@ -527,23 +598,26 @@ fn empty_file() -> FitsFile {
     FitsFile {
         format: FORMAT.into(),
         version: VERSION,
-        quantities: serde_json::json!({
-            "objective": "free: weighted least squares Σ w(D − c·M)² with a free amplitude c ≥ 0, M eq. 8's raw mix (beta is eq. 8's β, solved with c in closed form), w = 1/σ² from the input's uncertainties (else 1), every estimate and interval inside the box searched; paper: the paper's objective, data and model each divided by their max over the measurements",
-            "rms": "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the fitted prediction; of the refined estimate (free) or of the best grid point (paper, as in the paper's tables)",
-            "chi2_dof": "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p",
-            "chi2w_dof": "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)",
-            "amplitude": "free: the fitted amplitude c (P = c·M on the data divided by their max)",
-            "params": "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper); not_identified in place of a value the data do not determine (the parameter's flags hold not_identified; fitted keeps a value, which predicts the same)",
-            "fitted": "the model to predict with: full-precision params; normalisation = {amplitude} (free: P = amplitude·(beta·L_sb + (1−beta)·L_sf)), or the maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (paper; baselines: of the raw radiance; P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max)",
-            "beta_eq8": "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)",
-            "data_scale": "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units",
-            "fitted_note": "fitted is the refined model when the fit was refined (grid_fitted is then the grid's best); laminar predict uses fitted",
-            "rms_grid": "Δ_RMS of the best grid point (= rms for the paper objective)",
-            "rms_refined": "Δ_RMS after refinement (free: Levenberg–Marquardt from the grid's basins inside the box, which lowers the weighted objective; paper: Nelder–Mead in f64 within the model's domain, never above rms_grid)",
-            "parameters": "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the objective at Δχ² = 1 and 3.84 (free without uncertainties: F(1, K − p)'s quantiles) with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (paper: the grid value is first or last of its axis, the optimum may lie outside the range searched; free: the estimate is on a face of the box), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side), not_identified (free: the 95% interval is the whole box); box: [lo, hi], the box the free objective searched, refined and bounded the intervals in; released: for an estimate on a face of the box that is not a bound of the model's domain, the value and Δ_RMS of one local fit with that bound released (a diagnostic, not an estimate)",
-            "correlations": "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹",
-            "trade_offs": "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one",
-        }),
+        quantities: [
+            ("objective", "free: weighted least squares Σ w(D − c·M)² with a free amplitude c ≥ 0, M eq. 8's raw mix (beta is eq. 8's β, solved with c in closed form), w = 1/σ² from the input's uncertainties (else 1), every estimate and interval inside the box searched; paper: the paper's objective, data and model each divided by their max over the measurements"),
+            ("rms", "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the fitted prediction; of the refined estimate (free) or of the best grid point (paper, as in the paper's tables)"),
+            ("chi2_dof", "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p"),
+            ("chi2w_dof", "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)"),
+            ("amplitude", "free: the fitted amplitude c (P = c·M on the data divided by their max)"),
+            ("params", "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper); not_identified in place of a value the data do not determine (the parameter's flags hold not_identified; fitted keeps a value, which predicts the same)"),
+            ("fitted", "the model to predict with: full-precision params; normalisation = {amplitude} (free: P = amplitude·(beta·L_sb + (1−beta)·L_sf)), or the maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (paper; baselines: of the raw radiance; P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max)"),
+            ("beta_eq8", "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)"),
+            ("data_scale", "the max of the measured radiance the data were divided by: P·data_scale is radiance in the input's units"),
+            ("fitted_note", "fitted is the refined model when the fit was refined (grid_fitted is then the grid's best); laminar predict uses fitted"),
+            ("rms_grid", "Δ_RMS of the best grid point (= rms for the paper objective)"),
+            ("rms_refined", "Δ_RMS after refinement (free: Levenberg–Marquardt from the grid's basins inside the box, which lowers the weighted objective; paper: Nelder–Mead in f64 within the model's domain, never above rms_grid)"),
+            ("parameters", "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the objective at Δχ² = 1 and 3.84 (free without uncertainties: F(1, K − p)'s quantiles) with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (paper: the grid value is first or last of its axis, the optimum may lie outside the range searched; free: the estimate is on a face of the box), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side), not_identified (free: the 95% interval is the whole box); box: [lo, hi], the box the free objective searched, refined and bounded the intervals in; released: for an estimate on a face of the box that is not a bound of the model's domain, the value and Δ_RMS of one local fit with that bound released (a diagnostic, not an estimate)"),
+            ("correlations", "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹"),
+            ("trade_offs", "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one"),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect(),
         fits: Vec::new(),
     }
 }
@@ -929,7 +1003,7 @@ mod tests {
             entry.fitted.normalisation,
             NormalisationConstants::Amplitude { .. }
         ));
-        assert_eq!(entry.parameters["n"]["box"], serde_json::json!([1.0, 2.5]));
+        assert_eq!(entry.parameters["n"].bounds, Some([1.0, 2.5]));
         // A version 1 file: no objective, amplitude or box.
         let mut v1: serde_json::Value =
             serde_json::from_str(&json(&[fit(Objective::Paper)])).unwrap();

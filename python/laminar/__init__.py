@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, FLAG_BITS, FitResult, FittedModel, Measurements, paper_angles, render
+from ._laminar import BATCH_COLUMNS, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
 from ._laminar import evaluate as _evaluate
 from ._laminar import fit as _fit
 from ._laminar import fit_batch as _fit_batch
@@ -39,7 +39,15 @@ __all__ = [
     "paper_angles",
     "BATCH_DTYPE",
     "FLAG_BITS",
+    "MODELS",
+    "GRID_AXES",
 ]
+
+#: :data:`MODELS` maps each model's name to its ``description``, its
+#: ``params`` (in output order), the ``free_params`` a fit estimates and
+#: its ``correlation`` (``exp`` or ``gauss`` for the layered models, else
+#: None): the library's model descriptor. :data:`GRID_AXES` are the
+#: parameters a ``grid`` may set.
 
 #: The fields of :func:`fit_batch`'s result, in order.
 #:

@@ -21,6 +21,8 @@ Grid = Optional[Mapping[str, AxisSpec]]
 
 BATCH_COLUMNS: list[str]
 FLAG_BITS: dict[str, int]
+MODELS: dict[Model, dict[str, object]]
+GRID_AXES: list[str]
 
 def evaluate(
     model: LayeredModel,

@@ -9,8 +9,8 @@
 
 use laminar_core::{components, Angles, Geometry, Params};
 use laminar_fit::{
-    Analysis, Axis, Edge, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams,
-    Objective, Quantity, Scene,
+    Axis, Edge, Fit, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, ModelParams, Param,
+    Quantity, Scene, SettingError, Settings,
 };
 use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::fits::FitEntry;
@@ -60,11 +60,11 @@ fn read_error(e: ReadError) -> PyErr {
     }
 }
 
-/// A JSON value as the Python object `json.loads` makes of it (the same
-/// objects the fitted-model file holds).
-fn json_value<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
-    let text = serde_json::to_string(value).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    py.import("json")?.call_method1("loads", (text,))
+/// A result type as Python objects (dicts, lists, floats, strings, None),
+/// straight from its serde form: the same fields and names the
+/// fitted-model file holds, without going through JSON text.
+fn to_python<'py>(py: Python<'py>, value: &impl serde::Serialize) -> PyResult<Bound<'py, PyAny>> {
+    pythonize::pythonize(py, value).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 fn parse<T: std::str::FromStr>(what: &str, text: &str) -> PyResult<T>
@@ -318,14 +318,24 @@ impl Measurements {
     }
 }
 
-/// The grid of `fit`: the objective's default grid ([`Objective::default_grid`]),
-/// with the axes named in `grid` replaced.
-fn grid_from(
+/// The fitter of `fit` and `fit_batch`: each option handed to the
+/// library's settings by name ([`Settings::set`]); a grid axis is its
+/// text or a sequence of values.
+fn fitter(
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
-    objective: Objective,
-) -> PyResult<Grid> {
-    let mut out = objective.default_grid();
+    threads: Option<usize>,
+    refine: bool,
+    uncertainty: &str,
+    objective: &str,
+) -> PyResult<Fitter> {
+    let mut s = Settings::default();
+    s.set("objective", objective).map_err(value_error)?;
+    s.set("uncertainty", uncertainty).map_err(value_error)?;
+    s.analysis.refine = refine;
+    s.threads = threads;
     for (name, spec) in grid.unwrap_or_default() {
+        let at = |e: SettingError| PyValueError::new_err(format!("grid[{name:?}]: {e}"));
+        let p = Settings::axis_param(&name).map_err(at)?;
         let axis = match spec.extract::<String>() {
             Ok(text) => Axis::parse(&text)
                 .map_err(|e| PyValueError::new_err(format!("grid[{name:?}]: {e}")))?,
@@ -337,61 +347,15 @@ fn grid_from(
                 })?,
             },
         };
-        match name.as_str() {
-            "slope" => out.slope = axis,
-            "beta" => out.beta = axis,
-            "n" => out.n = axis,
-            "a" => out.a = axis,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "grid: unknown axis `{other}` (slope, beta, n, a)"
-                )))
-            }
-        }
+        s.set_axis(p, axis);
     }
-    out.validate().map_err(value_error)?;
-    Ok(out)
-}
-
-fn fitter(
-    grid: Option<HashMap<String, Bound<'_, PyAny>>>,
-    threads: Option<usize>,
-    refine: bool,
-    uncertainty: &str,
-    objective: &str,
-) -> PyResult<Fitter> {
-    let analysis = Analysis {
-        refine,
-        uncertainty: parse("uncertainty", uncertainty)?,
-    };
-    let objective: Objective = parse("objective", objective)?;
-    let fitter = Fitter::new(grid_from(grid, objective)?)
-        .map_err(value_error)?
-        .analysis(analysis)
-        .objective(objective);
-    match threads {
-        Some(t) => fitter.threads(t).map_err(value_error),
-        None => Ok(fitter),
-    }
+    s.fitter().map_err(value_error)
 }
 
 fn params_dict<'py>(py: Python<'py>, params: &ModelParams) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    match *params {
-        ModelParams::Layered { slope, beta, n, a } => {
-            d.set_item("slope", slope)?;
-            d.set_item("beta", beta)?;
-            d.set_item("n", n)?;
-            d.set_item("a", a)?;
-        }
-        ModelParams::Jensen { sigma_a, sigma_s } => {
-            d.set_item("sigma_a", sigma_a)?;
-            d.set_item("sigma_s", sigma_s)?;
-        }
-        ModelParams::OrenNayar { sigma, rho } => {
-            d.set_item("sigma", sigma)?;
-            d.set_item("rho", rho)?;
-        }
+    for (p, value) in params.pairs() {
+        d.set_item(p.name(), value)?;
     }
     Ok(d)
 }
@@ -475,19 +439,19 @@ impl FitResult {
     /// (`range_edge`, `domain_bound`, `open_below`, `open_above`).
     #[getter]
     fn parameters<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_value(py, &FitEntry::new(&self.fit).parameters)
+        to_python(py, &FitEntry::new(&self.fit).parameters)
     }
 
     /// The Jacobian correlations of the refined parameters, `{"a~b": r}`.
     #[getter]
     fn correlations<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_value(py, &FitEntry::new(&self.fit).correlations)
+        to_python(py, &FitEntry::new(&self.fit).correlations)
     }
 
     /// The pairs whose correlation is at least 0.9 in magnitude, `{"a~b": r}`.
     #[getter]
     fn trade_offs<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_value(py, &FitEntry::new(&self.fit).trade_offs)
+        to_python(py, &FitEntry::new(&self.fit).trade_offs)
     }
 
     /// The search's own Δ_RMS at the best point (its precision).
@@ -628,8 +592,8 @@ impl FittedModel {
     ) -> PyResult<Self> {
         let kind: Model = parse("model", model)?;
         let values =
-            ModelParams::from_values(kind, |name| params.get(name).copied().unwrap_or(f64::NAN));
-        let names: Vec<&str> = values.pairs().iter().map(|(name, _)| *name).collect();
+            ModelParams::from_values(kind, |p| params.get(p.name()).copied().unwrap_or(f64::NAN));
+        let names: Vec<&str> = kind.params().iter().map(|p| p.name()).collect();
         if let Some(missing) = names.iter().find(|n| !params.contains_key(**n)) {
             return Err(PyValueError::new_err(format!(
                 "params: `{missing}` is missing; {model} takes {}",
@@ -807,7 +771,7 @@ fn fit(
 }
 
 /// The layered models' parameters, in the order of their batch columns.
-const BATCH_PARAMETERS: [&str; 4] = ["slope", "beta", "n", "a"];
+const BATCH_PARAMETERS: [Param; 4] = Grid::PARAMS;
 
 /// Columns per parameter after the 21 leading ones: its 95% ends, the
 /// Jacobian's sd and its flags.
@@ -824,23 +788,18 @@ const BATCH_WIDTH: usize = 21 + 2 + PER_PARAMETER * BATCH_PARAMETERS.len();
 /// per parameter its 95% interval, sd and flags (the mask of
 /// `laminar_fit::Edge::bit`s, 0 for none). NaN where not computed.
 fn batch_columns() -> Vec<String> {
-    let mut names: Vec<String> = [
-        "rms",
-        "chi2_dof",
-        "slope",
-        "beta",
-        "n",
-        "a",
-        "rh_rms",
-        "rh_slope",
-        "rh_beta",
-        "rh_n",
-        "search_rms",
-        "measurements",
-        "rms_grid",
-    ]
-    .map(String::from)
-    .to_vec();
+    let name = |p: Param| p.name().to_string();
+    let mut names: Vec<String> = vec!["rms".into(), "chi2_dof".into()];
+    names.extend(BATCH_PARAMETERS.map(name));
+    names.push("rh_rms".into());
+    // The Ragheb–Hancock best's free parameters (its a is 0).
+    names.extend(
+        Model::RhExp
+            .free_params()
+            .iter()
+            .map(|&p| format!("rh_{p}")),
+    );
+    names.extend(["search_rms", "measurements", "rms_grid"].map(String::from));
     for p in BATCH_PARAMETERS {
         names.extend([format!("{p}_lo68"), format!("{p}_hi68")]);
     }
@@ -861,7 +820,7 @@ fn batch_row(fit: &Fit) -> [f64; BATCH_WIDTH] {
     let [slope, beta, n, a] = layered(&estimate.fitted.params);
     let rh = fit.rh.as_ref();
     let [rs, rb, rn, _] = rh.map_or([f64::NAN; 4], |e| layered(&e.fitted.params));
-    let parameter = |name: &str| fit.parameters.iter().find(|p| p.name == name);
+    let parameter = |name: Param| fit.parameters.iter().find(|p| p.name == name);
     let ends =
         |i: Option<laminar_fit::profile::Interval>| i.map_or([f64::NAN; 2], |i| [i.lo, i.hi]);
     let mut row = Vec::with_capacity(BATCH_WIDTH);
@@ -1000,5 +959,28 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
         flags.set_item(edge.to_string(), edge.bit())?;
     }
     m.add("FLAG_BITS", flags)?;
+    // The model descriptor (laminar_fit::Model): every list a Python user
+    // needs comes from here.
+    let models = PyDict::new(m.py());
+    for model in Model::ALL {
+        let info = PyDict::new(m.py());
+        info.set_item("description", model.description())?;
+        info.set_item(
+            "params",
+            model.params().iter().map(|p| p.name()).collect::<Vec<_>>(),
+        )?;
+        info.set_item(
+            "free_params",
+            model
+                .free_params()
+                .iter()
+                .map(|p| p.name())
+                .collect::<Vec<_>>(),
+        )?;
+        info.set_item("correlation", model.correlation().map(|c| c.name()))?;
+        models.set_item(model.name(), info)?;
+    }
+    m.add("MODELS", models)?;
+    m.add("GRID_AXES", Grid::PARAMS.map(Param::name).to_vec())?;
     Ok(())
 }

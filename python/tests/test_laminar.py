@@ -284,6 +284,9 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
     and a value outside it is refused with a ValueError naming the option."""
     lit = stub_literals()
     assert set(lit) == {"Model", "LayeredModel", "Objective", "Uncertainty", "Quantity", "AngleUnit", "Precision"}
+    # The model aliases are the library's descriptor, in its order.
+    assert lit["Model"] == tuple(laminar.MODELS)
+    assert lit["LayeredModel"] == tuple(m for m, info in laminar.MODELS.items() if info["correlation"])
     for model in lit["LayeredModel"]:
         for precision in lit["Precision"]:
             laminar.evaluate(model, 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=precision)
@@ -297,7 +300,14 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
         m = laminar.Measurements.from_arrays(*g.T, values, quantity=quantity)
     for model in lit["Model"]:
         for objective in lit["Objective"]:
-            laminar.fit(m, model, refine=False, uncertainty="off", objective=objective)
+            r = laminar.fit(m, model, refine=False, uncertainty="off", objective=objective)
+            # Every parameter of the descriptor is in the result, by its name.
+            assert list(r.params) == laminar.MODELS[model]["params"], model
+    # Every grid axis is taken by name; another name is refused, naming them.
+    for axis in laminar.GRID_AXES:
+        laminar.fit(m, "exp", refine=False, uncertainty="off", grid={axis: "0.3:0.6:2" if axis != "n" else "1.3:1.5:2"})
+    with pytest.raises(ValueError, match="slope, beta, n, a"):
+        laminar.fit(m, "exp", grid={"sigma": "0:1:2"})
     for uncertainty in lit["Uncertainty"]:
         laminar.fit(m, "exp", uncertainty=uncertainty)
     csv = tmp_path / "m.csv"

@@ -7,8 +7,9 @@
 //! (one thread, as in the browser).
 
 use laminar_fit::Analysis;
+use laminar_fit::Settings;
 use laminar_wasm::evaluate::{total_radiance_f32, total_radiance_f64};
-use laminar_wasm::fitting::{fit, Settings};
+use laminar_wasm::fitting::fit;
 use laminar_wasm::measurements::{example_csv, Measurements};
 use std::time::Instant;
 

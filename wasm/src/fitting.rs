@@ -3,8 +3,7 @@
 
 use crate::measurements::Measurements;
 use crate::{error, geometries};
-use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Uncertainty};
+use laminar_fit::{Grid, Model, Param, Settings};
 use laminar_io::fits;
 use laminar_io::selection::SelectError;
 use std::cell::RefCell;
@@ -72,92 +71,45 @@ extern "C" {
     pub type FitOptions;
 }
 
-/// What a fit does: `laminar fit`'s objective, grid, path and analysis flags.
-#[derive(Clone, Debug)]
-pub struct Settings {
-    /// The objective (free by default).
-    pub objective: Objective,
-    /// The search grid (the objective's default grid unless set).
-    pub grid: Grid,
-    /// The search path of the layered models.
-    pub path: SearchPath,
-    /// Refinement and uncertainty after the search.
-    pub analysis: Analysis,
-}
-
-impl Default for Settings {
-    /// `laminar fit`'s defaults: the free objective on its grid, the default
-    /// path, refinement and both uncertainties.
-    fn default() -> Self {
-        Self {
-            objective: Objective::Free,
-            grid: Objective::Free.default_grid(),
-            path: SearchPath::DEFAULT,
-            analysis: Analysis::FULL,
+/// Settings and progress callback from a JavaScript options object
+/// ([`FitOptions`]): each option is handed to the library's settings
+/// ([`Settings::set`]) by its name; each wrong field is an error naming it.
+pub(crate) fn settings_from_js(
+    options: &JsValue,
+) -> Result<(Settings, Option<js_sys::Function>), JsError> {
+    let mut s = Settings::default();
+    if options.is_undefined() || options.is_null() {
+        return Ok((s, None));
+    }
+    let field = |name: &str| {
+        js_sys::Reflect::get(options, &JsValue::from_str(name))
+            .map_err(|_| error(format_args!("options: cannot read `{name}`")))
+            .map(|v| (!v.is_undefined()).then_some(v))
+    };
+    let texts = ["objective", "uncertainty", "path"]
+        .into_iter()
+        .chain(Grid::PARAMS.map(Param::name));
+    for name in texts {
+        if let Some(v) = field(name)? {
+            let text = v
+                .as_string()
+                .ok_or_else(|| error(format_args!("options.{name}: give a string")))?;
+            s.set(name, &text)
+                .map_err(|e| error(format_args!("options.{e}")))?;
         }
     }
-}
-
-impl Settings {
-    /// Settings and progress callback from a JavaScript options object;
-    /// each wrong field is an error naming it.
-    pub(crate) fn from_js(options: &JsValue) -> Result<(Self, Option<js_sys::Function>), JsError> {
-        let mut s = Self::default();
-        if options.is_undefined() || options.is_null() {
-            return Ok((s, None));
-        }
-        let field = |name: &str| {
-            js_sys::Reflect::get(options, &JsValue::from_str(name))
-                .map_err(|_| error(format_args!("options: cannot read `{name}`")))
-                .map(|v| (!v.is_undefined()).then_some(v))
-        };
-        let text = |name: &str| -> Result<Option<String>, JsError> {
-            field(name)?
-                .map(|v| {
-                    v.as_string()
-                        .ok_or_else(|| error(format_args!("options.{name}: give a string")))
-                })
-                .transpose()
-        };
-        if let Some(o) = text("objective")? {
-            s.objective = o
-                .parse::<Objective>()
-                .map_err(|e| error(format_args!("options.objective: {e}")))?;
-            s.grid = s.objective.default_grid();
-        }
-        if let Some(v) = field("refine")? {
-            s.analysis.refine = v
-                .as_bool()
-                .ok_or_else(|| error("options.refine: give true or false"))?;
-        }
-        if let Some(u) = text("uncertainty")? {
-            s.analysis.uncertainty = u
-                .parse::<Uncertainty>()
-                .map_err(|e| error(format_args!("options.uncertainty: {e}")))?;
-        }
-        for (name, axis) in [
-            ("slope", &mut s.grid.slope),
-            ("beta", &mut s.grid.beta),
-            ("n", &mut s.grid.n),
-            ("a", &mut s.grid.a),
-        ] {
-            if let Some(t) = text(name)? {
-                *axis = Axis::parse(&t).map_err(|e| error(format_args!("options.{name}: {e}")))?;
-            }
-        }
-        if let Some(p) = text("path")? {
-            s.path = p
-                .parse()
-                .map_err(|e| error(format_args!("options.path: {e}")))?;
-        }
-        let progress = field("onProgress")?
-            .map(|f| {
-                f.dyn_into::<js_sys::Function>()
-                    .map_err(|_| error("options.onProgress: give a function"))
-            })
-            .transpose()?;
-        Ok((s, progress))
+    if let Some(v) = field("refine")? {
+        s.analysis.refine = v
+            .as_bool()
+            .ok_or_else(|| error("options.refine: give true or false"))?;
     }
+    let progress = field("onProgress")?
+        .map(|f| {
+            f.dyn_into::<js_sys::Function>()
+                .map_err(|_| error("options.onProgress: give a function"))
+        })
+        .transpose()?;
+    Ok((s, progress))
 }
 
 /// Fits `model` (`exp`, `gauss`, `rh-exp`, `rh-gauss`, `jensen`,
@@ -176,12 +128,7 @@ pub fn fit(
 ) -> Result<String, JsError> {
     let model: Model = model.parse().map_err(error)?;
     let scene = measurements.set.scene(channel).map_err(error)?;
-    let fitter = Fitter::new(settings.grid.clone())
-        .map_err(error)?
-        .path(settings.path)
-        .analysis(settings.analysis)
-        .objective(settings.objective)
-        .on_progress(tick);
+    let fitter = settings.fitter().map_err(error)?.on_progress(tick);
     let total = fitter.shards(model);
     // A fit started from another fit's callback keeps the outer fit's
     // progress aside and gives it back when done.

@@ -28,16 +28,16 @@
 //! generated glue are camelCase: `fromCsv`, `totalRadianceF32`, …):
 //!
 //! ```
+//! use laminar_fit::Settings;
 //! use laminar_wasm::{fitting, measurements::{example_csv, Measurements}};
 //! let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")?;
 //! // The default: the free-amplitude objective, refined, with intervals.
-//! let json = fitting::fit(&m, "value", "exp", &fitting::Settings::default(), None)?;
+//! let json = fitting::fit(&m, "value", "exp", &Settings::default(), None)?;
 //! assert!(json.contains(r#""objective": "free""#), "{json}");
 //! // The paper's grid search alone, as `laminar fit --objective paper --refine off --uncertainty off`:
 //! // the example was made at a point of the paper grid.
-//! let settings = fitting::Settings {
+//! let settings = Settings {
 //!     objective: laminar_fit::Objective::Paper,
-//!     grid: laminar_fit::Grid::paper(),
 //!     analysis: laminar_fit::Analysis::NONE,
 //!     ..Default::default()
 //! };
@@ -64,14 +64,27 @@ fn error(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
-/// The correlation of a layered model name (`exp` or `gauss`).
+/// The correlation of an absorptive model's name ([`Correlation::name`]).
 fn correlation(model: &str) -> Result<Correlation, JsError> {
-    match model {
-        "exp" => Ok(Correlation::Exponential),
-        "gauss" => Ok(Correlation::Gaussian),
-        _ => Err(error(format_args!(
-            "model `{model}`: give `exp` or `gauss`"
-        ))),
+    Correlation::from_name(model)
+        .ok_or_else(|| error(format_args!("model `{model}`: give {}", Names)))
+}
+
+/// The names of [`Correlation::ALL`], quoted, joined by "or":
+/// `` `exp` or `gauss` ``.
+struct Names;
+
+impl std::fmt::Display for Names {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mut sep = "";
+        for c in Correlation::ALL {
+            f.write_str(sep)?;
+            f.write_str("`")?;
+            f.write_str(c.name())?;
+            f.write_str("`")?;
+            sep = " or ";
+        }
+        Ok(())
     }
 }
 
@@ -89,6 +102,17 @@ fn geometries(angles: &[f64]) -> Result<Vec<Angles>, JsError> {
         .map(|(k, t)| {
             Angles::new(t[0], t[1], t[2]).map_err(|e| error(format_args!("geometry {k}: {e}")))
         })
+        .collect()
+}
+
+/// The names the evaluation functions take as `model`: one absorptive
+/// model per correlation function (`["exp", "gauss"]`), from the core's
+/// descriptor ([`Correlation::ALL`]).
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn correlations() -> Vec<wasm_bindgen::JsValue> {
+    Correlation::ALL
+        .iter()
+        .map(|c| wasm_bindgen::JsValue::from_str(c.name()))
         .collect()
 }
 

@@ -166,7 +166,8 @@ function showFit(json) {
   const layered = entry.fitted.beta_eq8 !== null;
   if (layered) {
     const p = entry.fitted.params;
-    setSliders({ model: entry.model.endsWith('gauss') ? 'gauss' : 'exp', slope: p.slope, beta: entry.fitted.beta_eq8, n: p.n, a: p.a ?? 0 });
+    const correlation = MODELS.find((m) => m.name === entry.model)?.correlation;
+    setSliders({ model: correlation, slope: p.slope, beta: entry.fitted.beta_eq8, n: p.n, a: p.a ?? 0 });
   }
 }
 
@@ -180,7 +181,8 @@ const SLIDERS = [
 ];
 const sliders = $('sliders');
 const modelSelect = Object.assign(document.createElement('select'), { id: 'lobe-model' });
-modelSelect.append(new Option('exp', 'exp'), new Option('gauss', 'gauss'));
+// One lobe per correlation function, named as its absorptive model.
+modelSelect.append(...E.correlations().map((c) => new Option(c, c)));
 const modelLabel = document.createElement('label');
 modelLabel.append('surface correlation', modelSelect, document.createElement('span'));
 sliders.appendChild(modelLabel);
@@ -271,5 +273,8 @@ function drawSphere(v) {
 drawLobe();
 document.body.dataset.lobe = 'true';
 L = await load();
+// The models to fit, from the library's model descriptor.
+const MODELS = L.models();
+$('model').append(...MODELS.map((m) => new Option(`${m.name} (${m.description})`, m.name)));
 for (const id of NEEDS_WHOLE) $(id).disabled = false;
 document.body.dataset.ready = 'true';

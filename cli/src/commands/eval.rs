@@ -1,6 +1,6 @@
 //! `laminar eval`: the model's raw terms at given geometries.
 
-use super::options::report_time;
+use super::options::{layered_model, report_time};
 use clap::{Args, ValueEnum};
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
@@ -36,8 +36,8 @@ pub enum Precision {
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct EvalArgs {
-    /// Layered model: exp, gauss, rh-exp or rh-gauss.
-    #[arg(long)]
+    /// Layered model.
+    #[arg(long, value_parser = layered_model())]
     model: Model,
     /// RMS slope σ/T, in [1e-3, 1e3].
     #[arg(long, allow_negative_numbers = true)]

@@ -1,8 +1,8 @@
 //! `laminar fit`: fit models to measurements by exhaustive grid search.
 
 use super::options::{
-    check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs, ChannelArgs, CuretArgs,
-    FileArgs, GridArgs, ObjectiveArgs, PathArgs, ThreadArgs, PAIRS,
+    any_model, check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs, ChannelArgs,
+    CuretArgs, FileArgs, GridArgs, ObjectiveArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
@@ -79,8 +79,8 @@ pub struct FitArgs {
     channels: ChannelArgs,
     #[command(flatten)]
     curet: CuretArgs,
-    /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar (default: all six).
-    #[arg(long, value_delimiter = ',')]
+    /// Models, comma-separated (default: every one).
+    #[arg(long, value_delimiter = ',', value_parser = any_model())]
     models: Option<Vec<Model>>,
     #[command(flatten)]
     path: PathArgs,

@@ -1,8 +1,8 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
 use super::options::{
-    check_out, counter, fitter, progress, report_time, AnalysisArgs, GridArgs, ObjectiveArgs,
-    PathArgs, ThreadArgs, PAIRS,
+    any_model, check_out, counter, fitter, progress, report_time, AnalysisArgs, GridArgs,
+    ObjectiveArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::usage::UsageError;
@@ -48,8 +48,8 @@ pub struct FitBatchArgs {
     /// What the values are: brdf (fitted as BRDF·cos θi) or radiance.
     #[arg(long, default_value_t = Quantity::Brdf)]
     quantity: Quantity,
-    /// Models, comma-separated: exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar (default: exp).
-    #[arg(long, value_delimiter = ',', default_value = "exp")]
+    /// Models, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "exp", value_parser = any_model())]
     models: Vec<Model>,
     #[command(flatten)]
     path: PathArgs,

@@ -1,6 +1,7 @@
 //! Option groups shared by several subcommands. Each subcommand flattens
 //! only the groups it uses, so `--help` lists only options it reads.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use laminar_cli::selection::{
@@ -9,11 +10,35 @@ use laminar_cli::selection::{
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::search::Path as SearchPath;
-use laminar_fit::{Analysis, Axis, Fitter, Objective, Quantity, Uncertainty, UnknownName};
+use laminar_fit::{
+    Analysis, Axis, Fitter, Model, Objective, Param, Quantity, Settings, Uncertainty, UnknownName,
+};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+
+/// A parser of the names of `models`, which `--help` lists with each
+/// model's description: the lists come from the model descriptor
+/// ([`Model::ALL`], [`Model::layered`]), never from a help string.
+pub fn model_parser(
+    models: impl IntoIterator<Item = Model>,
+) -> impl TypedValueParser<Value = Model> {
+    let values = models
+        .into_iter()
+        .map(|m| PossibleValue::new(m.name()).help(m.description()));
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<Model>())
+}
+
+/// [`model_parser`] of every model.
+pub fn any_model() -> impl TypedValueParser<Value = Model> {
+    model_parser(Model::ALL)
+}
+
+/// [`model_parser`] of the layered models (eq. 8's).
+pub fn layered_model() -> impl TypedValueParser<Value = Model> {
+    model_parser(Model::layered())
+}
 
 /// A CUReT directory.
 #[derive(Args, Debug, Clone)]
@@ -150,21 +175,28 @@ pub struct GridArgs {
 }
 
 impl GridArgs {
-    /// The default grid of `objective` with the given axes replaced, validated.
+    /// The axes given, by their parameter.
+    pub fn axes(&self) -> Vec<(Param, Axis)> {
+        [
+            (Param::Slope, &self.slope),
+            (Param::Beta, &self.beta),
+            (Param::N, &self.n),
+            (Param::A, &self.a),
+        ]
+        .into_iter()
+        .filter_map(|(p, axis)| Some((p, axis.clone()?)))
+        .collect()
+    }
+
+    /// The default grid of `objective` with the given axes replaced,
+    /// validated ([`Settings::grid`]).
     pub fn grid(&self, objective: Objective) -> Result<laminar_fit::Grid, CliError> {
-        let mut g = objective.default_grid();
-        for (axis, given) in [
-            (&mut g.slope, &self.slope),
-            (&mut g.beta, &self.beta),
-            (&mut g.n, &self.n),
-            (&mut g.a, &self.a),
-        ] {
-            if let Some(v) = given {
-                *axis = v.clone();
-            }
-        }
-        g.validate()?;
-        Ok(g)
+        let settings = Settings {
+            objective,
+            axes: self.axes(),
+            ..Settings::default()
+        };
+        Ok(settings.grid()?)
     }
 }
 
@@ -249,14 +281,14 @@ pub fn fitter(
     analysis: &AnalysisArgs,
     objective: Objective,
 ) -> Result<Fitter, CliError> {
-    let mut f = Fitter::new(grid.grid(objective)?)?
-        .path(path)
-        .analysis(analysis.analysis())
-        .objective(objective);
-    if let Some(t) = threads.threads {
-        f = f.threads(t)?;
-    }
-    Ok(f)
+    let settings = Settings {
+        objective,
+        axes: grid.axes(),
+        path,
+        analysis: analysis.analysis(),
+        threads: threads.threads,
+    };
+    Ok(settings.fitter()?)
 }
 
 /// Sets the global thread pool (for work outside a [`Fitter`]).

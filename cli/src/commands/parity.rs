@@ -1,11 +1,10 @@
 //! `laminar parity`: the SIMD path against its scalar twin, bit for bit.
 
-use super::options::global_threads;
+use super::options::{global_threads, layered_model};
 use super::options::{
     jobs, report_time, ChannelArgs, CuretArgs, FileArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
-use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::search::batch::search_batch;
 use laminar_fit::search::{search, Arith, Method, Path, SearchResult, Twins};
@@ -24,8 +23,8 @@ pub struct ParityArgs {
     channels: ChannelArgs,
     #[command(flatten)]
     curet: CuretArgs,
-    /// Layered models to compare, comma-separated: exp, gauss, rh-exp, rh-gauss (default: all four).
-    #[arg(long, value_delimiter = ',')]
+    /// Layered models to compare, comma-separated (default: every one).
+    #[arg(long, value_delimiter = ',', value_parser = layered_model())]
     models: Option<Vec<Model>>,
     #[command(flatten)]
     path: PathArgs,
@@ -38,16 +37,11 @@ pub struct ParityArgs {
 /// Runs `laminar parity`; `Ok(false)` when some value differs.
 pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
     let start = Instant::now();
+    // Layered models only: the parser takes no other.
     let models: Vec<Model> = args
         .models
         .clone()
-        .unwrap_or_else(|| Model::ALL.to_vec())
-        .into_iter()
-        .filter(|m| m.correlation().is_some())
-        .collect();
-    if models.is_empty() {
-        return Err(UsageError::ParityWithoutLayered.into());
-    }
+        .unwrap_or_else(|| Model::layered().collect());
     global_threads(&args.threads)?;
     let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;

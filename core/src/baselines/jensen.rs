@@ -4,11 +4,12 @@
 //! `f = (1/π) Ft(θi) R_d Ft(θs) + α′ Ft(θi) Ft(θs) p / (cos θi′ + cos θs′)`,
 //! isotropic phase `p = 1/(4π)`, `η = 1.3`, `Ft = 1 − f(·, η)`; radiance `f cos θi`.
 
-use crate::error::{check_range, InputError};
+use crate::error::{check_param, InputError};
 use crate::exp::exp;
 use crate::fresnel::{refract_cos, transmittance_from_cosines};
 use crate::geometry::Angles;
 use crate::lane::{Lane, Real};
+use crate::param::Param;
 use core::f64::consts::PI;
 
 /// Relative refractive index η of the Jensen baseline (docs/conventions.md §7).
@@ -69,14 +70,8 @@ impl<S: Real> JensenCoefficients<S> {
     /// [`InputError::OutOfRange`] naming `sigma_a` or `sigma_s` when it is
     /// outside `(0, 100]` or NaN.
     pub fn new(sigma_a: f64, sigma_s_prime: f64) -> Result<Self, InputError> {
-        check_range("sigma_a", sigma_a, f64::MIN_POSITIVE, 100.0, "(0, 100]")?;
-        check_range(
-            "sigma_s",
-            sigma_s_prime,
-            f64::MIN_POSITIVE,
-            100.0,
-            "(0, 100]",
-        )?;
+        check_param(Param::SigmaA, sigma_a)?;
+        check_param(Param::SigmaS, sigma_s_prime)?;
         let (sa, ss) = (S::from_f64(sigma_a), S::from_f64(sigma_s_prime));
         let eta = S::from_f64(JENSEN_ETA);
         let c = S::c;

@@ -3,9 +3,10 @@
 //!
 //! In the Beckmann geometry the source azimuth is π, so `cos(φr − φi) = −cos φs`.
 
-use crate::error::{check_range, InputError};
+use crate::error::{check_param, InputError};
 use crate::geometry::Angles;
 use crate::lane::{Lane, Real};
+use crate::param::Param;
 use core::f64::consts::{FRAC_PI_2, PI};
 
 /// Per-geometry terms of the Oren–Nayar model, computed once per scene
@@ -81,8 +82,8 @@ impl<S: Real> OrenNayarCoefficients<S> {
     /// [`InputError::OutOfRange`] naming `sigma` or `rho` when it is outside
     /// its domain or NaN.
     pub fn new(sigma: f64, rho: f64) -> Result<Self, InputError> {
-        check_range("sigma", sigma, 0.0, FRAC_PI_2, "[0, π/2]")?;
-        check_range("rho", rho, 0.0, 1.0, "[0, 1]")?;
+        check_param(Param::Sigma, sigma)?;
+        check_param(Param::Rho, rho)?;
         let (s, r) = (S::from_f64(sigma), S::from_f64(rho));
         let c = S::c;
         let s2 = s * s;

@@ -104,18 +104,6 @@ struct LayeredTerms {
     refracted_cos: Vec<(f64, f64)>,
 }
 
-/// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
-/// `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes (`x = ∞`).
-fn log_slope_derivative(corr: Correlation, x: f64) -> f64 {
-    if !x.is_finite() {
-        return 0.0;
-    }
-    match corr {
-        Correlation::Exponential => 3.0 * x / (1.0 + x),
-        Correlation::Gaussian => 0.5 * x,
-    }
-}
-
 /// `∂ ln B/∂n` of the Ragheb–Hancock base at one measurement (eqs. 3–7),
 /// analytically, from the refracted cosines `(cos θi′, cos θs′)`;
 /// `x_refracted` is eq. 1–2's argument below the boundary.
@@ -143,7 +131,7 @@ fn log_n_derivative(
     let ell = -2.0 * inv_n - 2.0 * (dci + dcs) / (ci + cs);
     // The elasticity of the shape in x′ is half that in σ/T with the sign
     // turned, as x ∝ (σ/T)⁻².
-    let elasticity = -0.5 * log_slope_derivative(corr, x_refracted);
+    let elasticity = -0.5 * corr.log_slope_derivative(x_refracted);
     // `∂ ln t/∂n = 1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`,
     // the last term as `2 (s_n p³ + p_n s³)/(s p (s² + p²))`.
     let transmission = |c: f64, c2: f64, dc2: f64, rel2: f64| {
@@ -430,10 +418,10 @@ impl Basis {
                 let Columns { s, u } = at.columns;
                 let d_slope = Columns {
                     s: (0..len)
-                        .map(|k| s[k] * log_slope_derivative(*corr, geometry[k].ratio * terms.t))
+                        .map(|k| s[k] * corr.log_slope_derivative(geometry[k].ratio * terms.t))
                         .collect(),
                     u: (0..len)
-                        .map(|k| u[k] * log_slope_derivative(*corr, terms.x_refracted[k]))
+                        .map(|k| u[k] * corr.log_slope_derivative(terms.x_refracted[k]))
                         .collect(),
                 };
                 let d_n = wanted[1].then(|| Columns {

@@ -10,9 +10,9 @@ use crate::analysis::{Analysis, Uncertainty};
 use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::estimate::Estimate;
-use crate::fitted::{free_names, FittedModel, ModelParams};
+use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
-use crate::model::Model;
+use crate::model::{attainable_domain, Model, Param};
 use crate::objective::Objective;
 use crate::profile::Interval;
 use crate::report::{Fit, Parameter, Released, Source};
@@ -29,8 +29,7 @@ pub const MOST_RESTARTS: usize = 3;
 
 /// A model's reported parameters and how each maps onto the objective.
 struct Layout {
-    model: Model,
-    names: Vec<&'static str>,
+    names: &'static [Param],
     coordinates: Vec<Coordinate>,
     /// Grid axes of the nonlinear parameters (model units).
     axes: GridAxes,
@@ -48,29 +47,32 @@ impl Layout {
     fn new(model: Model, grid: &Grid) -> Self {
         let log = |(lo, hi): (f64, f64)| (libm::log(lo), libm::log(hi));
         // The nonlinear parameters and the axes they are searched on.
-        let nonlinear: Vec<(&'static str, Axis)> = match model {
+        let nonlinear: Vec<(Param, Axis)> = match model {
             Model::Jensen | Model::OrenNayar => {
                 let (x, y) = if model == Model::Jensen {
                     jensen_grid()
                 } else {
                     oren_nayar_grid()
                 };
-                let names = free_names(model);
+                let names = model.free_params();
                 vec![(names[0], x), (names[1], y)]
             }
             _ => {
-                let mut axes = vec![("slope", grid.slope.clone()), ("n", grid.n.clone())];
+                let mut axes = vec![
+                    (Param::Slope, grid.slope.clone()),
+                    (Param::N, grid.n.clone()),
+                ];
                 if !model.is_ragheb_hancock() {
-                    axes.push(("a", grid.a.clone()));
+                    axes.push((Param::A, grid.a.clone()));
                 }
                 axes
             }
         };
         // σ/T is searched and refined in its logarithm.
-        let in_log = |name: &str| name == "slope";
+        let in_log = |name: Param| name == Param::Slope;
         let internal =
-            |name: &str, range: (f64, f64)| if in_log(name) { log(range) } else { range };
-        let names = free_names(model);
+            |name: Param, range: (f64, f64)| if in_log(name) { log(range) } else { range };
+        let names = model.free_params();
         let coordinates = names
             .iter()
             .map(
@@ -84,17 +86,16 @@ impl Layout {
             )
             .collect();
         Self {
-            model,
             names,
             coordinates,
             bounds: nonlinear
                 .iter()
-                .map(|(name, axis)| internal(name, axis.range()))
+                .map(|(name, axis)| internal(*name, axis.range()))
                 .collect(),
             reported: nonlinear.iter().map(|(_, axis)| axis.range()).collect(),
             domain: nonlinear
                 .iter()
-                .map(|(name, _)| internal(name, model.attainable_domain(name)))
+                .map(|&(name, _)| internal(name, attainable_domain(name)))
                 .collect(),
             beta: if model.correlation().is_some() {
                 grid.beta.range()
@@ -273,7 +274,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
 /// The model's domain of reported parameter `i` (an open lower end at the
 /// smallest value a fit takes), exactly: not through σ/T's logarithm.
 fn domain_of(layout: &Layout, i: usize) -> (f64, f64) {
-    layout.model.attainable_domain(layout.names[i])
+    attainable_domain(layout.names[i])
 }
 
 /// One local fit from `minimum` with the box's bound on the side where
@@ -586,7 +587,7 @@ fn correlations(layout: &Layout, c: &JacobianCovariance) -> Option<Covariance> {
         return None;
     }
     Some(Covariance {
-        names: kept.iter().map(|&i| layout.names[i].to_string()).collect(),
+        names: kept.iter().map(|&i| layout.names[i]).collect(),
         matrix: kept
             .iter()
             .map(|&i| {

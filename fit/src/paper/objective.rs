@@ -5,8 +5,8 @@
 //! profile.
 
 use crate::error::ModelError;
-use crate::fitted::{free_names, FittedModel, Geometries, ModelParams};
-use crate::model::Model;
+use crate::fitted::{FittedModel, Geometries, ModelParams};
+use crate::model::{attainable_domain, Model, Param};
 use crate::scene::Scene;
 
 /// The objective of one (scene, model): the sum of squared residuals
@@ -17,7 +17,7 @@ pub struct SumOfSquares<'a> {
     scene: &'a Scene,
     model: Model,
     geometries: Geometries,
-    names: Vec<&'static str>,
+    names: &'static [Param],
     bounds: Vec<(f64, f64)>,
 }
 
@@ -26,11 +26,8 @@ impl<'a> SumOfSquares<'a> {
     /// model's parameters in output order, without a of the Ragheb–Hancock
     /// variants (fixed at 0).
     pub fn new(scene: &'a Scene, model: Model) -> Self {
-        let names = free_names(model);
-        let bounds = names
-            .iter()
-            .map(|&name| model.attainable_domain(name))
-            .collect();
+        let names = model.free_params();
+        let bounds = names.iter().map(|&p| attainable_domain(p)).collect();
         Self {
             scene,
             model,
@@ -40,9 +37,9 @@ impl<'a> SumOfSquares<'a> {
         }
     }
 
-    /// The free parameters' names.
-    pub fn names(&self) -> &[&'static str] {
-        &self.names
+    /// The free parameters.
+    pub fn names(&self) -> &'static [Param] {
+        self.names
     }
 
     /// The closed domain `[lo, hi]` of each free parameter.
@@ -72,7 +69,7 @@ impl<'a> SumOfSquares<'a> {
     pub fn values(&self, params: &ModelParams) -> Vec<f64> {
         self.names
             .iter()
-            .map(|&n| params.get(n).unwrap_or(f64::NAN))
+            .map(|&n| params.value(n).unwrap_or(f64::NAN))
             .collect()
     }
 

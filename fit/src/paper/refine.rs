@@ -16,6 +16,7 @@
 
 use super::objective::SumOfSquares;
 use crate::grid::Axis;
+use crate::model::Param;
 use crate::profile::basins;
 use crate::search::{GridProfile, Searched};
 use argmin::core::{CostFunction, Executor, State};
@@ -254,7 +255,7 @@ fn point_of(
     flat: usize,
     lens: &[usize],
     searched: &[Searched],
-    names: &[&str],
+    names: &[Param],
     fallback: &[f64],
 ) -> Vec<f64> {
     names
@@ -282,7 +283,7 @@ mod tests {
         let truth = Params::new(1.234, 0.456, 1.417, 0.321).unwrap();
         let scene = synthetic::scene(Correlation::Exponential, &truth, 0.0, 1);
         let objective = SumOfSquares::new(&scene, Model::Exp);
-        assert_eq!(objective.names(), ["slope", "beta", "n", "a"]);
+        assert_eq!(objective.names(), Model::Exp.params());
         let start = vec![1.24, 0.46, 1.42, 0.32];
         let r = refine(
             &objective,
@@ -300,7 +301,7 @@ mod tests {
         let truth = Params::new(0.8, 0.3, 1.05, 0.0).unwrap();
         let scene = synthetic::scene(Correlation::Gaussian, &truth, 0.0, 1);
         let objective = SumOfSquares::new(&scene, Model::RhGauss);
-        assert_eq!(objective.names(), ["slope", "beta", "n"]);
+        assert_eq!(objective.names(), [Param::Slope, Param::Beta, Param::N]);
         // Starts pushed against n = 1: the answer stays in the domain.
         let r = refine(&objective, &[vec![0.9, 0.35, 1.0]], &[0.08, 0.01, 0.02]);
         assert!(r.x[2] >= 1.0 && r.x[1] >= 0.0 && r.x[1] <= 1.0);

@@ -12,8 +12,7 @@ use crate::analysis::{Analysis, Uncertainty};
 use crate::covariance::Covariance;
 use crate::edges::{flags, Edge};
 use crate::estimate::Estimate;
-use crate::fitted::free_names;
-use crate::model::Model;
+use crate::model::{at_bound, Model, Param};
 use crate::report::{Parameter, Source};
 use crate::scene::Scene;
 use crate::search::{GridProfile, Searched};
@@ -43,9 +42,10 @@ pub(crate) fn analyse(
     if analysis == Analysis::NONE {
         // The grid search alone: the grid values' flags, and no model
         // evaluation (batches of pixels take this path).
-        let parameters = free_names(model)
-            .into_iter()
-            .filter_map(|name| axis_of(searched, name).map(|s| grid_parameter(model, s)))
+        let parameters = model
+            .free_params()
+            .iter()
+            .filter_map(|&name| axis_of(searched, name).map(grid_parameter))
             .collect();
         return Analysed {
             refined: None,
@@ -97,12 +97,12 @@ pub(crate) fn analyse(
         .enumerate()
         .filter_map(|(i, &name)| {
             let s = axis_of(searched, name)?;
-            let mut p = grid_parameter(model, s);
+            let mut p = grid_parameter(s);
             if analysis.refine {
                 // domain_bound describes the value reported: the refined one.
                 p.refined = Some(x[i]);
                 p.flags.retain(|&f| f != Edge::DomainBound);
-                if model.at_bound(name, x[i]) {
+                if at_bound(name, x[i]) {
                     p.flags.push(Edge::DomainBound);
                 }
             }
@@ -141,7 +141,7 @@ pub(crate) fn analyse(
 }
 
 /// The searched axis of parameter `name`.
-fn axis_of<'s, 'a>(searched: &'s [Searched<'a>], name: &str) -> Option<&'s Searched<'a>> {
+fn axis_of<'s, 'a>(searched: &'s [Searched<'a>], name: Param) -> Option<&'s Searched<'a>> {
     searched.iter().find(|s| s.name == name)
 }
 
@@ -156,9 +156,9 @@ fn range(s: &Searched) -> (f64, f64) {
 }
 
 /// A searched parameter with its grid value and that value's flags.
-fn grid_parameter(model: Model, s: &Searched) -> Parameter {
+fn grid_parameter(s: &Searched) -> Parameter {
     Parameter {
-        flags: flags(model, s.name, s.value, s.values),
+        flags: flags(s.name, s.value, s.values),
         ..Parameter::new(s.name, s.value)
     }
 }

@@ -26,6 +26,7 @@ pub mod sums;
 
 use crate::error::{GridError, UnknownName};
 use crate::grid::{Axis, Grid};
+use crate::model::Param;
 use crate::scene::Scene;
 use laminar_core::{f32x8, Correlation, Lane};
 use packed::{Packed, Tables};
@@ -122,7 +123,7 @@ impl FromStr for Path {
             .ok_or_else(|| UnknownName {
                 what: "search path",
                 given: s.to_string(),
-                expected: "METHOD-ARITH with METHOD one of direct, onepass, envelope and ARITH one of f32x8, f32, f64",
+                expected: "METHOD-ARITH with METHOD one of direct, onepass, envelope and ARITH one of f32x8, f32, f64".into(),
             })
     }
 }
@@ -657,10 +658,10 @@ pub fn point(grid: &Grid, flat: usize) -> (f64, f64, f64, f64) {
 }
 
 /// One axis a fit searched: its index among the grid's axes (as in
-/// [`GridProfile::axes`]), the parameter's name, its grid value and the axis.
+/// [`GridProfile::axes`]), the parameter, its grid value and the axis.
 pub(crate) struct Searched<'a> {
     pub axis: usize,
-    pub name: &'static str,
+    pub name: Param,
     pub value: f64,
     pub values: &'a Axis,
 }

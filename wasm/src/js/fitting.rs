@@ -3,8 +3,9 @@
 //! checked first, as the evaluation exports are ([`super`]).
 
 use super::{number, numbers, string, type_error};
-use crate::fitting::{self, FitOptions, Settings};
+use crate::fitting::{self, settings_from_js, FitOptions};
 use crate::measurements::{self, Measurements, SceneData};
+use laminar_fit::Settings;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
@@ -32,6 +33,35 @@ fn bytes(value: &JsValue, name: &str) -> Result<Vec<u8>, JsValue> {
         .dyn_ref::<js_sys::Uint8Array>()
         .map(js_sys::Uint8Array::to_vec)
         .ok_or_else(|| type_error(name, "a Uint8Array", value))
+}
+
+/// Every model `fit` takes, from the model descriptor
+/// (`laminar_fit::Model`): its name, description, parameters in output
+/// order, and for a layered model its correlation's name (what the
+/// evaluation functions take), else `null`.
+#[wasm_bindgen(
+    unchecked_return_type = "Array<{ name: string; description: string; params: string[]; correlation: string | null }>"
+)]
+pub fn models() -> Result<JsValue, JsValue> {
+    let list = js_sys::Array::new();
+    for m in laminar_fit::Model::ALL {
+        let o = js_sys::Object::new();
+        let set = |k: &str, v: JsValue| js_sys::Reflect::set(&o, &JsValue::from_str(k), &v);
+        set("name", m.name().into())?;
+        set("description", m.description().into())?;
+        let params: js_sys::Array = m
+            .params()
+            .iter()
+            .map(|p| JsValue::from_str(p.name()))
+            .collect();
+        set("params", params.into())?;
+        set(
+            "correlation",
+            m.correlation().map_or(JsValue::NULL, |c| c.name().into()),
+        )?;
+        list.push(&o);
+    }
+    Ok(list.into())
 }
 
 /// The sample numbers of a CUReT BRDF file (`abrdf.dat`, `rbrdf.dat`, …)
@@ -134,7 +164,7 @@ pub fn fit(
 ) -> Result<String, JsValue> {
     let (channel, model) = (string(&channel, "channel")?, string(&model, "model")?);
     let (settings, progress) = match options {
-        Some(o) => Settings::from_js(&o)?,
+        Some(o) => settings_from_js(&o)?,
         None => (Settings::default(), None),
     };
     Ok(fitting::fit(

@@ -1,6 +1,6 @@
 // A TypeScript project using the packed npm package: type-checked by
 // `tsc` (cli/tests/web.rs), then run by node.
-import { load, simdSupported, type FitOptions, type FitsFile, type Laminar } from 'laminar-wasm';
+import { load, simdSupported, type FitOptions, type FitsFile, type Laminar, type ModelParams } from 'laminar-wasm';
 import { load as loadEvaluation, type LaminarEval } from 'laminar-wasm/eval';
 
 const L: Laminar = await load();
@@ -85,6 +85,12 @@ L.fit(m, 'value', 'exp', {
   },
 });
 const afterNested = m.channels.join(',');
+// Every model of the descriptor is fitted by its name; every correlation's
+// name evaluates (the lists the page builds its menus from).
+const models = L.models();
+const fittedModels = models.map((info) =>
+  (JSON.parse(L.fit(m, 'value', info.name, { refine: false, uncertainty: 'off' })) as FitsFile).fits[0].model);
+const lobes = L.correlations().map((c) => L.totalRadiance(c, angles, 1.2, 0.4, 1.4, 0.3).length);
 // The evaluation-only package: the same totals, and the fitted model's
 // prediction from the file's `fitted` entry equal to `predict`'s.
 const E: LaminarEval = await loadEvaluation();
@@ -92,7 +98,7 @@ const evalTotal: Float64Array = E.totalRadiance('exp', angles, 1.2, 0.4, 1.4, 0.
 const evalPrediction: Float64Array = E.predictFitted(file.fits[0].fitted, scene.angles);
 const evalErrors = [
   thrown(() => E.predictFitted({ ...file.fits[0].fitted, normalisation: { amplitude: -1 } }, scene.angles)),
-  kind(() => E.predictFitted({ ...file.fits[0].fitted, params: { slope: 1 } }, scene.angles)),
+  kind(() => E.predictFitted({ ...file.fits[0].fitted, params: { slope: 1 } as unknown as ModelParams }, scene.angles)),
 ];
 console.log(JSON.stringify({
   evalSame: evalTotal.every((v, k) => v === total[k]) && evalPrediction.every((v, k) => v === prediction[k]),
@@ -103,6 +109,11 @@ console.log(JSON.stringify({
   outerCalls,
   inner,
   afterNested,
+  models: models.map((info) => info.name),
+  modelParams: models.map((info) => info.params.join(',')),
+  fittedModels,
+  correlations: L.correlations(),
+  lobes,
   simd: L.simd,
   simdSupported: simdSupported(),
   total: Array.from(total),

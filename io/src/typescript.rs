@@ -1,0 +1,106 @@
+//! The TypeScript declarations of the fitted-model file
+//! (`wasm/npm/fits.d.ts`), generated from the Rust types that write it
+//! ([`crate::fits`], `laminar_fit`'s models and results) and the model
+//! descriptor ([`Model::ALL`], [`Param::ALL`]). The test fails when the
+//! file in the repository is stale; `LAMINAR_BLESS=1` rewrites it:
+//!
+//! ```sh
+//! LAMINAR_BLESS=1 cargo test -p laminar-io typescript
+//! ```
+
+use crate::fits::{Energy, FitEntry, FitsFile, NotIdentified, ParamValue, ParameterEntry, Units};
+use laminar_fit::fitted::{ModelParams, NormalisationConstants};
+use laminar_fit::report::{Released, Source};
+use laminar_fit::{Edge, FittedModel, Model, Objective, Param};
+use ts_rs::{Config, TS};
+
+/// Where the declarations live, from this crate's directory.
+const PATH: &str = "../wasm/npm/fits.d.ts";
+
+/// A union of string literals.
+fn union(names: impl IntoIterator<Item = &'static str>) -> String {
+    names
+        .into_iter()
+        .map(|n| format!("\"{n}\""))
+        .collect::<Vec<_>>()
+        .join(" | ")
+}
+
+/// `T`'s declaration, exported.
+fn declare<T: TS>(cfg: &Config) -> String {
+    let docs = T::docs().unwrap_or_default();
+    format!("{docs}export {}\n", T::decl(cfg))
+}
+
+/// Rust doc comments as a TypeScript reader wants them: without Rust code
+/// examples, and with intra-doc links (`` [`X`] ``) as plain code (`` `X` ``).
+fn tidy(text: &str) -> String {
+    let mut out = String::new();
+    let mut in_code = false;
+    for line in text.lines() {
+        if line.trim_start().trim_start_matches('*').trim() == "```" {
+            in_code = !in_code;
+            continue;
+        }
+        if in_code {
+            continue;
+        }
+        out += &line.replace("[`", "`").replace("`]", "`");
+        out.push('\n');
+    }
+    // A comment left with a blank last line before its end.
+    out.replace(" *\n */", " */")
+}
+
+/// The whole file.
+fn declarations() -> String {
+    let cfg = Config::new();
+    let mut out = String::from(
+        "// The fitted-model file's types (`laminar fit --format json`, wasm `fit`).\n\
+         // Generated from the Rust types by laminar-io's test `typescript`\n\
+         // (io/src/typescript.rs): do not edit; `LAMINAR_BLESS=1 cargo test -p\n\
+         // laminar-io typescript` rewrites it.\n\n",
+    );
+    out += "/** A model's parameter, by name (laminar_fit::Param). */\n";
+    out += &format!(
+        "export type Param = {};\n\n",
+        union(Param::ALL.map(Param::name))
+    );
+    let decls = [
+        declare::<Model>(&cfg),
+        declare::<Objective>(&cfg),
+        declare::<Edge>(&cfg),
+        declare::<Source>(&cfg),
+        declare::<Released>(&cfg),
+        declare::<NotIdentified>(&cfg),
+        declare::<ParamValue>(&cfg),
+        declare::<ParameterEntry>(&cfg),
+        declare::<ModelParams>(&cfg),
+        declare::<NormalisationConstants>(&cfg),
+        declare::<FittedModel>(&cfg),
+        declare::<Units>(&cfg),
+        declare::<Energy>(&cfg),
+        declare::<FitEntry>(&cfg),
+        declare::<FitsFile>(&cfg),
+    ];
+    out += &decls.join("\n");
+    tidy(&out)
+}
+
+#[test]
+fn typescript_declarations_are_the_rust_types() {
+    let cfg = Config::new();
+    // The union ts-rs derives from Model's variants is the names Model
+    // serialises as (its serde is written by hand, by Model::name).
+    assert_eq!(Model::inline(&cfg), union(Model::ALL.map(Model::name)));
+    let want = declarations();
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(PATH);
+    if std::env::var_os("LAMINAR_BLESS").is_some() {
+        std::fs::write(&path, &want).expect("write the declarations");
+    }
+    let have = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        have == want,
+        "{PATH} is stale: regenerate it with LAMINAR_BLESS=1 cargo test -p laminar-io typescript"
+    );
+}

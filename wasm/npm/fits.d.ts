@@ -1,0 +1,366 @@
+// The fitted-model file's types (`laminar fit --format json`, wasm `fit`).
+// Generated from the Rust types by laminar-io's test `typescript`
+// (io/src/typescript.rs): do not edit; `LAMINAR_BLESS=1 cargo test -p
+// laminar-io typescript` rewrites it.
+
+/** A model's parameter, by name (laminar_fit::Param). */
+export type Param = "slope" | "beta" | "n" | "a" | "sigma_a" | "sigma_s" | "sigma" | "rho";
+
+/**
+ * A model that laminar can fit.
+ */
+export type Model = "exp" | "gauss" | "rh-exp" | "rh-gauss" | "jensen" | "oren-nayar";
+
+/**
+ * The objective of a fit.
+ */
+export type Objective = "free" | "paper";
+
+/**
+ * What an edge flag says.
+ */
+export type Edge = "range_edge" | "domain_bound" | "open_below" | "open_above" | "not_identified";
+
+/**
+ * Where an interval comes from.
+ */
+export type Source = "profile" | "jacobian";
+
+/**
+ * What releasing a bound of the box gives: a diagnostic, not an estimate.
+ */
+export type Released = { 
+/**
+ * The parameter's value with its bound released (within the model's domain).
+ */
+value: number, 
+/**
+ * Δ_RMS (eq. 15) there.
+ */
+rms: number, 
+/**
+ * Δ_RMS of the fit in the box, to compare.
+ */
+rms_in_box: number, };
+
+/**
+ * The word `NOT_IDENTIFIED` in place of a value.
+ */
+export type NotIdentified = "not_identified";
+
+/**
+ * A parameter's value in `params`: a number, or `NOT_IDENTIFIED` when
+ * the data do not determine it (`Fit::not_identified`).
+ */
+export type ParamValue = number | NotIdentified;
+
+/**
+ * One searched parameter of a fit in the fitted-model file
+ * (docs/conventions.md §11, §11b).
+ */
+export type FitParameter = { 
+/**
+ * The best grid point's value.
+ */
+grid: number, 
+/**
+ * After refinement (absent when not refined); `NOT_IDENTIFIED` when
+ * the data do not determine the parameter (its flags say so).
+ */
+refined: ParamValue | null, 
+/**
+ * The 68.27% interval's lower end (absent when not computed).
+ */
+lo68: number | null, 
+/**
+ * Its upper end.
+ */
+hi68: number | null, 
+/**
+ * The 95% interval's lower end.
+ */
+lo95: number | null, 
+/**
+ * Its upper end.
+ */
+hi95: number | null, 
+/**
+ * Where the interval ends come from.
+ */
+interval: Source | null, 
+/**
+ * The Jacobian's standard deviation (absent at a domain bound).
+ */
+sd: number | null, 
+/**
+ * Edge flags (empty for an interior value).
+ */
+flags: Array<Edge>, 
+/**
+ * The box searched (free objective; absent for the paper's).
+ */
+box: [number, number] | null, 
+/**
+ * For an estimate on a face of the box that is not a bound of the
+ * model's domain: one local fit with that bound released.
+ */
+released: Released | null, };
+
+/**
+ * The parameters of a model, named as in every output.
+ */
+export type ModelParams = { 
+/**
+ * σ/T.
+ */
+slope: number, 
+/**
+ * β (paper normalisation).
+ */
+beta: number, 
+/**
+ * n.
+ */
+n: number, 
+/**
+ * a (0 for Ragheb–Hancock).
+ */
+a: number, } | { 
+/**
+ * σa.
+ */
+sigma_a: number, 
+/**
+ * σs′.
+ */
+sigma_s: number, } | { 
+/**
+ * σ.
+ */
+sigma: number, 
+/**
+ * ρ.
+ */
+rho: number, };
+
+/**
+ * The constants of the normalisation a fit used (docs/conventions.md §4).
+ */
+export type NormalisationConstants = { 
+/**
+ * `m_sf = max_k L^sf_k`.
+ */
+surface_max: number, 
+/**
+ * `m_sb = max_k L^sb_k`.
+ */
+subsurface_max: number, 
+/**
+ * `max_k (β L^sb_k/m_sb + (1−β) L^sf_k/m_sf)`.
+ */
+mix_max: number, } | { 
+/**
+ * `max_k L_k`.
+ */
+radiance_max: number, } | { 
+/**
+ * The fitted amplitude `c ≥ 0`.
+ */
+amplitude: number, };
+
+/**
+ * A fitted model: what is needed to predict anywhere.
+ */
+export type FittedModel = { 
+/**
+ * The model.
+ */
+model: Model, 
+/**
+ * Its parameters (full precision).
+ */
+params: ModelParams, 
+/**
+ * The normalisation constants.
+ */
+normalisation: NormalisationConstants, 
+/**
+ * Layered models: the balance β′ for which the raw eq. 8 mix
+ * `β′ L^sb + (1 − β′) L^sf` has the fitted lobe's shape
+ * (`None` for baselines, or when both terms are all zeros).
+ */
+beta_eq8: number | null, 
+/**
+ * Layered models: prediction = `eq8_scale · (β′ L^sb + (1 − β′) L^sf)`.
+ */
+eq8_scale: number | null, 
+/**
+ * The max of the measured radiance that the fit's data were divided by:
+ * a prediction times `data_scale` is radiance in the input's units.
+ */
+data_scale: number, };
+
+/**
+ * The units of the fitted data, as the user states them: what `ρ ≤ 1`
+ * means depends on them (docs/conventions.md §12).
+ */
+export type Units = "absolute" | "relative";
+
+/**
+ * A fitted model's directional albedo over view angles, in the file.
+ */
+export type Energy = { 
+/**
+ * The fitted data's units, as stated.
+ */
+units: Units, 
+/**
+ * View angles θv, degrees.
+ */
+theta_v: Array<number>, 
+/**
+ * ρ(θv) in the fitted data's units.
+ */
+albedo: Array<number>, 
+/**
+ * Each value's quadrature error.
+ */
+error: Array<number>, 
+/**
+ * True when ρ > 1 at some θv and the units are absolute: the fitted
+ * model reflects more energy than it receives.
+ */
+energy_gain: boolean, };
+
+/**
+ * One fit in the fitted-model file: the CSV's columns (params as an
+ * object) and the portable fitted models.
+ */
+export type FitEntry = { 
+/**
+ * Sample label.
+ */
+sample: string, 
+/**
+ * Channel name.
+ */
+channel: string, 
+/**
+ * Model.
+ */
+model: Model, 
+/**
+ * The objective minimised (version 1 files: the paper's).
+ */
+objective: Objective, 
+/**
+ * Δ_RMS (eq. 15) of the reported estimate (`Fit::reported`).
+ */
+rms: number, 
+/**
+ * χ²/ν (eq. 16).
+ */
+chi2_dof: number | null, 
+/**
+ * Terms used in χ².
+ */
+chi2_used: number | null, 
+/**
+ * Measurements left out of χ² (D ≤ 0).
+ */
+chi2_left_out: number | null, 
+/**
+ * Parameters by name, rounded to 10 decimals.
+ */
+params: { [key in string]: ParamValue }, 
+/**
+ * Δ_RMS of the Ragheb–Hancock best (exp, gauss).
+ */
+rh_rms: number | null, 
+/**
+ * Its χ²/ν.
+ */
+rh_chi2_dof: number | null, 
+/**
+ * Its parameters.
+ */
+rh_params: { [key in string]: number } | null, 
+/**
+ * Kept measurements K.
+ */
+measurements: number, 
+/**
+ * Kept measurements with value ≤ 0.
+ */
+nonpositive: number, 
+/**
+ * The search's own Δ_RMS.
+ */
+search_rms: number, 
+/**
+ * The fitted model, to predict with: the refined one when the fit was
+ * refined, else the grid's.
+ */
+fitted: FittedModel, 
+/**
+ * The grid's best as a fitted model, when `fitted` is the refined one.
+ */
+grid_fitted: FittedModel | null, 
+/**
+ * Δ_RMS of the grid's best (the `rms` above).
+ */
+rms_grid: number | null, 
+/**
+ * Δ_RMS of the refined estimate (never above `rms_grid`).
+ */
+rms_refined: number | null, 
+/**
+ * Correlations of the refined estimate from the Jacobian, `"a~b": r`.
+ */
+correlations: { [key in string]: number }, 
+/**
+ * Pairs whose correlation is at least 0.9 in magnitude, `"a~b": r`.
+ */
+trade_offs: { [key in string]: number }, 
+/**
+ * The Ragheb–Hancock best as a fitted model.
+ */
+rh_fitted: FittedModel | null, 
+/**
+ * Free objective: the fitted amplitude c of the estimate.
+ */
+amplitude: number | null, 
+/**
+ * Free objective: the weighted χ²/ν of the estimate.
+ */
+chi2w_dof: number | null, 
+/**
+ * Each searched parameter under its name. Absent in files written
+ * before it existed.
+ */
+parameters: { [key in string]: FitParameter }, 
+/**
+ * The fitted model's energy, when asked for (`laminar fit --albedo`).
+ */
+energy?: Energy | null, };
+
+/**
+ * The fitted-model file: `laminar fit --format json`.
+ */
+export type FitsFile = { 
+/**
+ * Always `FORMAT`.
+ */
+format: string, 
+/**
+ * `VERSION`.
+ */
+version: number, 
+/**
+ * What the numbers are, for a reader of the file.
+ */
+quantities: { [key in string]: string }, 
+/**
+ * The fits.
+ */
+fits: Array<FitEntry>, };
