@@ -4,6 +4,7 @@
 
 use laminar_core::Correlation;
 use laminar_fit::{synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Scene};
+use laminar_io::fits::markdown_table;
 use std::time::Instant;
 
 /// One measured configuration.
@@ -125,19 +126,28 @@ impl ScalingReport {
             self.one_set_sets, self.batch_sets
         );
         let table = |rows: &[ScalingRow], out: &mut String| {
-            out.push_str("| K | points per axis | grid points | one-set ms/fit | batch ms/fit | batch fits/s |\n");
-            out.push_str("|---:|---:|---:|---:|---:|---:|\n");
-            for r in rows {
-                out.push_str(&format!(
-                    "| {} | {}× | {} | {:.2} | {:.3} | {:.0} |\n",
-                    r.k,
-                    r.scale,
-                    r.grid_points,
-                    1e3 * r.one_set,
-                    1e3 * r.batch,
-                    1.0 / r.batch
-                ));
-            }
+            let header = [
+                "K",
+                "points per axis",
+                "grid points",
+                "one-set ms/fit",
+                "batch ms/fit",
+                "batch fits/s",
+            ];
+            let cells: Vec<Vec<String>> = rows
+                .iter()
+                .map(|r| {
+                    vec![
+                        r.k.to_string(),
+                        format!("{}×", r.scale),
+                        r.grid_points.to_string(),
+                        format!("{:.2}", 1e3 * r.one_set),
+                        format!("{:.3}", 1e3 * r.batch),
+                        format!("{:.0}", 1.0 / r.batch),
+                    ]
+                })
+                .collect();
+            out.push_str(&markdown_table(&header, &cells));
         };
         let fitted = |rows: &[ScalingRow], x: fn(&ScalingRow) -> f64, what: &str| {
             let p = |y: fn(&ScalingRow) -> f64| {

@@ -9,6 +9,7 @@
 
 use laminar_fit::search::{error_surface, search, Arith, Method, Path};
 use laminar_fit::{Axis, Grid, GridError, Model, Scene};
+use laminar_io::fits::markdown_table;
 use std::time::Instant;
 
 /// One path's totals over the fits.
@@ -161,27 +162,37 @@ impl SpeedReport {
             .find(|r| r.path == Path::REFERENCE)
             .map(|r| r.pairs_per_second)
             .unwrap_or(f64::NAN);
-        let mut out = String::from(
-            "| path | precision | pairs/s | speed-up over direct-f64 | max abs ΔRMS vs f64 reference | same choice as reference | max reference-RMS gap |\n|---|---|---|---|---|---|---|\n",
-        );
-        for r in &self.rows {
-            let precision = match r.path.arith {
-                Arith::F32x8 => "f32 (SIMD ×8)",
-                Arith::F32 => "f32 (scalar twin)",
-                Arith::F64 => "f64",
-            };
-            let scope = if r.slice_only { " (slice)" } else { "" };
-            out += &format!(
-                "| {}{scope} | {precision} | {:.3e} | {:.1}× | {:.2e} | {} of {} | {:.2e} |\n",
-                r.path,
-                r.pairs_per_second,
-                r.pairs_per_second / reference,
-                r.max_rms_error,
-                r.same_choice,
-                r.fits,
-                r.max_gap
-            );
-        }
+        let header = [
+            "path",
+            "precision",
+            "pairs/s",
+            "speed-up over direct-f64",
+            "max abs ΔRMS vs f64 reference",
+            "same choice as reference",
+            "max reference-RMS gap",
+        ];
+        let rows: Vec<Vec<String>> = self
+            .rows
+            .iter()
+            .map(|r| {
+                let precision = match r.path.arith {
+                    Arith::F32x8 => "f32 (SIMD ×8)",
+                    Arith::F32 => "f32 (scalar twin)",
+                    Arith::F64 => "f64",
+                };
+                let scope = if r.slice_only { " (slice)" } else { "" };
+                vec![
+                    format!("{}{scope}", r.path),
+                    precision.into(),
+                    format!("{:.3e}", r.pairs_per_second),
+                    format!("{:.1}×", r.pairs_per_second / reference),
+                    format!("{:.2e}", r.max_rms_error),
+                    format!("{} of {}", r.same_choice, r.fits),
+                    format!("{:.2e}", r.max_gap),
+                ]
+            })
+            .collect();
+        let mut out = markdown_table(&header, &rows);
         out += &format!(
             "\nReference: `onepass-f64` over the whole grid; `direct-f64` agrees with it to {:.2e} (max |ΔRMS|) on the slice of the first {} σ/T value(s), where the direct paths were run.\n",
             self.reference_agreement, self.direct_slopes

@@ -4,6 +4,7 @@
 use crate::selection::material;
 use laminar_fit::fitted::format_value;
 use laminar_fit::{Edge, Estimate, Fit, Model, Parameter};
+use laminar_io::fits::markdown_table;
 
 /// A titled table of text cells.
 #[derive(Debug, Clone, PartialEq)]
@@ -23,14 +24,13 @@ pub struct Table {
 impl Table {
     /// GitHub-flavoured Markdown, title as a heading.
     pub fn markdown(&self) -> String {
-        let line = |cells: &[String]| format!("| {} |\n", cells.join(" | "));
-        let mut out = format!("## {}\n\n{}\n\n", self.title, self.note);
-        out += &line(&self.header);
-        out += &line(&vec!["---".to_string(); self.header.len()]);
-        for r in &self.rows {
-            out += &line(r);
-        }
-        out
+        let header: Vec<&str> = self.header.iter().map(String::as_str).collect();
+        format!(
+            "## {}\n\n{}\n\n{}",
+            self.title,
+            self.note,
+            markdown_table(&header, &self.rows)
+        )
     }
 
     /// CSV with the header row.

@@ -179,39 +179,3 @@ impl Parameter {
         self.refined.unwrap_or(self.grid)
     }
 }
-
-/// The flagged parameters as `name:flag[+flag]` joined by `;` (empty when
-/// every value is interior): the CSV column `edges`.
-pub fn edges_text(parameters: &[Parameter]) -> String {
-    parameters
-        .iter()
-        .filter(|e| !e.flags.is_empty())
-        .map(|e| {
-            let flags: Vec<String> = e.flags.iter().map(Edge::to_string).collect();
-            format!("{}:{}", e.name, flags.join("+"))
-        })
-        .collect::<Vec<_>>()
-        .join(";")
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn flagged_parameters_are_listed_with_their_flags() {
-        let p = |name: Param, flags| Parameter {
-            flags,
-            ..Parameter::new(name, 0.0)
-        };
-        let list = [
-            p(Param::Slope, vec![Edge::RangeEdge]),
-            p(Param::Beta, vec![]),
-            p(Param::A, vec![Edge::RangeEdge, Edge::DomainBound]),
-        ];
-        assert_eq!(
-            edges_text(&list),
-            "slope:range_edge;a:range_edge+domain_bound"
-        );
-    }
-}

@@ -13,7 +13,7 @@ use crate::error::ReadError;
 use laminar_fit::fitted::format_value;
 use laminar_fit::model::{all_params, Param};
 use laminar_fit::profile::Interval;
-use laminar_fit::report::{edges_text, Released, Source, NOT_IDENTIFIED};
+use laminar_fit::report::{Released, Source, NOT_IDENTIFIED};
 use laminar_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -91,87 +91,119 @@ fn value(v: Option<f64>) -> String {
     v.map(format_value).unwrap_or_default()
 }
 
-/// The `trade_offs` text of a fit: `a~b=r` for each pair whose correlation
-/// is at least [`laminar_fit::covariance::TRADE_OFF`] in magnitude.
-fn trade_offs_text(r: &Fit) -> String {
-    r.covariance
-        .as_ref()
-        .map(|c| {
-            c.trade_offs()
-                .iter()
-                .map(|(a, b, r)| format!("{a}~{b}={r:.3}"))
-                .collect::<Vec<_>>()
-                .join(";")
+/// `map`'s entries in the order of `model`'s parameters (the maps are
+/// sorted by name; the CSV lists parameters in the model's order).
+fn in_model_order<V>(map: &BTreeMap<String, V>, model: Model) -> impl Iterator<Item = (Param, &V)> {
+    model
+        .params()
+        .iter()
+        .filter_map(move |&p| map.get(p.name()).map(|v| (p, v)))
+}
+
+/// `name=value` pairs joined by `;` in the model's order (the `params`
+/// columns), values to 10 decimals.
+fn params_text(map: &BTreeMap<String, ParamValue>, model: Model) -> String {
+    in_model_order(map, model)
+        .map(|(p, v)| match v {
+            ParamValue::Value(v) => format!("{p}={}", format_value(*v)),
+            ParamValue::Marker(_) => format!("{p}={NOT_IDENTIFIED}"),
         })
-        .unwrap_or_default()
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// The pairs `a~b=r` of `map` (correlations, trade-offs) in the model's
+/// order of its parameters, r to 3 decimals, joined by `;`.
+fn pairs_text(map: &BTreeMap<String, f64>, model: Model) -> String {
+    let params = model.params();
+    let mut out = Vec::new();
+    for (i, a) in params.iter().enumerate() {
+        for b in &params[i + 1..] {
+            let key = pair_key(*a, *b);
+            if let Some(r) = map.get(&key) {
+                out.push(format!("{key}={r:.3}"));
+            }
+        }
+    }
+    out.join(";")
+}
+
+/// The flagged parameters as `name:flag[+flag]` joined by `;`, in the
+/// model's order (the `edges` column).
+fn edges_text(parameters: &BTreeMap<String, ParameterEntry>, model: Model) -> String {
+    in_model_order(parameters, model)
+        .filter(|(_, e)| !e.flags.is_empty())
+        .map(|(p, e)| {
+            let flags: Vec<String> = e.flags.iter().map(Edge::to_string).collect();
+            format!("{p}:{}", flags.join("+"))
+        })
+        .collect::<Vec<_>>()
+        .join(";")
 }
 
 /// The parameter columns of `p` ([`PARAMETER_COLUMNS`]).
-fn parameter_cells(p: Option<&Parameter>) -> Vec<String> {
+fn parameter_cells(p: Option<&ParameterEntry>) -> Vec<String> {
     let Some(p) = p else {
         return vec![String::new(); PARAMETER_COLUMNS.len()];
     };
-    let ends = |i: Option<Interval>| (value(i.map(|i| i.lo)), value(i.map(|i| i.hi)));
-    let (lo68, hi68) = ends(p.interval68);
-    let (lo95, hi95) = ends(p.interval95);
     let refined = if p.flags.contains(&Edge::NotIdentified) {
         NOT_IDENTIFIED.to_string()
     } else {
-        value(p.refined)
+        value(p.refined.and_then(ParamValue::value))
     };
     vec![
         refined,
-        lo68,
-        hi68,
-        lo95,
-        hi95,
-        p.source.map(|s| s.to_string()).unwrap_or_default(),
+        value(p.lo68),
+        value(p.hi68),
+        value(p.lo95),
+        value(p.hi95),
+        p.interval.map(|s| s.to_string()).unwrap_or_default(),
         p.sd.map(|sd| format!("{sd:.6e}")).unwrap_or_default(),
-        value(p.bounds.map(|b| b.0)),
-        value(p.bounds.map(|b| b.1)),
+        value(p.bounds.map(|b| b[0])),
+        value(p.bounds.map(|b| b[1])),
         value(p.released.map(|r| r.value)),
         opt(p.released.map(|r| r.rms)),
     ]
 }
 
-fn row(r: &Fit, names: &[Param]) -> Vec<String> {
-    let reported = r.reported();
-    let chi = reported.chi2;
-    let rh = r.rh.as_ref();
+/// The CSV row of a fit's entry, parameters in the columns of `names`.
+fn row(e: &FitEntry, names: &[Param]) -> Vec<String> {
     let mut out = vec![
-        r.sample.clone(),
-        r.channel.clone(),
-        r.model.name().into(),
-        format!("{:.6}", reported.rms),
-        opt(chi.map(|c| c.per_dof)),
-        chi.map(|c| c.used.to_string()).unwrap_or_default(),
-        chi.map(|c| c.left_out.to_string()).unwrap_or_default(),
-        r.params_text(),
-        opt(rh.map(|e| e.rms)),
-        opt(rh.and_then(|e| e.chi2).map(|c| c.per_dof)),
-        rh.map(Estimate::params_text).unwrap_or_default(),
-        r.measurements.to_string(),
-        r.nonpositive.to_string(),
-        format!("{:.6}", r.search_rms),
-        edges_text(&r.parameters),
-    ];
-    out.push(format!("{:.6}", r.best.rms));
-    out.push(opt(r.refined.as_ref().map(|e| e.rms)));
-    for name in names {
-        out.extend(parameter_cells(
-            r.parameters.iter().find(|p| p.name == *name),
-        ));
-    }
-    out.push(
-        r.covariance
+        e.sample.clone(),
+        e.channel.clone(),
+        e.model.name().into(),
+        format!("{:.6}", e.rms),
+        opt(e.chi2_dof),
+        e.chi2_used.map(|n| n.to_string()).unwrap_or_default(),
+        e.chi2_left_out.map(|n| n.to_string()).unwrap_or_default(),
+        params_text(&e.params, e.model),
+        opt(e.rh_rms),
+        opt(e.rh_chi2_dof),
+        e.rh_params
             .as_ref()
-            .map(|c| c.correlations_text())
+            .map(|m| {
+                let m = m
+                    .iter()
+                    .map(|(k, v)| (k.clone(), ParamValue::Value(*v)))
+                    .collect();
+                params_text(&m, e.model)
+            })
             .unwrap_or_default(),
-    );
-    out.push(trade_offs_text(r));
-    out.push(r.objective.to_string());
-    out.push(r.amplitude.map(|c| format!("{c:.9e}")).unwrap_or_default());
-    out.push(opt(r.chi2_weighted));
+        e.measurements.to_string(),
+        e.nonpositive.to_string(),
+        format!("{:.6}", e.search_rms),
+        edges_text(&e.parameters, e.model),
+        opt(e.rms_grid),
+        opt(e.rms_refined),
+    ];
+    for name in names {
+        out.extend(parameter_cells(e.parameters.get(name.name())));
+    }
+    out.push(pairs_text(&e.correlations, e.model));
+    out.push(pairs_text(&e.trade_offs, e.model));
+    out.push(e.objective.to_string());
+    out.push(e.amplitude.map(|c| format!("{c:.9e}")).unwrap_or_default());
+    out.push(opt(e.chi2w_dof));
     out
 }
 
@@ -211,8 +243,16 @@ impl<W: Write> CsvRows<W> {
     /// # Errors
     /// The writer's error.
     pub fn write(&mut self, record: &Fit) -> std::io::Result<()> {
+        self.write_entry(&FitEntry::new(record))
+    }
+
+    /// Writes one fit's entry.
+    ///
+    /// # Errors
+    /// The writer's error.
+    pub fn write_entry(&mut self, entry: &FitEntry) -> std::io::Result<()> {
         self.writer
-            .write_record(row(record, &self.names))
+            .write_record(row(entry, &self.names))
             .map_err(std::io::Error::other)
     }
 
@@ -744,20 +784,21 @@ pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
     s
 }
 
-/// Records as a Markdown table.
+/// Records as a Markdown table: each fit's reported Δ_RMS and χ²/ν (as
+/// the CSV's `rms` and `chi2_dof`) and parameters.
 pub fn markdown(records: &[Fit]) -> String {
     let header = ["sample", "channel", "model", "rms", "chi2_dof", "params"];
     let rows: Vec<Vec<String>> = records
         .iter()
         .map(|r| {
-            let full = row(r, &[]);
+            let e = FitEntry::new(r);
             vec![
-                full[0].clone(),
-                full[1].clone(),
-                full[2].clone(),
-                format!("{:.4}", r.best.rms),
-                opt(r.best.chi2.map(|c| c.per_dof)),
-                full[7].clone(),
+                e.sample.clone(),
+                e.channel.clone(),
+                e.model.name().into(),
+                format!("{:.4}", e.rms),
+                opt(e.chi2_dof),
+                params_text(&e.params, e.model),
             ]
         })
         .collect();

@@ -285,8 +285,8 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
     lit = stub_literals()
     assert set(lit) == {"Model", "LayeredModel", "Objective", "Uncertainty", "Quantity", "AngleUnit", "Precision"}
     # The model aliases are the library's descriptor, in its order.
-    assert lit["Model"] == tuple(laminar.MODELS)
-    assert lit["LayeredModel"] == tuple(m for m, info in laminar.MODELS.items() if info["correlation"])
+    assert tuple(lit["Model"]) == tuple(laminar.MODELS)
+    assert tuple(lit["LayeredModel"]) == tuple(m for m, info in laminar.MODELS.items() if info["correlation"])
     for model in lit["LayeredModel"]:
         for precision in lit["Precision"]:
             laminar.evaluate(model, 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=precision)
