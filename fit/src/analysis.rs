@@ -2,7 +2,7 @@
 //! uncertainty to compute (docs/conventions.md §11). Both objectives and
 //! every front end read these settings.
 
-use crate::error::UnknownName;
+use crate::error::{choices, UnknownName};
 use std::fmt;
 use std::str::FromStr;
 
@@ -22,6 +22,9 @@ pub enum Uncertainty {
 }
 
 impl Uncertainty {
+    /// Every choice, in the order help texts list them.
+    pub const ALL: [Uncertainty; 4] = [Self::Off, Self::Profile, Self::Jacobian, Self::Both];
+
     /// True for profile intervals.
     pub fn profile(self) -> bool {
         matches!(self, Self::Profile | Self::Both)
@@ -47,13 +50,16 @@ impl fmt::Display for Uncertainty {
 impl FromStr for Uncertainty {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, UnknownName> {
-        [Self::Off, Self::Profile, Self::Jacobian, Self::Both]
+        Self::ALL
             .into_iter()
             .find(|u| u.to_string() == s)
-            .ok_or_else(|| UnknownName {
-                what: "uncertainty",
-                given: s.to_string(),
-                expected: "off, profile, jacobian or both".into(),
+            .ok_or_else(|| {
+                let names = Self::ALL.map(|u| u.to_string());
+                UnknownName {
+                    what: "uncertainty",
+                    given: s.to_string(),
+                    expected: choices(&names.each_ref().map(String::as_str)),
+                }
             })
     }
 }

@@ -162,3 +162,44 @@ pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<
     })?;
     entry.fitted.predict(&geometries(angles)?).map_err(error)
 }
+
+#[cfg(test)]
+mod tests {
+    use laminar_fit::{settings, Grid, Objective, Param, Uncertainty};
+
+    /// The `FitOptions` declaration, read from this file (wasm-bindgen
+    /// takes the constant over, so the test reads the source).
+    fn fit_options() -> &'static str {
+        let source = include_str!("fitting.rs");
+        let start = source
+            .find("export interface FitOptions")
+            .expect("FitOptions");
+        let end = start + source[start..].find("\"#;").expect("its end");
+        &source[start..end]
+    }
+
+    /// The hand-written `FitOptions` declaration names every option the
+    /// settings take and every value of the objective and uncertainty.
+    #[test]
+    fn fit_options_declare_every_setting_and_value() {
+        let union = |names: Vec<String>| {
+            names
+                .iter()
+                .map(|n| format!("'{n}'"))
+                .collect::<Vec<_>>()
+                .join(" | ")
+        };
+        let objectives = union(Objective::ALL.map(|o| o.to_string()).to_vec());
+        let declared = fit_options();
+        assert!(declared.contains(&format!("objective?: {objectives};")));
+        let uncertainties = union(Uncertainty::ALL.map(|u| u.to_string()).to_vec());
+        assert!(declared.contains(&format!("uncertainty?: {uncertainties};")));
+        let names = settings::NAMES
+            .into_iter()
+            .filter(|&n| n != "threads") // one thread in the browser
+            .chain(Grid::PARAMS.map(Param::name));
+        for name in names {
+            assert!(declared.contains(&format!("  {name}?: ")), "{name}");
+        }
+    }
+}
