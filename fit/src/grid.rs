@@ -2,7 +2,7 @@
 //! `start:stop:count` axes, validated against the model's domain and a size
 //! limit before anything is allocated.
 
-use crate::error::{GridError, UnknownName};
+use crate::error::GridError;
 use crate::model::Param;
 use laminar_core::small_fit::{stepped, Axes, AxisError, PAPER};
 use std::fmt;
@@ -222,20 +222,6 @@ impl Grid {
             Param::A => Some(&mut self.a),
             _ => None,
         }
-    }
-
-    /// The axis named `name` ([`Param::name`]) to change.
-    ///
-    /// # Errors
-    /// [`UnknownName`] listing the axes ([`Grid::PARAMS`]).
-    pub fn axis_named(&mut self, name: &str) -> Result<&mut Axis, UnknownName> {
-        Param::from_name(name)
-            .and_then(|p| self.axis_mut(p))
-            .ok_or_else(|| UnknownName {
-                what: "axis",
-                given: name.to_string(),
-                expected: Self::PARAMS.map(Param::name).join(", "),
-            })
     }
 
     /// The grid's axes as the core's search sees them.

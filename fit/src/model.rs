@@ -144,8 +144,8 @@ impl Model {
     }
 }
 
-/// The parameters of every model, in order of first appearance in
-/// [`Model::ALL`] (output columns).
+/// The parameters of `models`, each once, in order of first appearance
+/// (the CSV's parameter columns).
 pub fn all_params(models: impl IntoIterator<Item = Model>) -> Vec<Param> {
     let mut out: Vec<Param> = Vec::new();
     for model in models {

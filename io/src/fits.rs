@@ -1,6 +1,12 @@
 //! Fits as CSV, JSON (the fitted-model file) or Markdown, the fitted-model
 //! file read back, and whole-or-nothing file writes.
 //!
+//! A fit's result is one typed entry ([`FitEntry`], with [`ParameterEntry`]
+//! and [`ParamValue`]), serde-derived: the JSON is its serialisation, and
+//! the CSV row and the Markdown row are written from it, one writer per
+//! format. The TypeScript declarations of these types
+//! (`wasm/npm/fits.d.ts`) are generated from them (`io/src/typescript.rs`).
+//!
 //! Quantities: `rms` is Δ_RMS (eq. 15, `100·sqrt(Σ(D−P)²)/K`, D the
 //! measured radiance divided by its max, P the fitted prediction, K the kept
 //! measurements); `chi2_dof` is χ²/ν (eq. 16, `Σ(P−D)²/D / (d − p)` over the
