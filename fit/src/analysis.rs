@@ -2,7 +2,7 @@
 //! uncertainty to compute (docs/conventions.md §11). Both objectives and
 //! every front end read these settings.
 
-use crate::error::{choices, UnknownName};
+use crate::error::{find_named, UnknownName};
 use std::fmt;
 use std::str::FromStr;
 
@@ -50,17 +50,7 @@ impl fmt::Display for Uncertainty {
 impl FromStr for Uncertainty {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, UnknownName> {
-        Self::ALL
-            .into_iter()
-            .find(|u| u.to_string() == s)
-            .ok_or_else(|| {
-                let names = Self::ALL.map(|u| u.to_string());
-                UnknownName {
-                    what: "uncertainty",
-                    given: s.to_string(),
-                    expected: choices(&names.each_ref().map(String::as_str)),
-                }
-            })
+        find_named("uncertainty", &Self::ALL, |u| u.to_string(), s)
     }
 }
 

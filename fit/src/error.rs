@@ -27,6 +27,31 @@ pub fn choices(names: &[&str]) -> String {
     }
 }
 
+/// The one of `all` whose `name` is `given`, or [`UnknownName`] naming
+/// `what` and listing the names ([`choices`]): every option's parser.
+///
+/// # Errors
+/// [`UnknownName`] when no name matches.
+pub fn find_named<T: Copy, N: AsRef<str>>(
+    what: &'static str,
+    all: &[T],
+    name: impl Fn(T) -> N,
+    given: &str,
+) -> Result<T, UnknownName> {
+    all.iter()
+        .copied()
+        .find(|&t| name(t).as_ref() == given)
+        .ok_or_else(|| {
+            let names: Vec<N> = all.iter().map(|&t| name(t)).collect();
+            let names: Vec<&str> = names.iter().map(AsRef::as_ref).collect();
+            UnknownName {
+                what,
+                given: given.to_string(),
+                expected: choices(&names),
+            }
+        })
+}
+
 /// A search grid that cannot be used.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum GridError {

@@ -10,7 +10,7 @@
 //! angles), maps the angles to the paper frame, converts BRDF to radiance and
 //! normalises by the maximum: the [`Scene`] that every search path fits.
 
-use crate::error::{MeasurementError, UnknownName};
+use crate::error::{find_named, MeasurementError, UnknownName};
 use crate::scene::Scene;
 use laminar_core::measures::{check_data, DataFault};
 use laminar_core::{wrap_pi, Angle, Angles, Input, InputError};
@@ -53,15 +53,7 @@ impl fmt::Display for Quantity {
 impl FromStr for Quantity {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, UnknownName> {
-        match s {
-            "brdf" => Ok(Self::Brdf),
-            "radiance" => Ok(Self::Radiance),
-            _ => Err(UnknownName {
-                what: "quantity",
-                given: s.to_string(),
-                expected: "brdf or radiance".into(),
-            }),
-        }
+        find_named("quantity", &[Self::Brdf, Self::Radiance], Self::name, s)
     }
 }
 

@@ -1,6 +1,6 @@
 //! Which objective a fit minimises (docs/conventions.md §4, §4b).
 
-use crate::error::{choices, UnknownName};
+use crate::error::{find_named, UnknownName};
 use crate::grid::Grid;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -72,13 +72,6 @@ impl fmt::Display for Objective {
 impl FromStr for Objective {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, UnknownName> {
-        Self::ALL
-            .into_iter()
-            .find(|o| o.name() == s)
-            .ok_or_else(|| UnknownName {
-                what: "objective",
-                given: s.to_string(),
-                expected: choices(&Self::ALL.map(Self::name)),
-            })
+        find_named("objective", &Self::ALL, Self::name, s)
     }
 }
