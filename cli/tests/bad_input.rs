@@ -6,6 +6,9 @@
 //! nothing at the output path; leave no temporary file behind. The counts
 //! per surface are printed (run with `--nocapture` to see them).
 
+mod common;
+
+use common::npy_with_header as npy;
 use std::collections::BTreeMap;
 use std::path::Path;
 use std::process::Command;
@@ -24,21 +27,6 @@ const GEOMETRY: &[u8] =
 const VALUES: &[u8] = b"0.5,0.4,0.3,0.2\n0.4,0.4,0.3,0.1\n";
 const MEASUREMENTS: &[u8] =
     b"theta_i,phi_i,theta_v,phi_v,value\n0.1,0,0.2,3,0.5\n0.3,0,0.4,3,0.4\n0.5,0,0.2,1,NaN\n";
-
-/// An `.npy` file of header dict `dict` (padded as numpy pads it) and
-/// then `payload`.
-fn npy(dict: &str, payload: &[u8]) -> Vec<u8> {
-    let mut header = dict.to_string();
-    while !(10 + header.len() + 1).is_multiple_of(64) {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend_from_slice(payload);
-    out
-}
 
 /// 2 × 4 little-endian f64 values, the second NaN.
 fn with_nan() -> Vec<u8> {

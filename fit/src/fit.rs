@@ -198,19 +198,22 @@ impl Fitter {
     ) -> Result<Vec<Fit>, FitError> {
         let mut by_model = Vec::with_capacity(models.len());
         for &model in models {
-            let searched = (0..scenes.len()).all(|j| given(j, model).is_none());
-            by_model.push(if model.is_layered() && searched {
-                self.fit_batch(scenes, model)
-            } else {
-                scenes
-                    .iter()
-                    .enumerate()
-                    .map(|(j, scene)| match given(j, model) {
-                        Some(params) => self.assess(scene, model, params),
-                        None => Ok(self.fit(scene, model)),
-                    })
-                    .collect::<Result<Vec<_>, _>>()?
-            });
+            let params: Vec<Option<ModelParams>> =
+                (0..scenes.len()).map(|j| given(j, model)).collect();
+            by_model.push(
+                if model.is_layered() && params.iter().all(Option::is_none) {
+                    self.fit_batch(scenes, model)
+                } else {
+                    scenes
+                        .iter()
+                        .zip(params)
+                        .map(|(scene, params)| match params {
+                            Some(params) => self.assess(scene, model, params),
+                            None => Ok(self.fit(scene, model)),
+                        })
+                        .collect::<Result<Vec<_>, _>>()?
+                },
+            );
         }
         let mut fits = Vec::with_capacity(scenes.len() * models.len());
         for j in 0..scenes.len() {

@@ -24,6 +24,7 @@
 use crate::analysis::Analysis;
 use crate::error::{choices, FitError, GridError, UnknownName};
 use crate::fit::Fitter;
+use crate::fitted::param_names;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::objective::Objective;
@@ -112,7 +113,7 @@ impl Settings {
             }
             _ => {
                 let p = Self::axis_param(name).map_err(|_| {
-                    let axes = Grid::PARAMS.map(Param::name).join(", ");
+                    let axes = param_names(&Grid::PARAMS);
                     SettingError::Unknown(UnknownName {
                         what: "setting",
                         given: name.to_string(),
@@ -137,7 +138,7 @@ impl Settings {
                 SettingError::Unknown(UnknownName {
                     what: "axis",
                     given: name.to_string(),
-                    expected: Grid::PARAMS.map(Param::name).join(", "),
+                    expected: param_names(&Grid::PARAMS),
                 })
             })
     }

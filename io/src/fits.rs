@@ -107,13 +107,10 @@ fn in_model_order<V>(map: &BTreeMap<String, V>, model: Model) -> impl Iterator<I
 }
 
 /// `name=value` pairs joined by `;` in the model's order (the `params`
-/// columns), values to 10 decimals.
-fn params_text(map: &BTreeMap<String, ParamValue>, model: Model) -> String {
+/// columns), each value as `text` writes it.
+fn params_text<V>(map: &BTreeMap<String, V>, model: Model, text: impl Fn(&V) -> String) -> String {
     in_model_order(map, model)
-        .map(|(p, v)| match v {
-            ParamValue::Value(v) => format!("{p}={}", format_value(*v)),
-            ParamValue::Marker(_) => format!("{p}={NOT_IDENTIFIED}"),
-        })
+        .map(|(p, v)| format!("{p}={}", text(v)))
         .collect::<Vec<_>>()
         .join(";")
 }
@@ -182,18 +179,12 @@ fn row(e: &FitEntry, names: &[Param]) -> Vec<String> {
         opt(e.chi2_dof),
         e.chi2_used.map(|n| n.to_string()).unwrap_or_default(),
         e.chi2_left_out.map(|n| n.to_string()).unwrap_or_default(),
-        params_text(&e.params, e.model),
+        params_text(&e.params, e.model, ParamValue::text),
         opt(e.rh_rms),
         opt(e.rh_chi2_dof),
         e.rh_params
             .as_ref()
-            .map(|m| {
-                let m = m
-                    .iter()
-                    .map(|(k, v)| (k.clone(), ParamValue::Value(*v)))
-                    .collect();
-                params_text(&m, e.model)
-            })
+            .map(|m| params_text(m, e.model, |v| format_value(*v)))
             .unwrap_or_default(),
         e.measurements.to_string(),
         e.nonpositive.to_string(),
@@ -452,6 +443,14 @@ impl ParamValue {
         }
     }
 
+    /// As the CSV writes it: the value to 10 decimals, or [`NOT_IDENTIFIED`].
+    fn text(&self) -> String {
+        match self {
+            Self::Value(v) => format_value(*v),
+            Self::Marker(_) => NOT_IDENTIFIED.to_string(),
+        }
+    }
+
     /// The number, when there is one.
     pub fn value(self) -> Option<f64> {
         match self {
@@ -572,9 +571,9 @@ impl FitEntry {
             rh_rms: r.rh.as_ref().map(|e| e.rms),
             rh_chi2_dof: r.rh.as_ref().and_then(|e| e.chi2).map(|c| c.per_dof),
             rh_params: r.rh.as_ref().map(|e| {
-                params_map(e, |_| false)
-                    .into_iter()
-                    .filter_map(|(k, v)| Some((k, v.value()?)))
+                let pairs = e.fitted.params.pairs().into_iter();
+                pairs
+                    .map(|(k, v)| (k.name().to_string(), rounded(v)))
                     .collect()
             }),
             measurements: r.measurements,
@@ -804,7 +803,7 @@ pub fn markdown(records: &[Fit]) -> String {
                 e.model.name().into(),
                 format!("{:.4}", e.rms),
                 opt(e.chi2_dof),
-                params_text(&e.params, e.model),
+                params_text(&e.params, e.model, ParamValue::text),
             ]
         })
         .collect();

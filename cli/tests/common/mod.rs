@@ -46,16 +46,24 @@ pub fn stdout(cmd: &mut Command) -> Result<String, String> {
 /// A version-1.0 `.npy` file of little-endian f32 or f64 values, written by
 /// hand from the format's definition.
 pub fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
-    let mut header =
+    let dict =
         format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, {cols}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
+    npy_with_header(&dict, &payload)
+}
+
+/// A version-1.0 `.npy` file of header dict `dict` (any text, padded as
+/// numpy pads it) and then `payload`: also the malformed files the
+/// bad-input tests write.
+pub fn npy_with_header(dict: &str, payload: &[u8]) -> Vec<u8> {
+    let mut header = dict.to_string();
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
     let mut out = b"\x93NUMPY\x01\x00".to_vec();
     out.extend_from_slice(&(header.len() as u16).to_le_bytes());
     out.extend_from_slice(header.as_bytes());
-    out.extend(payload);
+    out.extend_from_slice(payload);
     out
 }
 
