@@ -14,13 +14,29 @@ use core::ops::{Add, BitAnd, BitOr, Div, Mul, Sub};
 use wide::{f32x8, f64x4, i32x8};
 
 /// A lane mask produced by comparisons and consumed by [`Lane::select`].
-pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> {}
+pub trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> {
+    /// True when every lane is set (a branch that skips work no lane
+    /// needs; it never changes a lane's result).
+    fn all(self) -> bool;
+}
 
-impl Mask for bool {}
+impl Mask for bool {
+    fn all(self) -> bool {
+        self
+    }
+}
 
-impl Mask for f32x8 {}
+impl Mask for f32x8 {
+    fn all(self) -> bool {
+        f32x8::all(self)
+    }
+}
 
-impl Mask for f64x4 {}
+impl Mask for f64x4 {
+    fn all(self) -> bool {
+        f64x4::all(self)
+    }
+}
 
 /// Seals [`Lane`]: its four implementations are the whole determinism
 /// policy, so no other type may join them.

@@ -13,7 +13,7 @@
 //! otherwise the better of the two rays' one-variable minima (each
 //! `c = max(0, ⟨D, m⟩/⟨m, m⟩)` along `m = (1 − β) S + β U`).
 
-use crate::lane::{Lane, Real};
+use crate::lane::{Lane, Mask, Real};
 
 /// The weighted inner products a solve needs: `⟨D, D⟩`, `⟨D, S⟩`, `⟨D, U⟩`,
 /// `⟨S, S⟩`, `⟨S, U⟩`, `⟨U, U⟩`. Generic over [`Lane`] so that the host's
@@ -108,12 +108,9 @@ impl<L: Lane> Moments<L> {
     /// (the lower one on ties; one ray when `lo = hi`).
     pub fn solve(&self, (lo, hi): (f64, f64)) -> Linear<L> {
         let (zero, lo_l, hi_l) = (L::c(0.0), L::c(lo), L::c(hi));
-        let first = self.ray(lo_l);
         if lo == hi {
-            return first;
+            return self.ray(lo_l);
         }
-        let second = self.ray(hi_l);
-        let rays = Linear::select(second.sse.lt(first.sse), second, first);
         let det = self.ss * self.uu - self.su * self.su;
         let p = (self.ds * self.uu - self.du * self.su) / det;
         let q = (self.du * self.ss - self.ds * self.su) / det;
@@ -133,6 +130,12 @@ impl<L: Lane> Moments<L> {
             q,
             sse: self.objective(p, q),
         };
+        if inside.all() {
+            // No lane needs the rays.
+            return free;
+        }
+        let (first, second) = (self.ray(lo_l), self.ray(hi_l));
+        let rays = Linear::select(second.sse.lt(first.sse), second, first);
         Linear::select(inside, free, rays)
     }
 }

@@ -42,11 +42,31 @@ impl Estimate {
     /// [`ModelError`] when the parameters are outside their domain or not the model's.
     pub fn of_fitted(scene: &Scene, fitted: FittedModel, p: usize) -> Result<Self, ModelError> {
         let prediction = fitted.predict(&scene.angles)?;
-        Ok(Self {
+        Ok(Self::of_prediction(scene, fitted, &prediction, p))
+    }
+
+    /// [`Estimate::of_fitted`] from the model's raw terms at the scene's
+    /// measurements (`[S, U]` of a layered model, `[L, 0]` of a baseline),
+    /// as a fit already has them.
+    ///
+    /// # Errors
+    /// [`ModelError::NonFinitePrediction`] when a prediction is not finite.
+    pub(crate) fn of_raw(
+        scene: &Scene,
+        fitted: FittedModel,
+        raw: &[[f64; 2]],
+        p: usize,
+    ) -> Result<Self, ModelError> {
+        let prediction = fitted.predict_raw(raw)?;
+        Ok(Self::of_prediction(scene, fitted, &prediction, p))
+    }
+
+    fn of_prediction(scene: &Scene, fitted: FittedModel, prediction: &[f64], p: usize) -> Self {
+        Self {
             fitted,
-            rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
-            chi2: chi_square_per_dof(&scene.data, &prediction, p).ok(),
-        })
+            rms: rms_error(&scene.data, prediction).unwrap_or(f64::NAN),
+            chi2: chi_square_per_dof(&scene.data, prediction, p).ok(),
+        }
     }
 
     /// The parameters.

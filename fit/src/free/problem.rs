@@ -11,9 +11,11 @@
 
 use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
-use super::sums::dot;
+use super::sums::{dot, dots, total};
 use crate::model::Model;
 use crate::scene::Scene;
+use laminar_core::f64x4;
+use std::sync::Arc;
 
 /// A `[lo, hi]` range per parameter.
 pub type Ranges = Vec<(f64, f64)>;
@@ -34,12 +36,19 @@ pub struct Point {
 pub struct Problem {
     /// The model.
     pub model: Model,
-    /// The basis at the scene's measurements.
-    pub basis: Basis,
+    /// The basis at the scene's measurements (shared by the sets of a
+    /// batch on one geometry).
+    pub basis: Arc<Basis>,
     /// `D_k`.
     pub data: Vec<f64>,
     /// `√w_k`.
     pub root_weight: Vec<f64>,
+    /// `w_k`.
+    pub weight: Vec<f64>,
+    /// `w_k D_k`.
+    pub weighted_data: Vec<f64>,
+    /// `Σ w D²`.
+    pub dd: f64,
     /// True when the weights come from the scene's uncertainties.
     pub weighted: bool,
     /// The box of each nonlinear parameter, internal coordinates.
@@ -56,15 +65,16 @@ pub struct Problem {
 impl Problem {
     /// The objective of `model` on `scene` in the box `bounds` (nonlinear
     /// parameters, internal coordinates, with `reported`, the same box in
-    /// the parameters' units) and `beta`.
+    /// the parameters' units) and `beta`, on `basis`: the model's basis at
+    /// the scene's measurements (`None` to build it).
     pub fn new(
         scene: &Scene,
-        model: Model,
+        (model, basis): (Model, Option<Arc<Basis>>),
         (bounds, reported): (Ranges, Ranges),
         domain: Vec<(f64, f64)>,
         beta: (f64, f64),
     ) -> Self {
-        let basis = Basis::new(model, scene.angles());
+        let basis = basis.unwrap_or_else(|| Arc::new(Basis::new(model, scene.angles())));
         let (root_weight, weighted) = match scene.sigma() {
             Some(sigma) => (sigma.iter().map(|s| 1.0 / s).collect(), true),
             None => (vec![1.0; scene.len()], false),
@@ -74,11 +84,18 @@ impl Problem {
         } else {
             (0.0, 0.0)
         };
+        let data = scene.data().to_vec();
+        let weight: Vec<f64> = root_weight.iter().map(|r| r * r).collect();
+        let weighted_data: Vec<f64> = weight.iter().zip(&data).map(|(w, d)| w * d).collect();
+        let [dd] = dots(&weighted_data, [&data]);
         Self {
             model,
             basis,
-            data: scene.data().to_vec(),
+            data,
             root_weight,
+            weight,
+            weighted_data,
+            dd,
             weighted,
             bounds,
             reported,
@@ -100,31 +117,40 @@ impl Problem {
 
     /// The weighted moments of `columns`.
     pub fn moments(&self, columns: &Columns) -> Moments {
-        let mut m = Moments::default();
-        let has_u = !columns.u.is_empty();
-        for k in 0..self.data.len() {
-            let w = self.root_weight[k] * self.root_weight[k];
-            let (d, s) = (self.data[k], columns.s[k]);
-            let u = if has_u { columns.u[k] } else { 0.0 };
-            m.dd += w * d * d;
-            m.ds += w * d * s;
-            m.du += w * d * u;
-            m.ss += w * s * s;
-            m.su += w * s * u;
-            m.uu += w * u * u;
+        let (s, u) = (&columns.s[..], &columns.u[..]);
+        if u.is_empty() {
+            let [ds] = dots(&self.weighted_data, [s]);
+            let [ss, _, _] = squares(&self.weight, s, s);
+            return Moments {
+                dd: self.dd,
+                ds,
+                ss,
+                ..Moments::default()
+            };
         }
-        m
+        let [ds, du] = dots(&self.weighted_data, [s, u]);
+        let [ss, su, uu] = squares(&self.weight, s, u);
+        Moments {
+            dd: self.dd,
+            ds,
+            du,
+            ss,
+            su,
+            uu,
+        }
     }
 
     /// The weighted residuals `√w (D − p S − q U)`.
     pub fn residuals(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
-        let has_u = !columns.u.is_empty();
-        (0..self.data.len())
-            .map(|k| {
-                let u = if has_u { columns.u[k] } else { 0.0 };
-                self.root_weight[k] * (self.data[k] - linear.p * columns.s[k] - linear.q * u)
-            })
-            .collect()
+        let Linear { p, q, .. } = *linear;
+        let rows = self.root_weight.iter().zip(&self.data).zip(&columns.s);
+        if columns.u.is_empty() {
+            rows.map(|((r, d), s)| r * (d - p * s)).collect()
+        } else {
+            rows.zip(&columns.u)
+                .map(|(((r, d), s), u)| r * (d - p * s - q * u))
+                .collect()
+        }
     }
 
     /// The point at `theta` with β in `beta` (the box's, or one value for a
@@ -214,70 +240,77 @@ impl Problem {
                 vec![(1.0 - b, b)]
             }
         };
-        let mixed = |c: &Columns, (ws, wu): (f64, f64)| -> Vec<f64> {
-            (0..self.data.len())
-                .map(|k| {
-                    let u = if has_u { c.u[k] } else { 0.0 };
-                    self.root_weight[k] * (ws * c.s[k] + wu * u)
-                })
-                .collect()
+        let mixed = |(ws, wu): (f64, f64)| -> Vec<f64> {
+            let rows = self.root_weight.iter().zip(&columns.s);
+            if has_u {
+                rows.zip(&columns.u)
+                    .map(|((r, s), u)| r * (ws * s + wu * u))
+                    .collect()
+            } else {
+                rows.map(|(r, s)| r * ws * s).collect()
+            }
         };
-        let free: Vec<Vec<f64>> = mixes.iter().map(|&m| mixed(&columns, m)).collect();
+        let free: Vec<Vec<f64>> = mixes.iter().map(|&m| mixed(m)).collect();
         // `(FᵀF)⁻¹` of the free columns F, when they are independent.
-        let gram_inverse: Option<Vec<Vec<f64>>> = match free.as_slice() {
+        let gram_inverse: Option<[[f64; 2]; 2]> = match free.as_slice() {
             [] => None,
             [f] => {
                 let g = dot(f, f);
-                (g > 0.0).then(|| vec![vec![1.0 / g]])
+                (g > 0.0).then(|| [[1.0 / g, 0.0], [0.0, 0.0]])
             }
             [f, h] => {
-                let (a, b, d) = (dot(f, f), dot(f, h), dot(h, h));
+                let [a, b, d] = [dot(f, f), dot(f, h), dot(h, h)];
                 let det = a * d - b * b;
-                (det > 1e-12 * a * d)
-                    .then(|| vec![vec![d / det, -b / det], vec![-b / det, a / det]])
+                (det > 1e-12 * a * d).then(|| [[d / det, -b / det], [-b / det, a / det]])
             }
             _ => unreachable!("at most two columns"),
         };
-        let basis = orthonormal(free.clone());
+        let basis = orthonormal(&free);
         // `√w r`, against which `(∂F)ᵀ r = Σ √w (ws ∂S + wu ∂U) r` is formed.
         let weighted_residuals: Vec<f64> = residuals
             .iter()
             .zip(&self.root_weight)
             .map(|(r, w)| r * w)
             .collect();
-        let zeros = if has_u {
-            Vec::new()
-        } else {
-            vec![0.0; self.data.len()]
-        };
         let jac = derivatives
             .iter()
             .map(|d| {
                 let Some(d) = d else {
                     return Vec::new();
                 };
-                let ds = &d.s;
-                let du = if has_u { &d.u[..] } else { &zeros[..] };
-                // Kaufman's part: −P⊥ (∂Φ c).
-                let mut col: Vec<f64> = (0..self.data.len())
-                    .map(|k| -self.root_weight[k] * (p * ds[k] + q * du[k]))
-                    .collect();
-                for e in &basis {
-                    let c = dot(e, &col);
-                    for (x, y) in col.iter_mut().zip(e) {
-                        *x -= c * y;
-                    }
-                }
+                let (ds, du) = (&d.s[..], &d.u[..]);
+                // −√w (∂Φ c), the derivative at the fixed coefficients.
+                let rows = self.root_weight.iter().zip(ds);
+                let mut col: Vec<f64> = if has_u {
+                    rows.zip(du)
+                        .map(|((r, s), u)| -r * (p * s + q * u))
+                        .collect()
+                } else {
+                    rows.map(|(r, s)| -r * p * s).collect()
+                };
+                // Kaufman's part: −P⊥ (∂Φ c), projected off the orthonormal
+                // basis of the free columns.
+                let along: Vec<f64> = basis.iter().map(|e| dot(e, &col)).collect();
                 // Golub–Pereyra's second part: −F (FᵀF)⁻¹ (∂F)ᵀ r, which the
                 // large residuals of a misfitting model make matter.
-                if let Some(inverse) = &gram_inverse {
-                    let (sr, ur) = (dot(ds, &weighted_residuals), dot(du, &weighted_residuals));
-                    let v: Vec<f64> = mixes.iter().map(|&(ws, wu)| ws * sr + wu * ur).collect();
-                    for (i, f) in free.iter().enumerate() {
-                        let y: f64 = (0..v.len()).map(|l| inverse[i][l] * v[l]).sum();
-                        for (x, fk) in col.iter_mut().zip(f) {
-                            *x -= y * fk;
-                        }
+                let back: Vec<f64> = match &gram_inverse {
+                    Some(inverse) => {
+                        let sr = dot(ds, &weighted_residuals);
+                        let ur = if has_u {
+                            dot(du, &weighted_residuals)
+                        } else {
+                            0.0
+                        };
+                        let v: Vec<f64> = mixes.iter().map(|&(ws, wu)| ws * sr + wu * ur).collect();
+                        (0..free.len())
+                            .map(|i| (0..v.len()).map(|l| inverse[i][l] * v[l]).sum())
+                            .collect()
+                    }
+                    None => Vec::new(),
+                };
+                for (e, c) in basis.iter().zip(&along).chain(free.iter().zip(&back)) {
+                    for (x, y) in col.iter_mut().zip(e) {
+                        *x -= c * y;
                     }
                 }
                 col
@@ -287,11 +320,37 @@ impl Problem {
     }
 }
 
+/// `Σ w s²`, `Σ w s u` and `Σ w u²`, four partial sums each in the fixed
+/// order of [`dots`].
+fn squares(w: &[f64], s: &[f64], u: &[f64]) -> [f64; 3] {
+    let len = w.len();
+    let (ws, w_tail) = w.as_chunks::<4>();
+    let (ss, s_tail) = s[..len].as_chunks::<4>();
+    let (us, u_tail) = u[..len].as_chunks::<4>();
+    let mut acc = [f64x4::ZERO; 3];
+    for ((&wk, &sk), &uk) in ws.iter().zip(ss).zip(us) {
+        let (wk, sk, uk) = (f64x4::from(wk), f64x4::from(sk), f64x4::from(uk));
+        let wsk = wk * sk;
+        acc[0] += wsk * sk;
+        acc[1] += wsk * uk;
+        acc[2] += wk * uk * uk;
+    }
+    let mut out = acc.map(total);
+    for ((w, s), u) in w_tail.iter().zip(s_tail).zip(u_tail) {
+        let ws = w * s;
+        out[0] += ws * s;
+        out[1] += ws * u;
+        out[2] += w * u * u;
+    }
+    out
+}
+
 /// Gram–Schmidt (twice) of a few columns, dropping any that are
 /// dependent on the others.
-fn orthonormal(columns: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+fn orthonormal(columns: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let mut out: Vec<Vec<f64>> = Vec::new();
-    for mut v in columns {
+    for v in columns {
+        let mut v = v.clone();
         let norm0 = dot(&v, &v).sqrt();
         for _ in 0..2 {
             for e in &out {

@@ -2,6 +2,7 @@
 //! the [`Grid`], the grid stage, refinement from the grid's basins, the
 //! intervals (re-started from any lower point they find), and the record.
 
+use super::basis::{Basis, Columns};
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::problem::{Point, Problem};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
@@ -18,6 +19,7 @@ use crate::profile::Interval;
 use crate::report::{Fit, Parameter, Released, Source};
 use crate::scene::Scene;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Most starts of the refinement: the best point of each of the grid's
 /// best basins.
@@ -161,8 +163,22 @@ fn estimate(scene: &Scene, problem: &Problem, model: Model, point: &Point) -> Es
         point.linear.amplitude(),
         scene.data_scale(),
     );
-    Estimate::of_fitted(scene, fitted, problem.parameter_count())
-        .expect("the box lies inside the model's domain")
+    Estimate::of_raw(
+        scene,
+        fitted,
+        &raw_terms(problem, point),
+        problem.parameter_count(),
+    )
+    .expect("the box lies inside the model's domain")
+}
+
+/// The model's raw terms at `point` (`[S, U]`, or `[L, 0]` for a baseline),
+/// from its columns: an [`Estimate`] without evaluating the model again.
+fn raw_terms(problem: &Problem, point: &Point) -> Vec<[f64; 2]> {
+    let Columns { s, u } = problem.basis.columns(&point.theta);
+    (0..s.len())
+        .map(|k| [s[k], u.get(k).copied().unwrap_or(0.0)])
+        .collect()
 }
 
 /// The best grid point (the first on ties).
@@ -325,16 +341,17 @@ fn release(
 /// the baselines' their own grids), with `analysis` after the grid stage.
 pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit {
     let layout = Layout::new(model, grid);
-    let problem = problem_of(scene, model, &layout);
+    let problem = problem_of(scene, model, &layout, None);
     let values = grid_values(&problem, &layout.axes);
     fit_from(scene, model, &layout, problem, values, analysis)
 }
 
-/// The objective of `model` on `scene` in the box of `layout`.
-fn problem_of(scene: &Scene, model: Model, layout: &Layout) -> Problem {
+/// The objective of `model` on `scene` in the box of `layout`, on `basis`
+/// (the model's at the scene's measurements; `None` to build it).
+fn problem_of(scene: &Scene, model: Model, layout: &Layout, basis: Option<Arc<Basis>>) -> Problem {
     Problem::new(
         scene,
-        model,
+        (model, basis),
         (layout.bounds.clone(), layout.reported.clone()),
         layout.domain.clone(),
         layout.beta,
@@ -353,23 +370,20 @@ pub fn fit_batch(
     progress: &(dyn Fn() + Sync),
 ) -> Vec<Fit> {
     let layout = Layout::new(model, grid);
-    let problems: Vec<Problem> = scenes
-        .iter()
-        .map(|s| problem_of(s, model, &layout))
-        .collect();
-    let shared = match problems.first() {
-        Some(first)
-            if problems.iter().all(ModelSide::shareable)
-                && scenes.iter().all(|s| s.angles() == scenes[0].angles()) =>
-        {
-            Some(ModelSide::new(first, &layout.axes))
-        }
-        _ => None,
+    let Some(first) = scenes.first() else {
+        return Vec::new();
     };
+    // Scenes on one geometry share the basis, and without uncertainties
+    // the model side of the grid stage too.
+    let one_geometry = scenes.iter().all(|s| s.angles() == first.angles());
+    let basis = one_geometry.then(|| Arc::new(Basis::new(model, first.angles())));
+    let first = problem_of(first, model, &layout, basis.clone());
+    let shared = (one_geometry && scenes.iter().all(|s| ModelSide::shareable(&first, s)))
+        .then(|| ModelSide::new(&first, &layout.axes));
     scenes
         .par_iter()
-        .zip(problems)
-        .map(|(scene, problem)| {
+        .map(|scene| {
+            let problem = problem_of(scene, model, &layout, basis.clone());
             let values = match &shared {
                 Some(side) => grid_values_with(&problem, &layout.axes, side),
                 None => grid_values(&problem, &layout.axes),
@@ -513,8 +527,13 @@ fn ragheb_hancock(
         scene.data_scale(),
     );
     Some(
-        Estimate::of_fitted(scene, fitted, problem.parameter_count() - 1)
-            .expect("the box lies inside the model's domain"),
+        Estimate::of_raw(
+            scene,
+            fitted,
+            &raw_terms(problem, &point),
+            problem.parameter_count() - 1,
+        )
+        .expect("the box lies inside the model's domain"),
     )
 }
 

@@ -12,6 +12,7 @@
 use super::linear::Quadratic;
 use super::problem::Problem;
 use super::sums::dots;
+use crate::scene::Scene;
 use laminar_core::{f64x4, Lane};
 use rayon::prelude::*;
 
@@ -48,11 +49,11 @@ impl GridValues {
 /// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
 /// four at a time (the last group padded with its last a): bit for bit
 /// one at a time, as the core's `f64x4` is its `f64` lane by lane.
-fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut Vec<f64>) {
-    for group in a_axis.chunks(4) {
+fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
+    for (group, out) in a_axis.chunks(4).zip(out.chunks_mut(4)) {
         let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
         let sse = q.moments(a).solve(beta).sse.to_array();
-        out.extend_from_slice(&sse[..group.len()]);
+        out.copy_from_slice(&sse[..group.len()]);
     }
 }
 
@@ -128,10 +129,10 @@ impl ModelSide {
         Self { rows, g: [g1, g2] }
     }
 
-    /// True when the model side of `problem` is the same for every set on
-    /// its geometry: a layered model, and no uncertainties (weights 1).
-    pub fn shareable(problem: &Problem) -> bool {
-        problem.basis.has_balance() && !problem.weighted
+    /// True when `problem`'s model side serves `scene` (on its geometry):
+    /// a layered model, and no uncertainties (weights 1).
+    pub fn shareable(problem: &Problem, scene: &Scene) -> bool {
+        problem.basis.has_balance() && !problem.weighted && scene.sigma().is_none()
     }
 }
 
@@ -168,41 +169,38 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
 pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -> GridValues {
     let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
     let beta = problem.beta;
-    let k = problem.data.len();
-    let ones = vec![1.0; k];
     let [g1, g2] = &model.g;
     let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
-    let w: Vec<f64> = problem.root_weight.iter().map(|r| r * r).collect();
-    let wd: Vec<f64> = w.iter().zip(&problem.data).map(|(w, d)| w * d).collect();
+    // `w D`, and `w D` times the factors of B1 and B2: `Σ w D B_i` is then
+    // one pass over B per (σ/T, n).
+    let wd: Vec<f64> = problem
+        .root_weight
+        .iter()
+        .zip(&problem.data)
+        .map(|(r, d)| r * r * d)
+        .collect();
+    let wdg1: Vec<f64> = wd.iter().zip(g1).map(|(a, b)| a * b).collect();
+    let wdg2: Vec<f64> = wd.iter().zip(g2).map(|(a, b)| a * b).collect();
     let dd = dots(&wd, [&problem.data])[0];
-    let rows: Vec<Vec<f64>> = model
-        .rows
-        .par_iter()
-        .map(|row| {
+    let row_len = lens[1] * a_axis.len();
+    let mut sse = vec![0.0; lens[0] * row_len];
+    sse.par_chunks_mut(row_len)
+        .zip(&model.rows)
+        .for_each(|(out, row)| {
             let [ds] = dots(&row.s, [&wd]);
-            let mut out = Vec::with_capacity(row.columns.len() * a_axis.len());
-            let mut wdb = vec![0.0; k];
-            for c in &row.columns {
-                for i in 0..k {
-                    wdb[i] = wd[i] * c.base[i];
-                }
+            for (c, out) in row.columns.iter().zip(out.chunks_mut(a_axis.len())) {
                 let q = Quadratic {
                     dd,
                     ds,
                     ss: row.ss,
-                    db: dots(&wdb, [&ones, g1, g2]),
+                    db: dots(&c.base, [&wd, &wdg1, &wdg2]),
                     sb: c.sb,
                     bb: c.bb,
                 };
-                objectives(&q, &a_axis, beta, &mut out);
+                objectives(&q, &a_axis, beta, out);
             }
-            out
-        })
-        .collect();
-    GridValues {
-        lens,
-        sse: rows.concat(),
-    }
+        });
+    GridValues { lens, sse }
 }
 
 /// The best point of each of the grid's basins (no axis neighbour lower;
@@ -215,18 +213,31 @@ pub fn grid_starts(values: &GridValues, most: usize) -> Vec<(Vec<usize>, f64)> {
         .map(|i| lens[i + 1..].iter().product())
         .collect();
     let lower = |g: usize, f: usize| e[g] < e[f] || (e[g] == e[f] && g < f);
-    let mut minima: Vec<(usize, f64)> = (0..e.len())
-        .filter(|&f| e[f].is_finite())
-        .filter(|&f| {
-            lens.iter().zip(&strides).all(|(&len, &stride)| {
-                let i = (f / stride) % len;
-                let below = i > 0 && lower(f - stride, f);
-                let above = i + 1 < len && lower(f + stride, f);
-                !(below || above)
-            })
-        })
-        .map(|f| (f, e[f]))
-        .collect();
+    let mut minima: Vec<(usize, f64)> = Vec::new();
+    // The axis indices of `f`, advanced with it.
+    let mut at = vec![0; lens.len()];
+    for (f, &value) in e.iter().enumerate() {
+        let basin = value.is_finite()
+            && at
+                .iter()
+                .zip(lens)
+                .zip(&strides)
+                .all(|((&i, &len), &stride)| {
+                    let below = i > 0 && lower(f - stride, f);
+                    let above = i + 1 < len && lower(f + stride, f);
+                    !(below || above)
+                });
+        if basin {
+            minima.push((f, value));
+        }
+        for (i, &len) in at.iter_mut().zip(lens).rev() {
+            *i += 1;
+            if *i < len {
+                break;
+            }
+            *i = 0;
+        }
+    }
     minima.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.cmp(&q.0)));
     minima.truncate(most);
     minima

@@ -3,29 +3,39 @@
 //! of dependent additions), combined the same way on every target so that
 //! every fit gives the same bits everywhere.
 
+use laminar_core::f64x4;
+
 /// `Σ_k x_k y_k` over `k < x.len()` for each of the `N` vectors `ys` (each
-/// at least as long as `x`), four partial sums per vector (a fixed order,
-/// so the same bits on every target) that the compiler keeps in vector
-/// registers.
+/// at least as long as `x`), four partial sums per vector, one per lane of
+/// an `f64x4` (a fixed order, so the same bits on every target).
 pub fn dots<const N: usize>(x: &[f64], ys: [&[f64]; N]) -> [f64; N] {
     let len = x.len();
-    let body = len - len % 4;
-    let mut acc = [[0.0f64; 4]; N];
-    for k in (0..body).step_by(4) {
-        for (a, y) in acc.iter_mut().zip(&ys) {
-            for l in 0..4 {
-                a[l] += x[k + l] * y[k + l];
-            }
+    let (xs, x_tail) = x.as_chunks::<4>();
+    let ys = ys.map(|y| &y[..len]);
+    let fours = ys.map(|y| y.as_chunks::<4>().0);
+    let mut acc = [f64x4::ZERO; N];
+    for (k, &xk) in xs.iter().enumerate() {
+        let xk = f64x4::from(xk);
+        for (a, y) in acc.iter_mut().zip(&fours) {
+            *a += xk * f64x4::from(y[k]);
         }
     }
+    let body = len - x_tail.len();
     let mut out = [0.0; N];
     for ((o, a), y) in out.iter_mut().zip(&acc).zip(&ys) {
-        *o = (a[0] + a[1]) + (a[2] + a[3]);
-        for k in body..len {
-            *o += x[k] * y[k];
+        *o = total(*a);
+        for (xk, yk) in x_tail.iter().zip(&y[body..]) {
+            *o += xk * yk;
         }
     }
     out
+}
+
+/// The four partial sums of a lane accumulator added in the fixed order
+/// of [`dots`].
+pub fn total(a: f64x4) -> f64 {
+    let a = a.to_array();
+    (a[0] + a[1]) + (a[2] + a[3])
 }
 
 /// `Σ_k x_k y_k` ([`dots`] of one vector).
