@@ -368,3 +368,76 @@ fn orthonormal(columns: &[Vec<f64>]) -> Vec<Vec<f64>> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coverage::{noisy_scene, NoiseModel};
+    use crate::fitted::ModelParams;
+    use crate::objective::Objective;
+    use crate::synthetic::Noise;
+
+    #[test]
+    fn the_jacobian_is_the_derivative_of_the_residuals() {
+        let mut rng = Noise::new(7);
+        for model in [Model::Exp, Model::Gauss] {
+            let truth = ModelParams::Layered {
+                slope: 0.4,
+                beta: 0.3,
+                n: 1.5,
+                a: 0.3,
+            };
+            let scene = noisy_scene(
+                model,
+                Objective::Free,
+                truth,
+                NoiseModel::Every(0.01),
+                &mut rng,
+            );
+            let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
+            let problem = Problem::new(
+                &scene,
+                (model, None),
+                (bounds.clone(), bounds.clone()),
+                vec![(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
+                (0.0, 1.0),
+            );
+            let free = [true; 3];
+            // Near the truth, far from it (large residuals), and with β held.
+            for (theta, beta) in [
+                ([libm::log(0.45), 1.4, 0.35], (0.0, 1.0)),
+                ([libm::log(0.3), 1.2, 0.1], (0.0, 1.0)),
+                ([libm::log(1.5), 2.0, 0.7], (0.0, 1.0)),
+                ([libm::log(0.4), 1.6, 0.2], (0.05, 0.05)),
+                ([libm::log(0.3), 1.2, 0.4], (0.6, 0.6)),
+            ] {
+                let held = problem.basis.held(&theta, &free);
+                let (_, _, jac) = problem.jacobian(&theta, beta, &held, &free);
+                let residuals = |t: &[f64]| {
+                    let c = problem.basis.columns(t);
+                    let l = problem.moments(&c).solve(beta);
+                    problem.residuals(&c, &l)
+                };
+                for j in 0..3 {
+                    let h = 1e-6;
+                    let (mut up, mut down) = (theta, theta);
+                    up[j] += h;
+                    down[j] -= h;
+                    let (ru, rd) = (residuals(&up), residuals(&down));
+                    let fd: Vec<f64> = ru
+                        .iter()
+                        .zip(&rd)
+                        .map(|(u, d)| (u - d) / (2.0 * h))
+                        .collect();
+                    let scale = dot(&fd, &fd).sqrt().max(dot(&jac[j], &jac[j]).sqrt());
+                    let diff: Vec<f64> = fd.iter().zip(&jac[j]).map(|(a, b)| a - b).collect();
+                    let err = dot(&diff, &diff).sqrt();
+                    assert!(
+                        err <= 1e-5 * scale,
+                        "{model} θ {theta:?} β {beta:?} parameter {j}: |J − FD| = {err:e} of {scale:e}"
+                    );
+                }
+            }
+        }
+    }
+}

@@ -8,7 +8,8 @@
 //! the box is held there for the step (a projected active set), and every
 //! trial point is clamped into the box, so nothing leaves it. A step is
 //! taken only when it lowers the objective, so the result is never worse
-//! than the start.
+//! than the start; a step that does not is cut back once along itself
+//! (to the parabola's minimum) before the damping is raised.
 
 use super::problem::{Point, Problem};
 use super::sums::dot;
@@ -102,14 +103,34 @@ pub fn minimise(
             if predicted < tolerance * point.sse && lambda <= 1e-3 {
                 break 'outer;
             }
-            let mut trial = x.clone();
-            for (a, &j) in moving.iter().enumerate() {
-                trial[j] += step[a];
+            // The full step; when it fails, once more cut back to the minimum
+            // of the parabola through the objective at both ends and its
+            // slope at the start: one evaluation, where raising the damping
+            // alone takes several rejections to shorten a step that
+            // overshoots a curved valley.
+            let slope_at_start = -2.0 * step.dot(&g);
+            let mut fraction = 1.0;
+            let mut accepted = None;
+            for attempt in 0..2 {
+                let mut trial = x.clone();
+                for (a, &j) in moving.iter().enumerate() {
+                    trial[j] += fraction * step[a];
+                }
+                let trial = clamp(&trial);
+                let (candidate, evaluated) = problem.evaluate_keeping(&trial, beta, &held);
+                evaluations += 1;
+                if candidate.sse < point.sse {
+                    accepted = Some((trial, candidate, evaluated));
+                    break;
+                }
+                let slope = fraction * slope_at_start;
+                let rise = candidate.sse - point.sse - slope;
+                if attempt == 1 || !(slope < 0.0 && rise > 0.0) {
+                    break;
+                }
+                fraction *= (-slope / (2.0 * rise)).clamp(0.1, 0.5);
             }
-            let trial = clamp(&trial);
-            let (candidate, evaluated) = problem.evaluate_keeping(&trial, beta, &held);
-            evaluations += 1;
-            if candidate.sse < point.sse {
+            if let Some((trial, candidate, evaluated)) = accepted {
                 let gain = (point.sse - candidate.sse) / point.sse.max(1e-300);
                 let moved = trial
                     .iter()
@@ -120,11 +141,18 @@ pub fn minimise(
                     point = candidate;
                     break 'outer;
                 }
-                // Nielsen's update from the gain ratio: the damping follows
-                // how well the Gauss–Newton model predicted the decrease
-                // (no see-saw between two values in a curved valley).
-                let rho = (point.sse - candidate.sse) / predicted.max(1e-300);
-                lambda = (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12);
+                lambda = if fraction < 1.0 {
+                    // The full step overshot: the next one damped to about
+                    // the length that succeeded.
+                    (2.0 * lambda).max(1.0 / fraction - 1.0)
+                } else {
+                    // Nielsen's update from the gain ratio: the damping
+                    // follows how well the Gauss–Newton model predicted the
+                    // decrease (no see-saw between two values in a curved
+                    // valley).
+                    let rho = (point.sse - candidate.sse) / predicted.max(1e-300);
+                    (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12)
+                };
                 nu = 2.0;
                 (point, r, jac) = problem.jacobian_at(&x, beta, evaluated, free);
                 break;
