@@ -156,7 +156,8 @@ fn pack(angles: &[Angles]) -> Vec<Geometry<f64x4>> {
 
 /// The first `len` lanes of `groups`, in measurement order.
 fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
-    let mut out: Vec<f64> = groups.flat_map(|v| v.to_array()).collect();
+    let mut out = Vec::with_capacity(len.next_multiple_of(4));
+    groups.for_each(|v| out.extend_from_slice(&v.to_array()));
     out.truncate(len);
     out
 }

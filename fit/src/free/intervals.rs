@@ -166,10 +166,7 @@ impl JacobianCovariance {
         for (a, &i) in kept.iter().enumerate() {
             for (b, &j) in kept.iter().enumerate() {
                 normal[(a, b)] = (0..k)
-                    .map(|r| {
-                        let w = problem.root_weight[r] * problem.root_weight[r];
-                        w * jac[i][r] * jac[j][r]
-                    })
+                    .map(|r| problem.weight[r] * jac[i][r] * jac[j][r])
                     .sum();
             }
         }

@@ -588,13 +588,7 @@ const RESOLVABLE_LEVEL: f64 = 1e-13;
 /// heights are rounding noise (its walks would end at the box's faces). The
 /// intervals then come from the Jacobian (docs/conventions.md §11b).
 fn fitted_to_rounding(problem: &Problem, levels: &Levels) -> bool {
-    let dd: f64 = problem
-        .data
-        .iter()
-        .zip(&problem.root_weight)
-        .map(|(d, w)| (d * w) * (d * w))
-        .sum();
-    levels.heights[0] < RESOLVABLE_LEVEL * dd
+    levels.heights[0] < RESOLVABLE_LEVEL * problem.dd
 }
 
 /// The covariance of the parameters that have one (the amplitude left out).
@@ -702,4 +696,32 @@ fn parameters(
             p
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synthetic;
+
+    /// Each estimate's Δ_RMS, which a fit forms from its own columns, is
+    /// that of its fitted model's prediction.
+    #[test]
+    fn reported_errors_are_the_fitted_models_own() {
+        let scene = synthetic::default_scene();
+        let grid = Grid::user();
+        for model in Model::ALL {
+            let fit = fit(&scene, model, &grid, Analysis::FULL);
+            let estimates = [Some(&fit.best), fit.refined.as_ref(), fit.rh.as_ref()];
+            for (which, e) in estimates.into_iter().enumerate() {
+                let Some(e) = e else { continue };
+                let again = Estimate::of_fitted(&scene, e.fitted.clone(), 0).unwrap();
+                assert!(
+                    (again.rms - e.rms).abs() <= 1e-12 * e.rms,
+                    "{model} estimate {which}: {} against {}",
+                    again.rms,
+                    e.rms
+                );
+            }
+        }
+    }
 }

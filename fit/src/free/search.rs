@@ -101,7 +101,7 @@ impl ModelSide {
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
         let ones = vec![1.0; k];
         let interfaces: Vec<_> = axes.axes[1].iter().map(|&n| basis.interfaces(n)).collect();
-        let w: Vec<f64> = problem.root_weight.iter().map(|r| r * r).collect();
+        let w = &problem.weight;
         let rows = axes.axes[0]
             .par_iter()
             .map(|&slope| {
@@ -171,29 +171,23 @@ pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -
     let beta = problem.beta;
     let [g1, g2] = &model.g;
     let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
-    // `w D`, and `w D` times the factors of B1 and B2: `Σ w D B_i` is then
-    // one pass over B per (σ/T, n).
-    let wd: Vec<f64> = problem
-        .root_weight
-        .iter()
-        .zip(&problem.data)
-        .map(|(r, d)| r * r * d)
-        .collect();
+    // `w D` times the factors of B1 and B2: `Σ w D B_i` is then one pass
+    // over B per (σ/T, n).
+    let (wd, dd) = (&problem.weighted_data, problem.dd);
     let wdg1: Vec<f64> = wd.iter().zip(g1).map(|(a, b)| a * b).collect();
     let wdg2: Vec<f64> = wd.iter().zip(g2).map(|(a, b)| a * b).collect();
-    let dd = dots(&wd, [&problem.data])[0];
     let row_len = lens[1] * a_axis.len();
     let mut sse = vec![0.0; lens[0] * row_len];
     sse.par_chunks_mut(row_len)
         .zip(&model.rows)
         .for_each(|(out, row)| {
-            let [ds] = dots(&row.s, [&wd]);
+            let [ds] = dots(&row.s, [wd]);
             for (c, out) in row.columns.iter().zip(out.chunks_mut(a_axis.len())) {
                 let q = Quadratic {
                     dd,
                     ds,
                     ss: row.ss,
-                    db: dots(&c.base, [&wd, &wdg1, &wdg2]),
+                    db: dots(&c.base, [wd, &wdg1, &wdg2]),
                     sb: c.sb,
                     bb: c.bb,
                 };
