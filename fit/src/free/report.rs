@@ -714,7 +714,7 @@ mod tests {
             let estimates = [Some(&fit.best), fit.refined.as_ref(), fit.rh.as_ref()];
             for (which, e) in estimates.into_iter().enumerate() {
                 let Some(e) = e else { continue };
-                let again = Estimate::of_fitted(&scene, e.fitted.clone(), 0).unwrap();
+                let again = Estimate::of_fitted(&scene, e.fitted, 0).unwrap();
                 assert!(
                     (again.rms - e.rms).abs() <= 1e-12 * e.rms,
                     "{model} estimate {which}: {} against {}",
