@@ -1,7 +1,8 @@
-//! Inner products in a fixed order: four partial sums per product, which
-//! the compiler keeps in vector registers (a single running sum is a chain
-//! of dependent additions), combined the same way on every target so that
-//! every fit gives the same bits everywhere.
+//! Inner products in a fixed order: four partial sums per product, the
+//! lanes of an `f64x4` (a single running sum is a chain of dependent
+//! additions, which no compiler may reorder into vector code), combined the
+//! same way on every target so that every fit gives the same bits
+//! everywhere.
 
 use laminar_core::f64x4;
 
