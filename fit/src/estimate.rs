@@ -50,7 +50,7 @@ impl Estimate {
     /// as a fit already has them.
     ///
     /// # Errors
-    /// [`ModelError::NonFinitePrediction`] when a prediction is not finite.
+    /// [`ModelError`] when a prediction is not finite.
     pub(crate) fn of_raw(
         scene: &Scene,
         fitted: FittedModel,
