@@ -153,6 +153,17 @@ impl Problem {
         }
     }
 
+    /// `√w (a S + b U)` of two columns of the measurements (`U` empty for a
+    /// baseline: `√w a S`).
+    fn weighted_mix(&self, s: &[f64], u: &[f64], (a, b): (f64, f64)) -> Vec<f64> {
+        let rows = self.root_weight.iter().zip(s);
+        if u.is_empty() {
+            rows.map(|(r, s)| r * (a * s)).collect()
+        } else {
+            rows.zip(u).map(|((r, s), u)| r * (a * s + b * u)).collect()
+        }
+    }
+
     /// The point at `theta` with β in `beta` (the box's, or one value for a
     /// profile of β).
     pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> Point {
@@ -240,17 +251,10 @@ impl Problem {
                 vec![(1.0 - b, b)]
             }
         };
-        let mixed = |(ws, wu): (f64, f64)| -> Vec<f64> {
-            let rows = self.root_weight.iter().zip(&columns.s);
-            if has_u {
-                rows.zip(&columns.u)
-                    .map(|((r, s), u)| r * (ws * s + wu * u))
-                    .collect()
-            } else {
-                rows.map(|(r, s)| r * ws * s).collect()
-            }
-        };
-        let free: Vec<Vec<f64>> = mixes.iter().map(|&m| mixed(m)).collect();
+        let free: Vec<Vec<f64>> = mixes
+            .iter()
+            .map(|&m| self.weighted_mix(&columns.s, &columns.u, m))
+            .collect();
         // `(FᵀF)⁻¹` of the free columns F, when they are independent.
         let gram_inverse: Option<[[f64; 2]; 2]> = match free.as_slice() {
             [] => None,
@@ -280,14 +284,7 @@ impl Problem {
                 };
                 let (ds, du) = (&d.s[..], &d.u[..]);
                 // −√w (∂Φ c), the derivative at the fixed coefficients.
-                let rows = self.root_weight.iter().zip(ds);
-                let mut col: Vec<f64> = if has_u {
-                    rows.zip(du)
-                        .map(|((r, s), u)| -r * (p * s + q * u))
-                        .collect()
-                } else {
-                    rows.map(|(r, s)| -r * p * s).collect()
-                };
+                let mut col = self.weighted_mix(ds, du, (-p, -q));
                 // Kaufman's part: −P⊥ (∂Φ c), projected off the orthonormal
                 // basis of the free columns.
                 let along: Vec<f64> = basis.iter().map(|e| dot(e, &col)).collect();
