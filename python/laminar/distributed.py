@@ -23,6 +23,20 @@ FIELDS = tuple(laminar.BATCH_COLUMNS)
 #: Rows per chunk when :func:`fit_dask` is given a numpy array.
 DEFAULT_CHUNK = 4096
 
+#: What ``sets_per_task="auto"`` aims at: seconds of fits per task on one
+#: core. A task has a fixed cost besides its fits (one Zarr write and one
+#: task of the scheduler per output field and chunk: about 0.15 s for the
+#: 39 fields on the reference machine, docs/python.md), so tasks of a few
+#: seconds keep it to a few percent, while leaving enough tasks to share
+#: among the workers.
+TASK_SECONDS = 3.0
+
+#: One core's seconds per set and measurement of each stage, exp model, the
+#: default grid (measured on the reference machine, docs/python.md): the
+#: free objective's grid search, its refinement, its profile intervals, and
+#: the paper objective's search. The Jacobian costs next to nothing.
+STAGE_SECONDS = {"search": 1.2e-6, "refine": 1.6e-6, "profile": 4.4e-6, "paper_search": 7e-6}
+
 
 def _is_flags(name):
     return name.endswith("_flags")
@@ -45,6 +59,38 @@ def _fit_chunk(block, geometry, model, options, block_info=None):
     _check_finite(block, offset)
     out = laminar.fit_batch(geometry, block, model, threads=1, **options)
     return np.column_stack([out[name] for name in FIELDS])
+
+
+def _seconds_per_set(k, options):
+    """The estimated seconds of one core per set of ``k`` measurements
+    (:data:`STAGE_SECONDS`)."""
+    search = STAGE_SECONDS["paper_search" if options["objective"] == "paper" else "search"]
+    refine = STAGE_SECONDS["refine"] if options["refine"] else 0.0
+    profile = STAGE_SECONDS["profile"] if options["uncertainty"] in ("profile", "both") else 0.0
+    return k * (search + refine + profile)
+
+
+def _chunks_per_task(chunks, k, options, sets_per_task):
+    """How many consecutive chunks of sets (``chunks``, their sizes) one task
+    fits: as many as hold at most ``sets_per_task`` sets (at least one), or
+    with ``"auto"`` about :data:`TASK_SECONDS` of fits; ``None`` keeps each
+    chunk a task."""
+    if sets_per_task is None:
+        return 1
+    if isinstance(sets_per_task, str):
+        if sets_per_task != "auto":
+            raise ValueError(f"sets_per_task: {sets_per_task!r}; a number of sets, 'auto' or None is needed")
+        sets_per_task = TASK_SECONDS / _seconds_per_set(k, options)
+    elif isinstance(sets_per_task, bool) or not isinstance(sets_per_task, (int, np.integer)) or sets_per_task < 1:
+        raise ValueError(f"sets_per_task: {sets_per_task!r}; a number of sets ≥ 1, 'auto' or None is needed")
+    largest = max(chunks, default=1)
+    return max(1, int(sets_per_task // largest))
+
+
+def _merged(chunks, per_task):
+    """``chunks`` merged ``per_task`` at a time (the last group may be
+    smaller), so that every boundary of the result is one of the input's."""
+    return tuple(sum(chunks[i : i + per_task]) for i in range(0, len(chunks), per_task))
 
 
 def _options(grid, quantity, refine, uncertainty, objective):
@@ -113,11 +159,20 @@ def fit_dask(
     uncertainty="both",
     objective="free",
     dim="set",
+    sets_per_task="auto",
 ):
     """Fits every row of ``values`` (a ``dask.array`` of N sets × K
     measurements, chunked along N; a numpy array is chunked by
     :data:`DEFAULT_CHUNK` rows) on ``geometry`` (K × 4 lab-frame angles,
     radians) as :func:`laminar.fit_batch` does, with the same options.
+
+    Each task fits consecutive chunks of sets together: as many as hold at
+    most ``sets_per_task`` sets (at least one chunk), or by default
+    (``"auto"``) about :data:`TASK_SECONDS` of one core's fits, estimated
+    from K and the analysis (:data:`STAGE_SECONDS`); ``None`` makes each
+    chunk a task. Chunks are merged, never split, so the result's chunks
+    along ``dim`` are the merged ones and each boundary is one of the
+    input's.
 
     Returns at once a lazy ``xarray.Dataset`` along ``dim``: one variable
     per field of :data:`FIELDS` (float64; ``measurements`` int32; the
@@ -138,7 +193,8 @@ def fit_dask(
         values = da.from_array(np.asarray(values), chunks=(DEFAULT_CHUNK, -1))
     options = _options(grid, quantity, refine, uncertainty, objective)
     geometry = _checked(geometry, values, model, options)
-    values = values.rechunk({1: -1})
+    per_task = _chunks_per_task(values.chunks[0], geometry.shape[0], options, sets_per_task)
+    values = values.rechunk({0: _merged(values.chunks[0], per_task), 1: -1})
     shared = dask.delayed(geometry, pure=True)
     fields = da.map_blocks(
         _fit_chunk,
@@ -181,5 +237,7 @@ def fit_batch_dask(
     if values.ndim != 2:
         raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
     chunked = da.from_array(values, chunks=(block, -1))
-    dataset = fit_dask(geometry, chunked, model, grid=grid, quantity=quantity, refine=refine, uncertainty=uncertainty)
+    dataset = fit_dask(
+        geometry, chunked, model, grid=grid, quantity=quantity, refine=refine, uncertainty=uncertainty, sets_per_task=None
+    )
     return to_records(client.compute(dataset).result())

@@ -1,4 +1,4 @@
-from typing import Any, Mapping, Optional, Sequence, Union
+from typing import Any, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -7,6 +7,8 @@ from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 
 FIELDS: tuple[str, ...]
 DEFAULT_CHUNK: int
+TASK_SECONDS: float
+STAGE_SECONDS: dict[str, float]
 
 def flag_attrs() -> dict[str, Any]: ...
 def fit_dask(
@@ -19,6 +21,7 @@ def fit_dask(
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
     dim: str = "set",
+    sets_per_task: Union[int, Literal["auto"], None] = "auto",
 ) -> Any: ...
 def to_records(dataset: Any) -> npt.NDArray[np.void]: ...
 def fit_batch_dask(

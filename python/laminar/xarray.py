@@ -43,6 +43,7 @@ def fit(
     refine=True,
     uncertainty="both",
     objective="free",
+    sets_per_task="auto",
 ):
     """Fits ``model`` to every set of ``data`` along ``dim`` (the
     measurements, with coordinates ``theta_i, phi_i, theta_v, phi_v``), as
@@ -54,7 +55,8 @@ def fit(
     dask-backed (chunks along ``dim`` are merged into one); a value that is
     not finite then raises when its chunk runs, naming the set by its index
     in row-major order over the other dimensions (numpy-backed data name
-    its coordinates at once).
+    its coordinates at once). ``sets_per_task`` as in
+    :func:`laminar.distributed.fit_dask`.
     """
     import dask.array as da
     import xarray as xr
@@ -72,7 +74,7 @@ def fit(
     coords = {name: c for name, c in data.coords.items() if dim not in c.dims}
     options = _options(grid, quantity, refine, uncertainty, objective)
     if isinstance(flat, da.Array):
-        fitted = fit_dask(geometry, flat, model, dim="set", **options)
+        fitted = fit_dask(geometry, flat, model, dim="set", sets_per_task=sets_per_task, **options)
         columns = {name: fitted[name].data.reshape(shape) for name in FIELDS}
     else:
         _checked(geometry, flat, model, options)

@@ -1,4 +1,4 @@
-from typing import Any, Mapping, Optional, Sequence, Union
+from typing import Any, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -17,4 +17,5 @@ def fit(
     refine: bool = True,
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
+    sets_per_task: Union[int, Literal["auto"], None] = "auto",
 ) -> Any: ...

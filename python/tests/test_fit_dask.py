@@ -27,6 +27,7 @@ import dask  # noqa: E402
 import dask.array as da  # noqa: E402
 import xarray as xr  # noqa: E402
 
+import laminar.distributed  # noqa: E402
 from laminar.distributed import FIELDS, fit_dask  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
@@ -167,6 +168,34 @@ def test_the_defaults_on_the_threaded_scheduler_equal_fit_batch():
     expected = laminar.fit_batch(g, sets, "exp", quantity="radiance")
     assert_equal_rows(computed, expected)
     assert np.isfinite(computed["n_lo95"]).all() and np.isfinite(computed["amplitude"]).all()
+
+
+def test_chunks_are_merged_into_tasks_of_the_size_asked():
+    g, values = cube(10, 10, k=198, channels=1)
+    sets = values[0]
+    lazy = da.from_array(sets, chunks=(10, 198))
+    search = {"quantity": "radiance", "refine": False, "uncertainty": "off"}
+
+    def task_chunks(**kw):
+        return fit_dask(g, lazy, "exp", **search, **kw)["slope"].data.chunks[0]
+
+    assert task_chunks(sets_per_task=35) == (30, 30, 30, 10)
+    assert task_chunks(sets_per_task=5) == (10,) * 10  # a chunk is never split
+    assert task_chunks(sets_per_task=None) == (10,) * 10
+    # "auto": about TASK_SECONDS of one core's fits per task, by the stage
+    # costs: the search alone merges these 100 small sets into one task;
+    # a costlier analysis takes fewer sets per task.
+    assert task_chunks() == (100,)
+    per_set = 198 * sum(laminar.distributed.STAGE_SECONDS[s] for s in ("search", "refine", "profile"))
+    many = da.zeros((5000, 198), chunks=(1, 198))  # (its chunks only: nothing is computed)
+    full = fit_dask(g, many, "exp", quantity="radiance")
+    assert full["slope"].data.chunks[0][0] == int(laminar.distributed.TASK_SECONDS / per_set) < 5000
+    with dask.config.set(scheduler="threads"):
+        computed = fit_dask(g, lazy, "exp", **search, sets_per_task=35).compute()
+    assert_equal_rows(computed, laminar.fit_batch(g, sets, "exp", **search))
+    for bad in (0, -3, 2.5, True, "big"):
+        with pytest.raises(ValueError, match="sets_per_task"):
+            fit_dask(g, lazy, "exp", sets_per_task=bad)
 
 
 def labelled_cube(ny=6, nx=5, channels=3):
