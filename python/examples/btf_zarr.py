@@ -6,12 +6,15 @@ cluster with a progress bar, and the result written to another store.
     python examples/btf_zarr.py                         # 256 × 256, LocalCluster 2 × 1
     python examples/btf_zarr.py --size 64 --search-only
     python examples/btf_zarr.py --scheduler tcp://HOST:8786 --out /shared/fits.zarr
-    python examples/btf_zarr.py --size 64 --measure     # docs/python.md's throughput table
+    python examples/btf_zarr.py --measure --repeat 2    # docs/python.md's throughput table
 
-The input is made chunk by chunk on the workers, so neither the client nor
-a worker holds it whole. --measure times fit_batch in one process (2
-threads) and LocalClusters of 1 and 2 workers × 1 thread, search only and
-with the defaults, on the same data, and prints a Markdown table.
+The input is stored in chunks of 3,072 sets (--rows texel rows), made
+chunk by chunk, so no process holds it whole; the fit merges consecutive
+chunks into tasks of a few seconds of fits (laminar.xarray.fit's
+sets_per_task). --measure times fit_batch in one process (2 threads, the
+texture in memory) and LocalClusters of 1 and 2 workers × 1 thread (store
+to store), search only and with the defaults, on the same data, and prints
+a Markdown table.
 """
 
 import argparse

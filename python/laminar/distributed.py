@@ -31,11 +31,15 @@ DEFAULT_CHUNK = 4096
 #: among the workers.
 TASK_SECONDS = 3.0
 
-#: One core's seconds per set and measurement of each stage, exp model, the
-#: default grid (measured on the reference machine, docs/python.md): the
-#: free objective's grid search, its refinement, its profile intervals, and
-#: the paper objective's search. The Jacobian costs next to nothing.
-STAGE_SECONDS = {"search": 1.2e-6, "refine": 1.6e-6, "profile": 4.4e-6, "paper_search": 7e-6}
+#: One core's seconds per set and measurement of each stage of each
+#: objective, exp model, its default grid (measured on the reference
+#: machine with ``fit_batch(threads=1)`` on a synthetic texture,
+#: docs/python.md): the grid search, the refinement, the profile intervals.
+#: The Jacobian costs next to nothing.
+STAGE_SECONDS = {
+    "free": {"search": 1.1e-6, "refine": 3.3e-6, "profile": 4.8e-6},
+    "paper": {"search": 2.3e-6, "refine": 55e-6, "profile": 67e-6},
+}
 
 
 def _is_flags(name):
@@ -64,10 +68,10 @@ def _fit_chunk(block, geometry, model, options, block_info=None):
 def _seconds_per_set(k, options):
     """The estimated seconds of one core per set of ``k`` measurements
     (:data:`STAGE_SECONDS`)."""
-    search = STAGE_SECONDS["paper_search" if options["objective"] == "paper" else "search"]
-    refine = STAGE_SECONDS["refine"] if options["refine"] else 0.0
-    profile = STAGE_SECONDS["profile"] if options["uncertainty"] in ("profile", "both") else 0.0
-    return k * (search + refine + profile)
+    stages = STAGE_SECONDS[options["objective"]]
+    refine = stages["refine"] if options["refine"] else 0.0
+    profile = stages["profile"] if options["uncertainty"] in ("profile", "both") else 0.0
+    return max(k, 1) * (stages["search"] + refine + profile)
 
 
 def _chunks_per_task(chunks, k, options, sets_per_task):
@@ -83,7 +87,7 @@ def _chunks_per_task(chunks, k, options, sets_per_task):
         sets_per_task = TASK_SECONDS / _seconds_per_set(k, options)
     elif isinstance(sets_per_task, bool) or not isinstance(sets_per_task, (int, np.integer)) or sets_per_task < 1:
         raise ValueError(f"sets_per_task: {sets_per_task!r}; a number of sets ≥ 1, 'auto' or None is needed")
-    largest = max(chunks, default=1)
+    largest = max(max(chunks, default=1), 1)
     return max(1, int(sets_per_task // largest))
 
 

@@ -8,7 +8,7 @@ from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 FIELDS: tuple[str, ...]
 DEFAULT_CHUNK: int
 TASK_SECONDS: float
-STAGE_SECONDS: dict[str, float]
+STAGE_SECONDS: dict[str, dict[str, float]]
 
 def flag_attrs() -> dict[str, Any]: ...
 def fit_dask(
