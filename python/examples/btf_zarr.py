@@ -92,6 +92,16 @@ def cluster(workers):
     return LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1", dashboard_address=None)
 
 
+def fastest(repeat, job):
+    """The shortest wall time, in seconds, of ``repeat`` calls ``job(run)``."""
+    times = []
+    for run in range(repeat):
+        start = time.perf_counter()
+        job(run)
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
 def measure(source, scratch, size, repeat):
     """The throughput table: the fastest of ``repeat`` runs of each job, the
     one process's in memory (no reading or writing), the clusters' from
@@ -100,20 +110,12 @@ def measure(source, scratch, size, repeat):
     data = xr.open_zarr(str(source), consolidated=False)["radiance"].load()
     rows = []
     for label, options in [("search only", {"refine": False, "uncertainty": "off"}), ("defaults", {})]:
-        best = float("inf")
-        for _ in range(repeat):
-            start = time.perf_counter()
-            laminar.xarray.fit(data, model="exp", quantity="radiance", **options)
-            best = min(best, time.perf_counter() - start)
-        speeds = [sets / best]
+        alone = fastest(repeat, lambda run: laminar.xarray.fit(data, model="exp", quantity="radiance", **options))
+        speeds = [sets / alone]
         for workers in (1, 2):
             with cluster(workers) as c, Client(c) as client:
-                best = float("inf")
-                for run in range(repeat):
-                    start = time.perf_counter()
-                    fit_store(client, source, Path(scratch) / f"fits-{workers}-{run}.zarr", options)
-                    best = min(best, time.perf_counter() - start)
-                speeds.append(sets / best)
+                out = Path(scratch) / f"fits-{workers}"
+                speeds.append(sets / fastest(repeat, lambda run: fit_store(client, source, f"{out}-{run}.zarr", options)))
         rows.append((label, speeds))
     print(f"\n{sets} fits ({size} × {size} texels × 3 channels, K = {K}), sets/s, fastest of {repeat}:\n")
     print("| analysis | fit_batch, one process, 2 threads | LocalCluster 1 × 1 | LocalCluster 2 × 1 | 2 × 1 / one process |")
@@ -132,6 +134,8 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="with --measure: runs of each job, the fastest kept (default 1)")
     ap.add_argument("--rows", type=int, help="texel rows per stored chunk (default: 1024 / SIZE, at least 1)")
     args = ap.parse_args()
+    if args.repeat < 1:
+        ap.error(f"--repeat {args.repeat}: at least 1 run")
     with tempfile.TemporaryDirectory() as scratch:
         source = Path(scratch) / "texture.zarr"
         rows = args.rows or max(1, 1024 // args.size)  # 3,072 sets per chunk
