@@ -3,7 +3,7 @@
 //! of sets on one geometry, with the fitted power-law exponents.
 
 use laminar_core::Correlation;
-use laminar_fit::{synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Scene};
+use laminar_fit::{synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Objective, Scene};
 use laminar_io::fits::markdown_table;
 use std::time::Instant;
 
@@ -69,7 +69,9 @@ pub fn scaling(
         progress(&format!("K = {k}, {scale}× points per axis"));
         let grid = scaled(grid, scale);
         // The search's cost: no refinement or uncertainty after it.
-        let fitter = Fitter::new(grid.clone())?.analysis(Analysis::NONE);
+        let fitter = Fitter::new(grid.clone())?
+            .objective(Objective::Paper)
+            .analysis(Analysis::NONE);
         let sets: Vec<Scene> = synthetic::sets(
             Correlation::Exponential,
             &synthetic::spread(k),

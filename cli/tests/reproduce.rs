@@ -3,7 +3,7 @@
 
 use laminar_cli::reproduce::{prepare_out_dir, reproduce, FITTED};
 use laminar_cli::selection::curet_jobs;
-use laminar_fit::{Axis, Fitter, Grid, Model};
+use laminar_fit::{Axis, Fitter, Grid, Model, Objective};
 use std::path::{Path as FsPath, PathBuf};
 
 fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {
@@ -60,7 +60,12 @@ fn reproduce_writes_every_table_and_figure() {
     // A stale figure from an earlier run on another sample.
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("fig_sample7_exp_avg.svg"), "<svg/>").unwrap();
-    let r = reproduce(&Fitter::new(grid).unwrap(), &js, &out).unwrap();
+    let r = reproduce(
+        &Fitter::new(grid).unwrap().objective(Objective::Paper),
+        &js,
+        &out,
+    )
+    .unwrap();
     assert_eq!(r.removed, vec![out.join("fig_sample7_exp_avg.svg")]);
     assert!(!out.join("fig_sample7_exp_avg.svg").exists());
     assert_eq!(r.records.len(), 4 * FITTED.len());
@@ -128,9 +133,15 @@ fn reproduce_refuses_a_directory_with_other_files() {
     std::fs::create_dir_all(&out).unwrap();
     write(&out, "notes.txt", "mine");
     let js = curet_jobs(d.path(), &[], Some(&[21])).unwrap();
-    let e = reproduce(&Fitter::new(Grid::paper()).unwrap(), &js, &out)
-        .unwrap_err()
-        .to_string();
+    let e = reproduce(
+        &Fitter::new(Grid::paper())
+            .unwrap()
+            .objective(Objective::Paper),
+        &js,
+        &out,
+    )
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("notes.txt") && e.contains("new or empty"), "{e}");
     assert_eq!(
         std::fs::read_to_string(out.join("notes.txt")).unwrap(),

@@ -54,6 +54,8 @@ pub trait Lane:
     sealed::Sealed
     + Copy
     + core::fmt::Debug
+    + Send
+    + Sync
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>

@@ -10,7 +10,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use laminar_core::{Angles, Correlation};
 use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model};
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -47,6 +47,7 @@ fn batch(c: &mut Criterion) {
     // The search's throughput: no refinement or uncertainty after it.
     let fitter = Fitter::new(Grid::paper())
         .expect("the paper grid is valid")
+        .objective(Objective::Paper)
         .analysis(Analysis::NONE);
     let mut group = c.benchmark_group(format!("batch_{label}_k{}", angles.len()));
     group.sample_size(10);

@@ -10,7 +10,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use laminar_core::Correlation;
 use laminar_fit::search::{search, Method, Path};
-use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Scene, Uncertainty};
+use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -81,6 +81,7 @@ fn analysis(c: &mut Criterion) {
     for (name, analysis) in cases {
         let fitter = Fitter::new(Grid::paper())
             .expect("the paper grid is valid")
+            .objective(Objective::Paper)
             .analysis(analysis);
         group.bench_function(name, |b| {
             b.iter(|| black_box(fitter.fit(&scene, Model::Exp)))

@@ -14,7 +14,7 @@
 
 use crate::fit::Fitter;
 use crate::fitted::{FittedModel, ModelParams};
-use crate::model::{Model, Param};
+use crate::model::{Baseline, Family, Model, Param};
 use crate::objective::Objective;
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
@@ -93,16 +93,14 @@ impl Coverage {
 /// a ∈ [0.1, 0.9]); the baselines inside their grids.
 pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams {
     let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.uniform();
-    match model {
-        Model::Jensen => ModelParams::Jensen {
-            sigma_a: u(0.1, 0.9),
-            sigma_s: u(0.1, 0.9),
-        },
-        Model::OrenNayar => ModelParams::OrenNayar {
-            sigma: u(0.2, 0.8),
-            rho: u(0.2, 0.8),
-        },
-        m => {
+    match model.family() {
+        Family::Baseline(b @ Baseline::Jensen) => {
+            ModelParams::baseline(b, [u(0.1, 0.9), u(0.1, 0.9)])
+        }
+        Family::Baseline(b @ Baseline::OrenNayar) => {
+            ModelParams::baseline(b, [u(0.2, 0.8), u(0.2, 0.8)])
+        }
+        Family::Layered { absorption, .. } => {
             let (slope, beta, n) = match objective {
                 Objective::Free => (
                     libm::exp(u(libm::log(0.2), libm::log(5.0))),
@@ -115,11 +113,7 @@ pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams 
                 slope,
                 beta,
                 n,
-                a: if m.is_ragheb_hancock() {
-                    0.0
-                } else {
-                    u(0.1, 0.9)
-                },
+                a: if absorption { u(0.1, 0.9) } else { 0.0 },
             }
         }
     }

@@ -5,11 +5,12 @@
 //! [`Fit`] ([`crate::report`]).
 
 use crate::analysis::Analysis;
+use crate::baseline::BaselineGeometry;
 use crate::error::FitError;
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
-use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
-use crate::model::{Model, Param};
+use crate::grid::{Axis, Grid};
+use crate::model::{baseline_grid, Baseline, Family, Model, Param};
 use crate::objective::Objective;
 use crate::paper::intervals::cutoffs;
 use crate::paper::profiles::{profile_curves, ProfileCurve};
@@ -21,11 +22,6 @@ use crate::search::batch::{search_batch, share_geometry};
 use crate::search::{
     grid_profile, point, search, GridProfile, Method, Path, SearchResult, Searched,
 };
-use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{
-    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
-};
-use laminar_core::Angles;
 use rayon::prelude::*;
 use std::sync::Arc;
 
@@ -34,23 +30,38 @@ type Progress = Arc<dyn Fn() + Send + Sync>;
 /// Most worker threads a [`Fitter`] starts.
 pub const MAX_THREADS: usize = 1024;
 
-/// Fits scenes: the grid, the search path, the worker threads and a progress
-/// callback, set once.
+/// Fits scenes: the objective, the grid (the free objective's box), the
+/// search path, the worker threads and a progress callback, set once.
+///
+/// By default a fitter minimises the free-amplitude objective
+/// ([`Objective::Free`], as [`crate::Settings`] and every front end do);
+/// [`Fitter::objective`] selects the paper's, with [`Grid::paper`].
 ///
 /// ```
 /// use laminar_core::{Correlation, Params};
-/// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
-/// // Noise-free synthetic data from the exp model.
+/// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective, Param};
+/// // Noise-free synthetic data from the exp model (β in the paper's normalisation).
 /// let truth = Params::new(1.48, 0.39, 1.44, 0.17)?;
 /// let scene = synthetic::scene(Correlation::Exponential, &truth, 0.0, 1);
+/// // The default: the free amplitude, refined inside the default box.
+/// let fit = Fitter::new(Grid::user())?.threads(1)?.fit(&scene, Model::Exp);
+/// assert_eq!(fit.objective, Objective::Free);
+/// let value = |name| fit.parameters.iter().find(|p| p.name == name).unwrap().value();
+/// for (name, want) in [(Param::Slope, 1.48), (Param::N, 1.44), (Param::A, 0.17)] {
+///     assert!((value(name) - want).abs() < 1e-6 * want, "{name}: {}", value(name));
+/// }
+/// // The paper's exhaustive grid search, on a grid that holds the truth.
 /// let grid = Grid {
 ///     slope: Axis::stepped(1.32, 0.08, 5),
 ///     a: Axis::stepped(0.13, 0.01, 9),
 ///     ..Grid::paper()
 /// };
-/// let fit = Fitter::new(grid)?.threads(1)?.fit(&scene, Model::Exp);
-/// assert_eq!(fit.best.params_text(), "slope=1.48;beta=0.39;n=1.44;a=0.17");
-/// assert!(fit.best.rms < 1e-6);
+/// let paper = Fitter::new(grid)?.objective(Objective::Paper).threads(1)?.fit(&scene, Model::Exp);
+/// assert_eq!(paper.best.params_text(), "slope=1.48;beta=0.39;n=1.44;a=0.17");
+/// assert!(paper.best.rms < 1e-6);
+/// // The free objective's β is eq. 8's own balance: the paper fit's, converted.
+/// let beta_eq8 = paper.best.fitted.beta_eq8.unwrap();
+/// assert!((value(Param::Beta) - beta_eq8).abs() < 1e-6, "{} {beta_eq8}", value(Param::Beta));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone)]
@@ -64,7 +75,8 @@ pub struct Fitter {
 }
 
 impl Fitter {
-    /// A fitter on `grid` (validated: [`Grid::validate`]) with the default
+    /// A fitter on `grid` (validated: [`Grid::validate`]) minimising the
+    /// free-amplitude objective ([`Objective::default`]) with the default
     /// search path, all cores, no progress callback, refinement and both
     /// uncertainties ([`Analysis::FULL`]).
     ///
@@ -78,13 +90,13 @@ impl Fitter {
             pool: None,
             progress: None,
             analysis: Analysis::FULL,
-            objective: Objective::Paper,
+            objective: Objective::default(),
         })
     }
 
-    /// The objective every fit minimises (default [`Objective::Paper`] for
-    /// [`Fitter::new`]; front ends choose [`Objective::Free`] for a user's
-    /// data, on [`Grid::user`]).
+    /// The objective every fit minimises (default [`Objective::Free`], on
+    /// [`Grid::user`]'s box; [`Objective::Paper`] on [`Grid::paper`]
+    /// reproduces the paper).
     pub fn objective(mut self, objective: Objective) -> Self {
         self.objective = objective;
         self
@@ -175,7 +187,7 @@ impl Fitter {
 
     /// Fits `model` to `scene`. Layered models search the grid (a fixed at 0
     /// for the Ragheb–Hancock variants) on the fitter's path; the baselines
-    /// search their own grids ([`jensen_grid`], [`oren_nayar_grid`]).
+    /// search their own grids ([`baseline_grid`]).
     pub fn fit(&self, scene: &Scene, model: Model) -> Fit {
         self.run(|| self.fit_here(scene, model))
     }
@@ -420,12 +432,12 @@ impl Fitter {
     ///
     /// ```
     /// use laminar_core::{Correlation, Params};
-    /// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+    /// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
     /// let scenes: Vec<_> = (0..3)
     ///     .map(|seed| synthetic::scene(Correlation::Exponential, &Params::new(1.48, 0.39, 1.44, 0.2).unwrap(), 0.01, seed))
     ///     .collect();
     /// let grid = Grid { slope: Axis::stepped(1.32, 0.08, 5), a: Axis::stepped(0.0, 0.1, 5), ..Grid::paper() };
-    /// let fitter = Fitter::new(grid)?;
+    /// let fitter = Fitter::new(grid)?.objective(Objective::Paper);
     /// let batch = fitter.fit_batch(&scenes, Model::Exp);
     /// for (scene, fit) in scenes.iter().zip(&batch) {
     ///     assert_eq!(fit, &fitter.fit(scene, Model::Exp));
@@ -464,52 +476,25 @@ impl Fitter {
             return fit;
         }
         let tick = || self.tick();
-        match model.correlation() {
-            Some(corr) => {
+        match model.family() {
+            Family::Layered { correlation, .. } => {
                 let grid = self.model_grid(model);
-                let r = search(scene, &grid, corr, self.path, &tick)
+                let r = search(scene, &grid, correlation, self.path, &tick)
                     .expect("the grid was validated by Fitter::new");
                 self.layered_fit(scene, model, &grid, &r)
             }
-            None if model == Model::Jensen => self.baseline(
-                scene,
-                model,
-                jensen_grid(),
-                |a| JensenGeometry::from_lanes(|_| *a),
-                |x, y| JensenCoefficients::<f64>::new(x, y).expect("grid in domain"),
-                jensen_radiance,
-                |sigma_a, sigma_s| ModelParams::Jensen { sigma_a, sigma_s },
-            ),
-            None => self.baseline(
-                scene,
-                model,
-                oren_nayar_grid(),
-                |a| OrenNayarGeometry::from_lanes(|_| *a),
-                |x, y| OrenNayarCoefficients::<f64>::new(x, y).expect("grid in domain"),
-                oren_nayar_radiance,
-                |sigma, rho| ModelParams::OrenNayar { sigma, rho },
-            ),
+            Family::Baseline(baseline) => self.baseline(scene, model, baseline),
         }
     }
 
     /// A baseline's fit: its geometry once per measurement, then the 2-D
     /// grid search of its max-normalised radiance (docs/conventions.md §7).
-    #[allow(clippy::too_many_arguments)]
-    fn baseline<G: Sync, K>(
-        &self,
-        scene: &Scene,
-        model: Model,
-        (outer, inner): (Axis, Axis),
-        geometry: impl Fn(&Angles) -> G,
-        coefficients: impl Fn(f64, f64) -> K + Sync,
-        radiance: impl Fn(&G, &K) -> f64 + Sync,
-        params: impl Fn(f64, f64) -> ModelParams,
-    ) -> Fit {
-        let geometry: Vec<G> = scene.angles.iter().map(geometry).collect();
-        let ((rms, x, y), surface) =
-            grid2(scene, &outer, &inner, &geometry, coefficients, radiance);
-        let best =
-            Estimate::new(scene, model, params(x, y)).expect("grid values are in the domain");
+    fn baseline(&self, scene: &Scene, model: Model, baseline: Baseline) -> Fit {
+        let (outer, inner) = baseline_grid(baseline);
+        let geometry = BaselineGeometry::new(baseline, &scene.angles);
+        let ((rms, x, y), surface) = grid2(scene, &outer, &inner, &geometry);
+        let best = Estimate::new(scene, model, ModelParams::baseline(baseline, [x, y]))
+            .expect("grid values are in the domain");
         let names = model.params();
         let searched = [
             Searched {

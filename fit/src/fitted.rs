@@ -12,12 +12,10 @@
 //! with which the raw mix `beta_eq8 L^sb + (1 − beta_eq8) L^sf` (what
 //! `laminar eval` prints) is the fitted prediction divided by `eq8_scale`.
 
+use crate::baseline::BaselineGeometry;
 use crate::error::ModelError;
+use crate::model::{Baseline, Family};
 use crate::model::{Model, Param};
-use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{
-    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
-};
 use laminar_core::measures::max_of;
 use laminar_core::prediction::scaled;
 use laminar_core::{components, mix, Angles, Geometry, Params, Scaling};
@@ -58,16 +56,12 @@ pub enum ModelParams {
 impl ModelParams {
     /// `model`'s parameters ([`Model::params`]), each taken from `value(p)`.
     pub fn from_values(model: Model, value: impl Fn(Param) -> f64) -> Self {
-        match model {
-            Model::Jensen => Self::Jensen {
-                sigma_a: value(Param::SigmaA),
-                sigma_s: value(Param::SigmaS),
-            },
-            Model::OrenNayar => Self::OrenNayar {
-                sigma: value(Param::Sigma),
-                rho: value(Param::Rho),
-            },
-            _ => Self::Layered {
+        match model.family() {
+            Family::Baseline(b) => {
+                let [x, y] = b.params().map(value);
+                Self::baseline(b, [x, y])
+            }
+            Family::Layered { .. } => Self::Layered {
                 slope: value(Param::Slope),
                 beta: value(Param::Beta),
                 n: value(Param::N),
@@ -76,12 +70,32 @@ impl ModelParams {
         }
     }
 
+    /// The parameters of `baseline` at `values` ([`Baseline::params`]' order).
+    pub fn baseline(baseline: Baseline, [x, y]: [f64; 2]) -> Self {
+        match baseline {
+            Baseline::Jensen => Self::Jensen {
+                sigma_a: x,
+                sigma_s: y,
+            },
+            Baseline::OrenNayar => Self::OrenNayar { sigma: x, rho: y },
+        }
+    }
+
+    /// A baseline's parameters and their values ([`Baseline::params`]'
+    /// order); `None` for a layered model's.
+    pub fn baseline_values(&self) -> Option<(Baseline, [f64; 2])> {
+        match *self {
+            Self::Layered { .. } => None,
+            Self::Jensen { sigma_a, sigma_s } => Some((Baseline::Jensen, [sigma_a, sigma_s])),
+            Self::OrenNayar { sigma, rho } => Some((Baseline::OrenNayar, [sigma, rho])),
+        }
+    }
+
     /// The parameters these values are of, in output order.
     pub fn params(&self) -> &'static [Param] {
-        match self {
-            Self::Layered { .. } => Model::Exp.params(),
-            Self::Jensen { .. } => Model::Jensen.params(),
-            Self::OrenNayar { .. } => Model::OrenNayar.params(),
+        match self.baseline_values() {
+            None => Model::Exp.params(),
+            Some((b, _)) => b.params(),
         }
     }
 
@@ -95,16 +109,19 @@ impl ModelParams {
 
     /// The value of parameter `p` (`None` when these are another model's).
     pub fn value(&self, p: Param) -> Option<f64> {
-        match (*self, p) {
-            (Self::Layered { slope, .. }, Param::Slope) => Some(slope),
-            (Self::Layered { beta, .. }, Param::Beta) => Some(beta),
-            (Self::Layered { n, .. }, Param::N) => Some(n),
-            (Self::Layered { a, .. }, Param::A) => Some(a),
-            (Self::Jensen { sigma_a, .. }, Param::SigmaA) => Some(sigma_a),
-            (Self::Jensen { sigma_s, .. }, Param::SigmaS) => Some(sigma_s),
-            (Self::OrenNayar { sigma, .. }, Param::Sigma) => Some(sigma),
-            (Self::OrenNayar { rho, .. }, Param::Rho) => Some(rho),
-            _ => None,
+        match *self {
+            Self::Layered { slope, beta, n, a } => {
+                let values = [slope, beta, n, a];
+                Model::Exp
+                    .params()
+                    .iter()
+                    .position(|&q| q == p)
+                    .map(|i| values[i])
+            }
+            Self::Jensen { .. } | Self::OrenNayar { .. } => {
+                let (b, values) = self.baseline_values()?;
+                b.params().iter().position(|&q| q == p).map(|i| values[i])
+            }
         }
     }
 
@@ -145,7 +162,7 @@ impl ModelParams {
             Self::Layered { slope, beta, n, a } => {
                 Params::new(slope, beta, n, a).map_err(ModelError::OutOfDomain)
             }
-            _ => Err(ModelError::WrongParameters {
+            Self::Jensen { .. } | Self::OrenNayar { .. } => Err(ModelError::WrongParameters {
                 model: Model::layered()
                     .map(Model::name)
                     .collect::<Vec<_>>()
@@ -246,29 +263,18 @@ pub struct FittedModel {
 pub(crate) enum Geometries {
     /// The layered models' geometry.
     Layered(Vec<Geometry<f64>>),
-    /// Jensen's.
-    Jensen(Vec<JensenGeometry<f64>>),
-    /// Oren–Nayar's.
-    OrenNayar(Vec<OrenNayarGeometry<f64>>),
+    /// A baseline's.
+    Baseline(BaselineGeometry),
 }
 
 impl Geometries {
     /// The geometry `model` needs at `angles`.
     pub(crate) fn new(model: Model, angles: &[Angles]) -> Self {
-        match model {
-            Model::Jensen => Self::Jensen(
-                angles
-                    .iter()
-                    .map(|g| JensenGeometry::from_lanes(|_| *g))
-                    .collect(),
-            ),
-            Model::OrenNayar => Self::OrenNayar(
-                angles
-                    .iter()
-                    .map(|g| OrenNayarGeometry::from_lanes(|_| *g))
-                    .collect(),
-            ),
-            _ => Self::Layered(angles.iter().map(Geometry::<f64>::splat).collect()),
+        match model.family() {
+            Family::Baseline(b) => Self::Baseline(BaselineGeometry::new(b, angles)),
+            Family::Layered { .. } => {
+                Self::Layered(angles.iter().map(Geometry::<f64>::splat).collect())
+            }
         }
     }
 
@@ -279,8 +285,15 @@ impl Geometries {
         model: Model,
         params: &ModelParams,
     ) -> Result<Vec<[f64; 2]>, ModelError> {
-        match (self, model.correlation(), *params) {
-            (Self::Layered(geometry), Some(corr), ModelParams::Layered { a, .. }) => {
+        let wrong = || ModelError::WrongParameters {
+            model: model.name().into(),
+            expected: param_names(model.params()),
+        };
+        match (self, model.family()) {
+            (Self::Layered(geometry), Family::Layered { correlation, .. }) => {
+                let ModelParams::Layered { a, .. } = *params else {
+                    return Err(wrong());
+                };
                 if model.is_ragheb_hancock() && a != 0.0 {
                     return Err(ModelError::WrongParameters {
                         model: model.name().into(),
@@ -291,31 +304,22 @@ impl Geometries {
                 Ok(geometry
                     .iter()
                     .map(|g| {
-                        let c = components(g, corr, &p);
+                        let c = components(g, correlation, &p);
                         [c.surface, c.subsurface]
                     })
                     .collect())
             }
-            (Self::Jensen(geometry), None, ModelParams::Jensen { sigma_a, sigma_s }) => {
-                let k = JensenCoefficients::<f64>::new(sigma_a, sigma_s)
-                    .map_err(ModelError::OutOfDomain)?;
-                Ok(geometry
-                    .iter()
-                    .map(|g| [jensen_radiance(g, &k), 0.0])
-                    .collect())
-            }
-            (Self::OrenNayar(geometry), None, ModelParams::OrenNayar { sigma, rho }) => {
-                let k = OrenNayarCoefficients::<f64>::new(sigma, rho)
-                    .map_err(ModelError::OutOfDomain)?;
-                Ok(geometry
-                    .iter()
-                    .map(|g| [oren_nayar_radiance(g, &k), 0.0])
-                    .collect())
-            }
-            _ => Err(ModelError::WrongParameters {
-                model: model.name().into(),
-                expected: param_names(model.params()),
-            }),
+            (Self::Baseline(geometry), Family::Baseline(b)) => match params.baseline_values() {
+                Some((of, values)) if of == b && geometry.baseline() == b => Ok(geometry
+                    .radiance(values)
+                    .map_err(ModelError::OutOfDomain)?
+                    .into_iter()
+                    .map(|l| [l, 0.0])
+                    .collect()),
+                _ => Err(wrong()),
+            },
+            (Self::Layered(_), Family::Baseline(_))
+            | (Self::Baseline(_), Family::Layered { .. }) => Err(wrong()),
         }
     }
 }
@@ -378,7 +382,7 @@ impl FittedModel {
     ) -> Self {
         let (beta_eq8, eq8_scale) = match params {
             ModelParams::Layered { beta, .. } => (Some(beta), Some(amplitude)),
-            _ => (None, None),
+            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => (None, None),
         };
         Self {
             model,
@@ -427,7 +431,7 @@ impl FittedModel {
                     scale,
                 )
             }
-            _ => (
+            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => (
                 NormalisationConstants::Baseline {
                     radiance_max: positive_max(raw.iter().map(|r| r[0])),
                 },
@@ -475,14 +479,19 @@ impl FittedModel {
     }
 
     fn predict_unchecked(&self, raw: &[[f64; 2]]) -> Result<Vec<f64>, ModelError> {
-        Ok(match (self.normalisation, self.params) {
+        // β of a layered model's parameters; `None` for a baseline's.
+        let beta = match self.params {
+            ModelParams::Layered { beta, .. } => Some(beta),
+            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => None,
+        };
+        Ok(match (self.normalisation, beta) {
             (
                 NormalisationConstants::Layered {
                     surface_max,
                     subsurface_max,
                     mix_max,
                 },
-                ModelParams::Layered { beta, .. },
+                Some(beta),
             ) => {
                 let scaling = Scaling::Maxima {
                     surface: surface_max,
@@ -493,20 +502,18 @@ impl FittedModel {
                     .map(|r| scaling.predict(beta, r[0], r[1]))
                     .collect()
             }
-            (NormalisationConstants::Baseline { radiance_max }, _) => {
+            (NormalisationConstants::Baseline { radiance_max }, None) => {
                 raw.iter().map(|r| scaled(r[0], radiance_max)).collect()
             }
-            (
-                NormalisationConstants::Amplitude { amplitude },
-                ModelParams::Layered { beta, .. },
-            ) => raw
+            (NormalisationConstants::Amplitude { amplitude }, Some(beta)) => raw
                 .iter()
                 .map(|r| Scaling::Amplitude(amplitude).predict(beta, r[0], r[1]))
                 .collect(),
-            (NormalisationConstants::Amplitude { amplitude }, _) => {
+            (NormalisationConstants::Amplitude { amplitude }, None) => {
                 raw.iter().map(|r| amplitude * r[0]).collect()
             }
-            _ => {
+            (NormalisationConstants::Layered { .. }, None)
+            | (NormalisationConstants::Baseline { .. }, Some(_)) => {
                 return Err(ModelError::WrongParameters {
                     model: self.model.name().into(),
                     expected: "normalisation constants of its own kind".into(),

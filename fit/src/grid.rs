@@ -300,19 +300,6 @@ impl fmt::Display for Grid {
     }
 }
 
-/// Baseline grids (docs/conventions.md §7): σa, σs′ ∈ {0.01, …, 1.00}.
-pub fn jensen_grid() -> (Axis, Axis) {
-    (
-        Axis::stepped(0.01, 0.01, 100),
-        Axis::stepped(0.01, 0.01, 100),
-    )
-}
-
-/// Oren–Nayar grid (docs/conventions.md §7): σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
-pub fn oren_nayar_grid() -> (Axis, Axis) {
-    (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,8 +4,9 @@
 //! rough laminar surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the
 //! Ragheb–Hancock model it extends and the Jensen and Oren–Nayar baselines
 //! to any measurement set — by a weighted free-amplitude estimator inside a
-//! stated box ([`Objective::Free`], [`free`]: the front ends' default) or by
-//! the paper's exhaustive grid search ([`Objective::Paper`]) — and carry the
+//! stated box ([`Objective::Free`]: the default of [`Fitter`], [`Settings`]
+//! and every front end) or by the paper's exhaustive grid search
+//! ([`Objective::Paper`]) — and carry the
 //! fit anywhere. It names no file format (readers and writers are in
 //! `laminar-io`); every front end (the `laminar` command, and later the C,
 //! WebAssembly and Python bindings) calls it.
@@ -25,7 +26,7 @@
 //! `docs/conventions.md`; "§N" in this crate refers to its sections.
 //!
 //! ```
-//! use laminar_fit::{Axis, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Quantity};
+//! use laminar_fit::{Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Param, Quantity};
 //! use laminar_core::{total_radiance, Correlation, Geometry, Params};
 //! // Radiance made by eq. 8 at known parameters, on a 12 × 12 grid of angles.
 //! let truth = Params::new(0.6, 0.4, 1.4, 0.2)?;
@@ -41,23 +42,20 @@
 //! }
 //! let set = MeasurementSet::new("made-up", angles, Quantity::Radiance)?
 //!     .with_channel("value", values, None)?;
-//! let grid = Grid {
-//!     slope: Axis::stepped(0.4, 0.1, 5),
-//!     n: Axis::stepped(1.3, 0.05, 5),
-//!     a: Axis::stepped(0.0, 0.1, 5),
-//!     ..Grid::paper()
-//! };
-//! let fit = Fitter::new(grid)?.fit(&set.scene("value")?, Model::Exp);
-//! // σ/T, n and a exactly (the text rounds away the grid's float noise).
-//! let text = fit.best.params_text();
-//! assert!(text.starts_with("slope=0.6;") && text.ends_with(";n=1.4;a=0.2"), "{text}");
-//! // β is the paper-normalisation balance; eq. 8's own balance is beta_eq8.
-//! assert!((fit.best.fitted.beta_eq8.unwrap() - 0.4).abs() < 0.01);
+//! // The default fitter: the free amplitude inside the default box.
+//! let fit = Fitter::new(Grid::user())?.fit(&set.scene("value")?, Model::Exp);
+//! assert_eq!(fit.objective, Objective::Free);
+//! // Every parameter recovered, β as eq. 8's own balance.
+//! for (name, want) in [(Param::Slope, 0.6), (Param::Beta, 0.4), (Param::N, 1.4), (Param::A, 0.2)] {
+//!     let p = fit.parameters.iter().find(|p| p.name == name).unwrap();
+//!     assert!((p.value() - want).abs() < 1e-6, "{name}: {}", p.value());
+//! }
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 pub mod albedo;
 pub mod analysis;
+mod baseline;
 pub mod covariance;
 pub mod coverage;
 pub mod edges;
@@ -65,7 +63,7 @@ pub mod error;
 pub mod estimate;
 pub mod fit;
 pub mod fitted;
-pub mod free;
+pub(crate) mod free;
 pub mod grid;
 pub mod measurements;
 pub mod model;

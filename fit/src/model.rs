@@ -6,6 +6,8 @@
 //! names, the C status codes and the TypeScript types are built from here.
 
 use crate::error::ModelError;
+use crate::grid::Axis;
+pub use laminar_core::baselines::Baseline;
 use laminar_core::Correlation;
 pub use laminar_core::Param;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
@@ -33,6 +35,27 @@ pub enum Model {
     OrenNayar,
 }
 
+/// What kind of model a [`Model`] is ([`Model::family`]): every other
+/// question about a model is answered from this, by exhaustive matches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// A model of eq. 8 (layers with a rough boundary).
+    Layered {
+        /// Its correlation function (eqs. 1–2, 12–13).
+        correlation: Correlation,
+        /// True when a is fitted (the absorptive model), false for the
+        /// Ragheb–Hancock variant (a = 0).
+        absorption: bool,
+    },
+    /// A baseline (docs/conventions.md §7).
+    Baseline(Baseline),
+}
+
+/// The layered models' parameters, in output order.
+const LAYERED: &[Param] = &[Param::Slope, Param::Beta, Param::N, Param::A];
+/// The Ragheb–Hancock variants' fitted parameters (a fixed at 0).
+const RAGHEB_HANCOCK: &[Param] = &[Param::Slope, Param::Beta, Param::N];
+
 impl Model {
     /// Every model, in output order.
     pub const ALL: [Model; 6] = [
@@ -43,6 +66,22 @@ impl Model {
         Model::Jensen,
         Model::OrenNayar,
     ];
+
+    /// What kind of model this is.
+    pub fn family(self) -> Family {
+        let layered = |correlation, absorption| Family::Layered {
+            correlation,
+            absorption,
+        };
+        match self {
+            Self::Exp => layered(Correlation::Exponential, true),
+            Self::Gauss => layered(Correlation::Gaussian, true),
+            Self::RhExp => layered(Correlation::Exponential, false),
+            Self::RhGauss => layered(Correlation::Gaussian, false),
+            Self::Jensen => Family::Baseline(Baseline::Jensen),
+            Self::OrenNayar => Family::Baseline(Baseline::OrenNayar),
+        }
+    }
 
     /// The name used in every interface (`exp`, `rh-gauss`, …).
     pub fn name(self) -> &'static str {
@@ -58,24 +97,45 @@ impl Model {
 
     /// The correlation function of the layered models (`None` for the baselines).
     pub fn correlation(self) -> Option<Correlation> {
-        match self {
-            Self::Exp | Self::RhExp => Some(Correlation::Exponential),
-            Self::Gauss | Self::RhGauss => Some(Correlation::Gaussian),
-            _ => None,
+        match self.family() {
+            Family::Layered { correlation, .. } => Some(correlation),
+            Family::Baseline(_) => None,
+        }
+    }
+
+    /// The baseline this model is (`None` for the layered models).
+    pub fn baseline(self) -> Option<Baseline> {
+        match self.family() {
+            Family::Layered { .. } => None,
+            Family::Baseline(b) => Some(b),
         }
     }
 
     /// True for the Ragheb–Hancock variants (a fixed at 0).
     pub fn is_ragheb_hancock(self) -> bool {
-        matches!(self, Self::RhExp | Self::RhGauss)
+        matches!(
+            self.family(),
+            Family::Layered {
+                absorption: false,
+                ..
+            }
+        )
     }
 
     /// The Ragheb–Hancock variant of an absorptive model (its a = 0 slice).
     pub fn ragheb_hancock(self) -> Option<Model> {
-        match self {
-            Self::Exp => Some(Self::RhExp),
-            Self::Gauss => Some(Self::RhGauss),
-            _ => None,
+        match self.family() {
+            Family::Layered {
+                correlation,
+                absorption: true,
+            } => Self::ALL.into_iter().find(|m| {
+                m.family()
+                    == Family::Layered {
+                        correlation,
+                        absorption: false,
+                    }
+            }),
+            Family::Layered { .. } | Family::Baseline(_) => None,
         }
     }
 
@@ -104,19 +164,20 @@ impl Model {
     /// The model's parameters in output order: what its fitted model holds
     /// ([`crate::ModelParams`]) and every output lists.
     pub fn params(self) -> &'static [Param] {
-        match self {
-            Self::Jensen => &[Param::SigmaA, Param::SigmaS],
-            Self::OrenNayar => &[Param::Sigma, Param::Rho],
-            _ => &[Param::Slope, Param::Beta, Param::N, Param::A],
+        match self.family() {
+            Family::Layered { .. } => LAYERED,
+            Family::Baseline(b) => b.params(),
         }
     }
 
     /// The parameters a fit estimates: [`Model::params`] without the
     /// Ragheb–Hancock variants' a (fixed at 0).
     pub fn free_params(self) -> &'static [Param] {
-        match self {
-            Self::RhExp | Self::RhGauss => &[Param::Slope, Param::Beta, Param::N],
-            _ => self.params(),
+        match self.family() {
+            Family::Layered {
+                absorption: false, ..
+            } => RAGHEB_HANCOCK,
+            Family::Layered { .. } | Family::Baseline(_) => self.params(),
         }
     }
 
@@ -156,6 +217,19 @@ pub fn all_params(models: impl IntoIterator<Item = Model>) -> Vec<Param> {
         }
     }
     out
+}
+
+/// A baseline's search grid (docs/conventions.md §7), outer and inner
+/// axes in [`Baseline::params`]' order: Jensen's σa, σs′ ∈ {0.01, …, 1.00};
+/// Oren–Nayar's σ = 0.01 s (s = 0..100), ρ = 0.02 r (r = 1..50).
+pub fn baseline_grid(baseline: Baseline) -> (Axis, Axis) {
+    match baseline {
+        Baseline::Jensen => (
+            Axis::stepped(0.01, 0.01, 100),
+            Axis::stepped(0.01, 0.01, 100),
+        ),
+        Baseline::OrenNayar => (Axis::stepped(0.0, 0.01, 101), Axis::stepped(0.02, 0.02, 50)),
+    }
 }
 
 /// The closed ends of a parameter's domain (the checks of `laminar-core`,

@@ -5,7 +5,8 @@
 use laminar_core::{Correlation, Params};
 use laminar_fit::search::{error_surface, point, search, Arith, Method, Path, Twins};
 use laminar_fit::{
-    synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Scene,
+    synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Objective,
+    Scene,
 };
 
 mod common;
@@ -166,6 +167,7 @@ fn results_do_not_depend_on_thread_count() {
     let run = |threads| {
         Fitter::new(grid.clone())
             .unwrap()
+            .objective(Objective::Paper)
             .threads(threads)
             .unwrap()
             .fit(&scene, Model::Exp)
@@ -206,7 +208,7 @@ fn simd_grid_equals_scalar_twin_bit_for_bit() {
 fn ragheb_hancock_slice_equals_its_own_search() {
     let grid = test_grid();
     let scene = synthetic::default_scene();
-    let fitter = Fitter::new(grid).unwrap();
+    let fitter = Fitter::new(grid).unwrap().objective(Objective::Paper);
     let full = fitter.fit(&scene, Model::Gauss);
     let rh = fitter.fit(&scene, Model::RhGauss);
     assert_eq!(full.rh.as_ref().unwrap(), &rh.best);
@@ -220,7 +222,9 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
         return;
     };
     let grid = Grid::paper();
-    let fitter = Fitter::new(grid.clone()).unwrap();
+    let fitter = Fitter::new(grid.clone())
+        .unwrap()
+        .objective(Objective::Paper);
     let mut identical = 0usize;
     for scene in scenes {
         assert_eq!(scene.len(), 198, "sample {}", scene.sample());
@@ -348,6 +352,7 @@ fn batch_fits_equal_single_fits_bit_for_bit() {
             for threads in [1, 3] {
                 let fitter = Fitter::new(grid.clone())
                     .unwrap()
+                    .objective(Objective::Paper)
                     .path(path)
                     .threads(threads)
                     .unwrap();
@@ -392,7 +397,7 @@ fn batch_falls_back_to_single_fits() {
         .unwrap();
     scenes.push(fewer);
     assert!(!laminar_fit::search::batch::share_geometry(&scenes));
-    let fitter = Fitter::new(grid).unwrap();
+    let fitter = Fitter::new(grid).unwrap().objective(Objective::Paper);
     for model in [Model::Exp, Model::Jensen] {
         let batch = fitter.fit_batch(&scenes, model);
         for (scene, fit) in scenes.iter().zip(&batch) {

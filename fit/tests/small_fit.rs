@@ -122,7 +122,7 @@ fn small_fit_refuses_bad_input_by_kind() {
 #[test]
 fn small_free_fit_finds_the_library_grid_minimum() {
     use laminar_core::small_free_fit::{fit_free, FreeAxes, FreeScratch};
-    use laminar_fit::{free, Analysis, Model};
+    use laminar_fit::{Analysis, Fitter, Model, Objective};
     let grid = Grid::paper();
     let axes = FreeAxes {
         slope: &grid.slope.values,
@@ -144,7 +144,13 @@ fn small_free_fit_finds_the_library_grid_minimum() {
             for scene in synthetic::sets(corr, &angles, 3, 0.01, seed) {
                 let small = fit_free(corr, &g32, (scene.data(), None), &axes, &mut scratch)
                     .expect("a valid fit");
-                let library = free::fit(&scene, model, &grid, Analysis::NONE);
+                let library = Fitter::new(grid.clone())
+                    .expect("a valid grid")
+                    .objective(Objective::Free)
+                    .analysis(Analysis::NONE)
+                    .threads(1)
+                    .expect("one thread")
+                    .fit(&scene, model);
                 let at = |name: Param| {
                     library
                         .parameters

@@ -991,6 +991,7 @@ mod tests {
         };
         let record = Fitter::new(grid)
             .unwrap()
+            .objective(Objective::Paper)
             .fit(&synthetic::default_scene(), Model::Exp);
         let one = FitsFile {
             fits: vec![FitEntry::new(&record)],

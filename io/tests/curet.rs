@@ -3,7 +3,7 @@
 //! (file, line, column, value).
 
 use laminar_core::{Correlation, Params};
-use laminar_fit::{synthetic, Axis, Fitter, Grid, Model};
+use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
 use laminar_io::curet::{read_brdf, read_table, CuretDir, CuretSample};
 use std::path::{Path as FsPath, PathBuf};
 
@@ -130,7 +130,7 @@ fn per_channel_files_are_read_and_fitted() {
         a: Axis::stepped(0.0, 0.25, 5),
         ..Grid::paper()
     };
-    let fitter = Fitter::new(grid).unwrap();
+    let fitter = Fitter::new(grid).unwrap().objective(Objective::Paper);
     for j in &js {
         let scene = j.set.scene(j.channel.name()).unwrap();
         assert_eq!(scene.len(), 12);

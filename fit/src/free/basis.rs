@@ -12,11 +12,8 @@
 //! * Baselines (§7): one column, the raw radiance `L_k` (Jensen's at
 //!   (σa, σs′), Oren–Nayar's at (σ, ρ)).
 
-use crate::model::Model;
-use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{
-    oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
-};
+use crate::baseline::BaselineGeometry;
+use crate::model::{Family, Model};
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
 use laminar_core::{
     f64x4, inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
@@ -58,10 +55,8 @@ pub enum Basis {
         /// True for Ragheb–Hancock (a = 0, two nonlinear parameters).
         rh: bool,
     },
-    /// Jensen (σa, σs′).
-    Jensen(Vec<JensenGeometry<f64>>),
-    /// Oren–Nayar (σ, ρ).
-    OrenNayar(Vec<OrenNayarGeometry<f64>>),
+    /// A baseline (two parameters, one column).
+    Baseline(BaselineGeometry),
 }
 
 /// The columns at one point, with what their derivatives there need
@@ -165,31 +160,23 @@ fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
 impl Basis {
     /// The basis of `model` at the measurements `angles`.
     pub fn new(model: Model, angles: &[Angles]) -> Self {
-        match model.correlation() {
-            Some(corr) => {
+        match model.family() {
+            Family::Layered {
+                correlation,
+                absorption,
+            } => {
                 let geometry: Vec<Geometry<f64>> =
                     angles.iter().map(Geometry::<f64>::splat).collect();
                 Self::Layered {
-                    corr,
+                    corr: correlation,
                     packed: pack(angles),
                     cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
                     cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
                     geometry,
-                    rh: model.is_ragheb_hancock(),
+                    rh: !absorption,
                 }
             }
-            None if model == Model::Jensen => Self::Jensen(
-                angles
-                    .iter()
-                    .map(|a| JensenGeometry::from_lanes(|_| *a))
-                    .collect(),
-            ),
-            None => Self::OrenNayar(
-                angles
-                    .iter()
-                    .map(|a| OrenNayarGeometry::from_lanes(|_| *a))
-                    .collect(),
-            ),
+            Family::Baseline(b) => Self::Baseline(BaselineGeometry::new(b, angles)),
         }
     }
 
@@ -198,7 +185,7 @@ impl Basis {
         match self {
             Self::Layered { rh: true, .. } => 2,
             Self::Layered { .. } => 3,
-            _ => 2,
+            Self::Baseline(_) => 2,
         }
     }
 
@@ -211,14 +198,8 @@ impl Basis {
     pub fn len(&self) -> usize {
         match self {
             Self::Layered { geometry, .. } => geometry.len(),
-            Self::Jensen(g) => g.len(),
-            Self::OrenNayar(g) => g.len(),
+            Self::Baseline(g) => g.len(),
         }
-    }
-
-    /// True without measurements.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 
     /// The interfaces at refractive index `n`, four measurements at a time
@@ -229,7 +210,7 @@ impl Basis {
                 let n = f64x4::splat(n);
                 packed.iter().map(|g| Interface::new(g, n)).collect()
             }
-            _ => Vec::new(),
+            Self::Baseline(_) => Vec::new(),
         }
     }
 
@@ -241,7 +222,7 @@ impl Basis {
                 let groups = packed.iter().map(|g| surface_radiance(g, *corr, t));
                 unpack(groups, self.len())
             }
-            _ => Vec::new(),
+            Self::Baseline(_) => Vec::new(),
         }
     }
 
@@ -254,7 +235,7 @@ impl Basis {
                 let groups = interfaces.iter().map(|i| subsurface_base(i, *corr, t));
                 unpack(groups, self.len())
             }
-            _ => Vec::new(),
+            Self::Baseline(_) => Vec::new(),
         }
     }
 
@@ -262,7 +243,7 @@ impl Basis {
     pub fn cosines(&self) -> (&[f64], &[f64]) {
         match self {
             Self::Layered { cos2_i, cos2_s, .. } => (cos2_i, cos2_s),
-            _ => (&[], &[]),
+            Self::Baseline(_) => (&[], &[]),
         }
     }
 
@@ -352,7 +333,7 @@ impl Basis {
                     terms: Some(terms),
                 }
             }
-            _ => Evaluated {
+            Self::Baseline(_) => Evaluated {
                 columns: self.baseline_columns(theta),
                 terms: None,
             },
@@ -362,25 +343,12 @@ impl Basis {
     fn baseline_columns(&self, theta: &[f64]) -> Columns {
         match self {
             Self::Layered { .. } => unreachable!("baselines only"),
-            Self::Jensen(geometry) => {
-                let k = JensenCoefficients::<f64>::new(theta[0], theta[1])
-                    .expect("inside the box, which is inside the domain");
-                Columns {
-                    s: geometry.iter().map(|g| jensen_radiance(g, &k)).collect(),
-                    u: Vec::new(),
-                }
-            }
-            Self::OrenNayar(geometry) => {
-                let k = OrenNayarCoefficients::<f64>::new(theta[0], theta[1])
-                    .expect("inside the box, which is inside the domain");
-                Columns {
-                    s: geometry
-                        .iter()
-                        .map(|g| oren_nayar_radiance(g, &k))
-                        .collect(),
-                    u: Vec::new(),
-                }
-            }
+            Self::Baseline(geometry) => Columns {
+                s: geometry
+                    .radiance([theta[0], theta[1]])
+                    .expect("inside the box, which is inside the domain"),
+                u: Vec::new(),
+            },
         }
     }
 

@@ -34,8 +34,6 @@ pub struct Point {
 /// The objective of one fit.
 #[derive(Debug, Clone)]
 pub struct Problem {
-    /// The model.
-    pub model: Model,
     /// The basis at the scene's measurements (shared by the sets of a
     /// batch on one geometry).
     pub basis: Arc<Basis>,
@@ -89,7 +87,6 @@ impl Problem {
         let weighted_data: Vec<f64> = weight.iter().zip(&data).map(|(w, d)| w * d).collect();
         let [dd] = dots(&weighted_data, [&data]);
         Self {
-            model,
             basis,
             data,
             root_weight,

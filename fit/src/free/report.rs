@@ -12,8 +12,8 @@ use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::estimate::Estimate;
 use crate::fitted::{FittedModel, ModelParams};
-use crate::grid::{jensen_grid, oren_nayar_grid, Axis, Grid};
-use crate::model::{attainable_domain, Model, Param};
+use crate::grid::{Axis, Grid};
+use crate::model::{attainable_domain, baseline_grid, Family, Model, Param};
 use crate::objective::Objective;
 use crate::profile::Interval;
 use crate::report::{Fit, Parameter, Released, Source};
@@ -49,22 +49,18 @@ impl Layout {
     fn new(model: Model, grid: &Grid) -> Self {
         let log = |(lo, hi): (f64, f64)| (libm::log(lo), libm::log(hi));
         // The nonlinear parameters and the axes they are searched on.
-        let nonlinear: Vec<(Param, Axis)> = match model {
-            Model::Jensen | Model::OrenNayar => {
-                let (x, y) = if model == Model::Jensen {
-                    jensen_grid()
-                } else {
-                    oren_nayar_grid()
-                };
-                let names = model.free_params();
+        let nonlinear: Vec<(Param, Axis)> = match model.family() {
+            Family::Baseline(b) => {
+                let (x, y) = baseline_grid(b);
+                let names = b.params();
                 vec![(names[0], x), (names[1], y)]
             }
-            _ => {
+            Family::Layered { absorption, .. } => {
                 let mut axes = vec![
                     (Param::Slope, grid.slope.clone()),
                     (Param::N, grid.n.clone()),
                 ];
-                if !model.is_ragheb_hancock() {
+                if absorption {
                     axes.push((Param::A, grid.a.clone()));
                 }
                 axes
@@ -133,16 +129,9 @@ impl Layout {
 
 /// The model's parameters at `point`.
 fn params_of(problem: &Problem, model: Model, point: &Point) -> ModelParams {
-    match model {
-        Model::Jensen => ModelParams::Jensen {
-            sigma_a: point.theta[0],
-            sigma_s: point.theta[1],
-        },
-        Model::OrenNayar => ModelParams::OrenNayar {
-            sigma: point.theta[0],
-            rho: point.theta[1],
-        },
-        _ => {
+    match model.family() {
+        Family::Baseline(b) => ModelParams::baseline(b, [point.theta[0], point.theta[1]]),
+        Family::Layered { .. } => {
             let (_, n, a) = problem.basis.slope_n_a(&point.theta);
             ModelParams::Layered {
                 // In the box exactly (exp(ln x) can miss x by an ulp).

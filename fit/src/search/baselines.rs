@@ -3,6 +3,7 @@
 //! grid's profile read from the whole surface.
 
 use super::GridProfile;
+use crate::baseline::BaselineGeometry;
 use crate::grid::Axis;
 use crate::scene::Scene;
 use laminar_core::{normalise_by_max, rms_error};
@@ -11,13 +12,11 @@ use rayon::prelude::*;
 /// Exhaustive 2-D search in f64 of a max-normalised baseline; ties keep the
 /// first point in row-major order. The best (Δ_RMS, x, y) and every
 /// point's Δ_RMS in row-major order.
-pub(crate) fn grid2<G: Sync, K>(
+pub(crate) fn grid2(
     scene: &Scene,
     outer: &Axis,
     inner: &Axis,
-    geometry: &[G],
-    coefficients: impl Fn(f64, f64) -> K + Sync,
-    radiance: impl Fn(&G, &K) -> f64 + Sync,
+    geometry: &BaselineGeometry,
 ) -> ((f64, f64, f64), Vec<f64>) {
     let rows: Vec<Vec<f64>> = outer
         .values
@@ -27,8 +26,9 @@ pub(crate) fn grid2<G: Sync, K>(
                 .values
                 .iter()
                 .map(|&y| {
-                    let k = coefficients(x, y);
-                    let mut p: Vec<f64> = geometry.iter().map(|g| radiance(g, &k)).collect();
+                    let mut p = geometry
+                        .radiance([x, y])
+                        .expect("the baselines' grids lie inside their domains");
                     normalise_by_max(&mut p);
                     rms_error(&scene.data, &p).unwrap_or(f64::INFINITY)
                 })
