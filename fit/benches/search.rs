@@ -9,7 +9,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use laminar_core::Correlation;
-use laminar_fit::search::{search, Method, Path};
+use laminar_fit::paper::search::{search, Method, Path};
 use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;

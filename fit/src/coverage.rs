@@ -14,7 +14,7 @@
 
 use crate::fit::Fitter;
 use crate::fitted::{FittedModel, ModelParams};
-use crate::model::{Baseline, Family, Model, Param};
+use crate::model::{baseline_interior, Family, Model, Param};
 use crate::objective::Objective;
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
@@ -94,11 +94,10 @@ impl Coverage {
 pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams {
     let mut u = |lo: f64, hi: f64| lo + (hi - lo) * rng.uniform();
     match model.family() {
-        Family::Baseline(b @ Baseline::Jensen) => {
-            ModelParams::baseline(b, [u(0.1, 0.9), u(0.1, 0.9)])
-        }
-        Family::Baseline(b @ Baseline::OrenNayar) => {
-            ModelParams::baseline(b, [u(0.2, 0.8), u(0.2, 0.8)])
+        Family::Baseline(b) => {
+            let [(x0, x1), (y0, y1)] = baseline_interior(b);
+            let x = u(x0, x1);
+            ModelParams::baseline(b, [x, u(y0, y1)])
         }
         Family::Layered { absorption, .. } => {
             let (slope, beta, n) = match objective {

@@ -1,28 +1,20 @@
-//! Fitting a scene with a model: [`Fitter`] runs the pipeline of the
-//! objective it is set to (docs/conventions.md §11). The paper's: the grid
-//! search of [`crate::search`] (the baselines by their own grids, §7), then
-//! [`crate::paper`]. The free amplitude's: [`crate::free`]. Both end in a
-//! [`Fit`] ([`crate::report`]).
+//! Fitting a scene with a model: [`Fitter`] holds the settings and the
+//! worker threads, and dispatches each fit to the pipeline of its objective
+//! (docs/conventions.md §11): [`crate::free::driver`] (the default) or
+//! [`crate::paper::driver`]. Both end in a [`Fit`] ([`crate::report`]).
 
 use crate::analysis::Analysis;
-use crate::baseline::BaselineGeometry;
 use crate::error::FitError;
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
-use crate::grid::{Axis, Grid};
-use crate::model::{baseline_grid, Baseline, Family, Model, Param};
+use crate::grid::Grid;
+use crate::model::Model;
 use crate::objective::Objective;
-use crate::paper::intervals::cutoffs;
-use crate::paper::profiles::{profile_curves, ProfileCurve};
-use crate::paper::report::{analyse, Analysed};
+use crate::paper::profiles::ProfileCurve;
+use crate::paper::search::Path;
 use crate::report::Fit;
 use crate::scene::Scene;
-use crate::search::baselines::{grid2, profile_of, sum_of_rms};
-use crate::search::batch::{search_batch, share_geometry};
-use crate::search::{
-    grid_profile, point, search, GridProfile, Method, Path, SearchResult, Searched,
-};
-use rayon::prelude::*;
+use crate::{free, paper};
 use std::sync::Arc;
 
 type Progress = Arc<dyn Fn() + Send + Sync>;
@@ -165,10 +157,19 @@ impl Fitter {
     /// Progress calls per fit of `model`: one per σ/T value for the layered
     /// models, one for a baseline.
     pub fn shards(&self, model: Model) -> u64 {
-        if model.correlation().is_some() && self.objective == Objective::Paper {
-            self.grid.slope.len() as u64
-        } else {
-            1
+        match self.objective {
+            Objective::Free => 1,
+            Objective::Paper => self.paper(&|| ()).shards(model),
+        }
+    }
+
+    /// The paper pipeline of this fitter, calling `tick` per search shard.
+    fn paper<'a>(&'a self, tick: &'a (dyn Fn() + Sync)) -> paper::driver::Driver<'a> {
+        paper::driver::Driver {
+            grid: &self.grid,
+            path: self.path,
+            analysis: self.analysis,
+            tick,
         }
     }
 
@@ -185,11 +186,21 @@ impl Fitter {
         }
     }
 
-    /// Fits `model` to `scene`. Layered models search the grid (a fixed at 0
-    /// for the Ragheb–Hancock variants) on the fitter's path; the baselines
-    /// search their own grids ([`baseline_grid`]).
+    /// Fits `model` to `scene` by the fitter's objective: the free
+    /// objective's pipeline ([`crate::free::driver`]) or the paper's
+    /// ([`crate::paper::driver`]: layered models search the grid on the
+    /// fitter's path, a fixed at 0 for the Ragheb–Hancock variants; the
+    /// baselines their own grids, [`crate::model::baseline_grid`]).
     pub fn fit(&self, scene: &Scene, model: Model) -> Fit {
-        self.run(|| self.fit_here(scene, model))
+        let tick = || self.tick();
+        self.run(|| match self.objective {
+            Objective::Free => {
+                let fit = free::driver::fit(scene, model, &self.grid, self.analysis);
+                tick();
+                fit
+            }
+            Objective::Paper => self.paper(&tick).fit(scene, model),
+        })
     }
 
     /// Fits every model of `models` to every scene, scene-major (the order
@@ -254,177 +265,25 @@ impl Fitter {
         self.tick();
         Ok(Fit {
             search_rms: best.rms,
-            ..self.record(scene, model, best, None, 1)
-        })
-    }
-
-    fn record(
-        &self,
-        scene: &Scene,
-        model: Model,
-        best: Estimate,
-        rh: Option<Estimate>,
-        evaluated: usize,
-    ) -> Fit {
-        Fit {
-            sample: scene.sample.clone(),
-            channel: scene.channel.clone(),
-            model,
-            search_rms: best.rms,
-            best,
-            rh,
-            measurements: scene.len(),
-            nonpositive: scene.nonpositive,
-            evaluated,
-            refined: None,
-            parameters: Vec::new(),
-            covariance: None,
-            objective: Objective::Paper,
-            amplitude: None,
-            chi2_weighted: None,
-        }
-    }
-
-    /// The fit record of a search's best `best` and the analysis of it.
-    #[allow(clippy::too_many_arguments)]
-    fn analysed_fit(
-        &self,
-        scene: &Scene,
-        model: Model,
-        best: Estimate,
-        rh: Option<Estimate>,
-        (search_rms, evaluated): (f64, usize),
-        searched: &[Searched],
-        profile: Option<(&GridProfile, &[usize])>,
-    ) -> Fit {
-        let Analysed {
-            refined,
-            parameters,
-            covariance,
-        } = analyse(
-            scene,
-            model,
-            (&best, rh.as_ref()),
-            searched,
-            profile,
-            self.analysis,
-        );
-        Fit {
-            search_rms,
-            refined,
-            parameters,
-            covariance,
-            ..self.record(scene, model, best, rh, evaluated)
-        }
-    }
-
-    /// The profile cutoffs of a fit whose grid best is `best`, when the
-    /// analysis needs the grid's profile.
-    fn profile_cutoffs(&self, scene: &Scene, model: Model, best: &Estimate) -> Option<(f64, f64)> {
-        if !self.analysis.needs_profile() {
-            return None;
-        }
-        let free = model.parameter_count();
-        cutoffs(scene, sum_of_rms(best.rms, scene.len()), free)
-    }
-
-    /// The grid a layered model searches: a = 0 only for Ragheb–Hancock.
-    fn model_grid(&self, model: Model) -> Grid {
-        if model.is_ragheb_hancock() {
-            self.grid.ragheb_hancock()
-        } else {
-            self.grid.clone()
-        }
-    }
-
-    /// The fit record of a layered model's search result.
-    fn layered_fit(&self, scene: &Scene, model: Model, grid: &Grid, r: &SearchResult) -> Fit {
-        let estimate =
-            |model, params| Estimate::new(scene, model, params).expect("grid values are validated");
-        let layered = |flat| {
-            let (slope, n, a, beta) = point(grid, flat);
-            ModelParams::Layered { slope, beta, n, a }
-        };
-        let best = estimate(model, layered(r.best));
-        let rh = model
-            .ragheb_hancock()
-            .zip(r.rh_best)
-            .map(|(rh_model, (flat, _))| estimate(rh_model, layered(flat)));
-        let searched = layered_searched(grid, r.best);
-        let lens = [
-            grid.slope.len(),
-            grid.n.len(),
-            grid.a.len(),
-            grid.beta.len(),
-        ];
-        let corr = model.correlation().expect("a layered model");
-        let profile = self
-            .profile_cutoffs(scene, model, &best)
-            .map(|(cutoff, near)| {
-                grid_profile(scene, grid, corr, self.path, cutoff, near)
-                    .expect("the grid was validated by Fitter::new")
-            });
-        self.analysed_fit(
-            scene,
-            model,
-            best,
-            rh,
-            (r.best_rms, grid.size()),
-            &searched,
-            profile.as_ref().map(|p| (p, &lens[..])),
-        )
-    }
-
-    /// The profile of each parameter of `fit` (a fit of a layered model to
-    /// `scene` by this fitter, with profile intervals) for a figure: the
-    /// grid's profile and the continuous one at `points` values
-    /// ([`ProfileCurve`]). Empty for the baselines, or without intervals.
-    pub fn profiles(&self, scene: &Scene, fit: &Fit, points: usize) -> Vec<ProfileCurve> {
-        if fit.objective != Objective::Paper {
-            return Vec::new();
-        }
-        let Some(corr) = fit.model.correlation() else {
-            return Vec::new();
-        };
-        let grid = self.model_grid(fit.model);
-        let Some(flat) = grid_index(&grid, fit.best.params()) else {
-            return Vec::new();
-        };
-        let searched = layered_searched(&grid, flat);
-        let Some((cutoff, near)) = self.profile_cutoffs(scene, fit.model, &fit.best) else {
-            return Vec::new();
-        };
-        self.run(|| {
-            let profile = grid_profile(scene, &grid, corr, self.path, cutoff, near)
-                .expect("the grid was validated by Fitter::new");
-            profile_curves(scene, fit, &searched, &profile, points)
+            ..paper::driver::record(scene, model, best, None, 1)
         })
     }
 
     /// Progress calls of [`Fitter::fit_batch`] on `scenes` with `model`.
     pub fn batch_shards(&self, scenes: &[Scene], model: Model) -> u64 {
-        if self.batches(scenes, model) {
-            self.shards(model)
-        } else {
-            scenes.len() as u64 * self.shards(model)
+        match self.objective {
+            Objective::Paper if self.paper(&|| ()).batches(scenes, model) => self.shards(model),
+            Objective::Paper | Objective::Free => scenes.len() as u64 * self.shards(model),
         }
-    }
-
-    /// True when [`Fitter::fit_batch`] runs one batch search.
-    fn batches(&self, scenes: &[Scene], model: Model) -> bool {
-        self.objective == Objective::Paper
-            && model.correlation().is_some()
-            && self.path.method == Method::Envelope
-            && share_geometry(scenes)
     }
 
     /// Fits `model` to every scene of `scenes`. Under the free objective the
     /// scenes are fitted in parallel, sharing the grid stage's model side
     /// when they are on one geometry without uncertainties
-    /// ([`crate::free::fit_batch`]); under the paper's: when the scenes share their
-    /// geometry ([`share_geometry`]), the model is layered and the path is
+    /// ([`crate::free::driver::fit_batch`]); under the paper's: when the scenes share their
+    /// geometry ([`crate::paper::search::batch::share_geometry`]), the model is layered and the path is
     /// the envelope method, one batch search does the model-side work once
-    /// for all of them ([`crate::search::batch`]); otherwise each scene is
+    /// for all of them ([`crate::paper::search::batch`]); otherwise each scene is
     /// fitted alone. Either way every fit is bit for bit [`Fitter::fit`]'s.
     /// Progress: [`Fitter::shards`] calls for the whole batch, or per scene
     /// when fitted alone. Memory grows with the number of scenes: pass large
@@ -445,120 +304,24 @@ impl Fitter {
     /// # Ok::<(), laminar_fit::FitError>(())
     /// ```
     pub fn fit_batch(&self, scenes: &[Scene], model: Model) -> Vec<Fit> {
-        match model.correlation() {
-            Some(corr) if self.batches(scenes, model) => {
-                let grid = self.model_grid(model);
-                let tick = || self.tick();
-                let results = self.run(|| {
-                    search_batch(scenes, &grid, corr, self.path.arith, &tick)
-                        .expect("the grid was validated by Fitter::new")
-                });
-                self.run(|| {
-                    scenes
-                        .par_iter()
-                        .zip(&results)
-                        .map(|(scene, r)| self.layered_fit(scene, model, &grid, r))
-                        .collect()
-                })
-            }
-            _ if self.objective == Objective::Free => {
-                let tick = || self.tick();
-                self.run(|| crate::free::fit_batch(scenes, model, &self.grid, self.analysis, &tick))
-            }
-            _ => scenes.iter().map(|s| self.fit(s, model)).collect(),
-        }
-    }
-
-    fn fit_here(&self, scene: &Scene, model: Model) -> Fit {
-        if self.objective == Objective::Free {
-            let fit = crate::free::fit(scene, model, &self.grid, self.analysis);
-            self.tick();
-            return fit;
-        }
         let tick = || self.tick();
-        match model.family() {
-            Family::Layered { correlation, .. } => {
-                let grid = self.model_grid(model);
-                let r = search(scene, &grid, correlation, self.path, &tick)
-                    .expect("the grid was validated by Fitter::new");
-                self.layered_fit(scene, model, &grid, &r)
+        self.run(|| match self.objective {
+            Objective::Free => {
+                free::driver::fit_batch(scenes, model, &self.grid, self.analysis, &tick)
             }
-            Family::Baseline(baseline) => self.baseline(scene, model, baseline),
+            Objective::Paper => self.paper(&tick).fit_batch(scenes, model),
+        })
+    }
+
+    /// The profile of each parameter of `fit` (a fit of a layered model to
+    /// `scene` by this fitter, with profile intervals) for a figure: the
+    /// grid's profile and the continuous one at `points` values
+    /// ([`ProfileCurve`]). Empty for the baselines, the free objective, or
+    /// without intervals.
+    pub fn profiles(&self, scene: &Scene, fit: &Fit, points: usize) -> Vec<ProfileCurve> {
+        match fit.objective {
+            Objective::Free => Vec::new(),
+            Objective::Paper => self.run(|| self.paper(&|| ()).profiles(scene, fit, points)),
         }
     }
-
-    /// A baseline's fit: its geometry once per measurement, then the 2-D
-    /// grid search of its max-normalised radiance (docs/conventions.md §7).
-    fn baseline(&self, scene: &Scene, model: Model, baseline: Baseline) -> Fit {
-        let (outer, inner) = baseline_grid(baseline);
-        let geometry = BaselineGeometry::new(baseline, &scene.angles);
-        let ((rms, x, y), surface) = grid2(scene, &outer, &inner, &geometry);
-        let best = Estimate::new(scene, model, ModelParams::baseline(baseline, [x, y]))
-            .expect("grid values are in the domain");
-        let names = model.params();
-        let searched = [
-            Searched {
-                axis: 0,
-                name: names[0],
-                value: x,
-                values: &outer,
-            },
-            Searched {
-                axis: 1,
-                name: names[1],
-                value: y,
-                values: &inner,
-            },
-        ];
-        let lens = [outer.len(), inner.len()];
-        let profile = self
-            .profile_cutoffs(scene, model, &best)
-            .map(|cut| profile_of(&surface, lens, scene.len(), cut));
-        let fit = self.analysed_fit(
-            scene,
-            model,
-            best,
-            None,
-            (rms, outer.len() * inner.len()),
-            &searched,
-            profile.as_ref().map(|p| (p, &lens[..])),
-        );
-        self.tick();
-        fit
-    }
-}
-
-/// The flat index of a layered model's grid point.
-fn grid_index(grid: &Grid, params: &ModelParams) -> Option<usize> {
-    let ModelParams::Layered { slope, beta, n, a } = *params else {
-        return None;
-    };
-    let at = |axis: &Axis, v: f64| axis.values.iter().position(|&x| x == v);
-    Some(grid.flat(
-        at(&grid.slope, slope)?,
-        at(&grid.n, n)?,
-        at(&grid.a, a)?,
-        at(&grid.beta, beta)?,
-    ))
-}
-
-/// The searched axes of a layered grid at its point `flat` (an axis of one
-/// value is not searched).
-fn layered_searched(grid: &Grid, flat: usize) -> Vec<Searched<'_>> {
-    let (slope, n, a, beta) = point(grid, flat);
-    [
-        (0, Param::Slope, slope, &grid.slope),
-        (1, Param::N, n, &grid.n),
-        (2, Param::A, a, &grid.a),
-        (3, Param::Beta, beta, &grid.beta),
-    ]
-    .into_iter()
-    .filter(|s| s.3.len() > 1)
-    .map(|(axis, name, value, values)| Searched {
-        axis,
-        name,
-        value,
-        values,
-    })
-    .collect()
 }

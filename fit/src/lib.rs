@@ -73,7 +73,6 @@ pub mod preview;
 pub mod profile;
 pub mod report;
 pub mod scene;
-pub mod search;
 pub mod settings;
 pub mod synthetic;
 
@@ -88,7 +87,7 @@ pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::{Model, Param};
 pub use objective::Objective;
 pub use paper::profiles::ProfileCurve;
+pub use paper::search::Path;
 pub use report::{Fit, Parameter};
 pub use scene::Scene;
-pub use search::Path;
 pub use settings::{SettingError, Settings};

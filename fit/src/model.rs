@@ -232,6 +232,15 @@ pub fn baseline_grid(baseline: Baseline) -> (Axis, Axis) {
     }
 }
 
+/// The interior of a baseline's grid that synthetic truths are drawn from
+/// (away from the grid's ends), per parameter in [`Baseline::params`]' order.
+pub fn baseline_interior(baseline: Baseline) -> [(f64, f64); 2] {
+    match baseline {
+        Baseline::Jensen => [(0.1, 0.9), (0.1, 0.9)],
+        Baseline::OrenNayar => [(0.2, 0.8), (0.2, 0.8)],
+    }
+}
+
 /// The closed ends of a parameter's domain (the checks of `laminar-core`,
 /// [`Param::domain`]); an open end is NaN (Jensen's σa, σs′ > 0).
 pub fn domain(p: Param) -> (f64, f64) {

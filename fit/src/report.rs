@@ -2,7 +2,7 @@
 //! pipeline. A [`Fit`] holds the search's best, the refined estimate, each
 //! searched parameter ([`Parameter`]: grid and refined value, intervals,
 //! flags, box) and the Jacobian's covariance. Both objectives fill it
-//! ([`crate::paper::report`], [`crate::free::report`]); every writer reads it.
+//! ([`crate::paper::driver`], [`crate::free::driver`]); every writer reads it.
 
 use crate::covariance::Covariance;
 use crate::edges::Edge;
@@ -177,5 +177,19 @@ impl Parameter {
     /// The refined value, or the grid value when not refined.
     pub fn value(&self) -> f64 {
         self.refined.unwrap_or(self.grid)
+    }
+
+    /// Records the 68% and 95% intervals and where they came from, the 95%
+    /// interval's open ends as flags: the step both pipelines end with.
+    pub(crate) fn set_intervals(&mut self, [i68, i95]: [Interval; 2], source: Source) {
+        if i95.open_below {
+            self.flags.push(Edge::OpenBelow);
+        }
+        if i95.open_above {
+            self.flags.push(Edge::OpenAbove);
+        }
+        self.interval68 = Some(i68);
+        self.interval95 = Some(i95);
+        self.source = Some(source);
     }
 }

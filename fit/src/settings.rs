@@ -28,7 +28,7 @@ use crate::fitted::param_names;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::objective::Objective;
-use crate::search::Path;
+use crate::paper::search::Path;
 use thiserror::Error;
 
 /// A fit's settings: `laminar fit`'s defaults unless set.

@@ -3,7 +3,7 @@
 //! SIMD/scalar parity, and (with `CURET_DIR`) the paper's 13 samples.
 
 use laminar_core::{Correlation, Params};
-use laminar_fit::search::{error_surface, point, search, Arith, Method, Path, Twins};
+use laminar_fit::paper::search::{error_surface, point, search, Arith, Method, Path, Twins};
 use laminar_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Objective,
     Scene,
@@ -380,7 +380,7 @@ fn batch_fits_equal_single_fits_bit_for_bit() {
 fn batch_falls_back_to_single_fits() {
     let grid = small_grid();
     let mut scenes = batch_scenes(Correlation::Exponential);
-    assert!(laminar_fit::search::batch::share_geometry(&scenes));
+    assert!(laminar_fit::paper::search::batch::share_geometry(&scenes));
     // A scene on the first 60 of the geometries only.
     let angles: Vec<MeasurementAngles> = synthetic::geometries()[..60]
         .iter()
@@ -396,7 +396,7 @@ fn batch_falls_back_to_single_fits() {
         .and_then(|s| s.scene("v"))
         .unwrap();
     scenes.push(fewer);
-    assert!(!laminar_fit::search::batch::share_geometry(&scenes));
+    assert!(!laminar_fit::paper::search::batch::share_geometry(&scenes));
     let fitter = Fitter::new(grid).unwrap().objective(Objective::Paper);
     for model in [Model::Exp, Model::Jensen] {
         let batch = fitter.fit_batch(&scenes, model);

@@ -7,7 +7,7 @@
 use laminar_core::measures::DataFault;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
 use laminar_core::{Correlation, Geometry, Param};
-use laminar_fit::search::{self, Arith, Method};
+use laminar_fit::paper::search::{self, Arith, Method};
 use laminar_fit::{synthetic, Grid, Path};
 
 #[test]

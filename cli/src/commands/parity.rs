@@ -6,8 +6,8 @@ use super::options::{
 };
 use clap::Args;
 use laminar_cli::CliError;
-use laminar_fit::search::batch::search_batch;
-use laminar_fit::search::{search, Arith, Method, Path, SearchResult, Twins};
+use laminar_fit::paper::search::batch::search_batch;
+use laminar_fit::paper::search::{search, Arith, Method, Path, SearchResult, Twins};
 use laminar_fit::{Grid, Model, Scene};
 use std::time::Instant;
 

@@ -9,18 +9,20 @@
 //!    the grid's basins;
 //! 5. [`refine`]: Levenberg–Marquardt from the basins, inside the box;
 //! 6. [`intervals`]: Jacobian covariance and profile intervals;
-//! 7. [`report`]: the fit record (estimates, flags, intervals, what
-//!    releasing a bound of the box gives).
+//! 7. [`record`]: each reported parameter's values, flags and intervals.
+//!
+//! [`layout`] maps the reported parameters onto the objective, and
+//! [`driver`] runs the stages in order, from a scene to a [`crate::Fit`].
 //!
 //! Everything reported lies in the box that was searched.
 
 pub mod basis;
+pub mod driver;
 pub mod intervals;
+pub mod layout;
 pub mod linear;
 pub mod problem;
+pub mod record;
 pub mod refine;
-pub mod report;
 pub mod search;
 pub mod sums;
-
-pub use report::{fit, fit_batch};

@@ -11,9 +11,9 @@
 use super::objective::SumOfSquares;
 use super::refine::profile_at;
 use crate::covariance::Covariance;
+use crate::paper::search::{GridProfile, Searched};
 use crate::profile::{Interval, Profile, DELTA_68, DELTA_95, Z_95};
 use crate::scene::Scene;
-use crate::search::{GridProfile, Searched};
 use nalgebra::DMatrix;
 
 /// How far above the minimum (in units of `s²`) the profile is computed:

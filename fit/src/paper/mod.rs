@@ -8,11 +8,13 @@
 //! 4. [`report`]: each searched parameter's value, intervals and flags.
 //! 5. [`profiles`]: the profile curves of a reported fit, for figures.
 //!
-//! The grid search before it is [`crate::search`]; the free-amplitude
+//! The grid search before it is [`crate::paper::search`]; the free-amplitude
 //! objective has its own pipeline, [`crate::free`].
 
+pub(crate) mod driver;
 pub mod intervals;
 pub mod objective;
 pub mod profiles;
 pub mod refine;
 pub mod report;
+pub mod search;

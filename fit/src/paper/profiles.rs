@@ -7,9 +7,9 @@ use super::intervals::{
 };
 use super::objective::SumOfSquares;
 use super::refine::{grid_steps, profile_at};
+use crate::paper::search::{GridProfile, Searched};
 use crate::report::Fit;
 use crate::scene::Scene;
-use crate::search::{GridProfile, Searched};
 
 /// A parameter's profile for a figure, on the `Δχ²` scale
 /// `(Σ (D − P)² − min) / s²` ([`crate::Fitter::profiles`]).

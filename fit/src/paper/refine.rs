@@ -17,8 +17,8 @@
 use super::objective::SumOfSquares;
 use crate::grid::Axis;
 use crate::model::Param;
+use crate::paper::search::{GridProfile, Searched};
 use crate::profile::basins;
-use crate::search::{GridProfile, Searched};
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
 use rayon::prelude::*;

@@ -13,9 +13,9 @@ use crate::covariance::Covariance;
 use crate::edges::{flags, Edge};
 use crate::estimate::Estimate;
 use crate::model::{at_bound, Model, Param};
+use crate::paper::search::{GridProfile, Searched};
 use crate::report::{Parameter, Source};
 use crate::scene::Scene;
-use crate::search::{GridProfile, Searched};
 use rayon::prelude::*;
 
 /// What [`analyse`] adds to a fit.
@@ -119,16 +119,8 @@ pub(crate) fn analyse(
                     (jacobian_intervals(x[i], sd, domain), Source::Jacobian)
                 }),
             };
-            if let Some(([i68, i95], source)) = intervals {
-                if i95.open_below {
-                    p.flags.push(Edge::OpenBelow);
-                }
-                if i95.open_above {
-                    p.flags.push(Edge::OpenAbove);
-                }
-                p.interval68 = Some(i68);
-                p.interval95 = Some(i95);
-                p.source = Some(source);
+            if let Some((intervals, source)) = intervals {
+                p.set_intervals(intervals, source);
             }
             Some(p)
         })

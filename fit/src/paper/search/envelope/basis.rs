@@ -2,7 +2,7 @@
 //! and its value at one `a` ([`At`]) (docs/conventions.md §6).
 
 use super::bounds::Span;
-use crate::search::sums::{dot, dot4, SurfaceSums};
+use crate::paper::search::sums::{dot, dot4, SurfaceSums};
 
 /// The unnormalised subsurface term of one (σ/T, n) as a quadratic in `a`
 /// (module docs): `w0, w1, w2` over the measurements, the coefficients of

@@ -1,22 +1,24 @@
-//! A free-amplitude fit from start to record: the box and the grid from
-//! the [`Grid`], the grid stage, refinement from the grid's basins, the
-//! intervals (re-started from any lower point they find), and the record.
+//! The free pipeline's driver (docs/conventions.md §4b, §11b): the box
+//! and grid from the [`Grid`] ([`super::layout`]), the grid stage, the
+//! refinement from the grid's basins, the intervals (restarted from any
+//! lower point they find), what releasing a face of the box gives, and the
+//! record ([`super::record`]). The paper objective's driver is
+//! [`crate::paper::driver`]; [`crate::Fitter`] dispatches to one or the other.
 
-use super::basis::{Basis, Columns};
+use super::basis::Basis;
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
+use super::layout::{domain_of, estimate, params_of, raw_terms, Layout};
 use super::problem::{Point, Problem};
+use super::record::{correlations, parameters};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
-use super::search::{grid_starts, grid_values, grid_values_with, GridAxes, GridValues, ModelSide};
+use super::search::{grid_starts, grid_values, grid_values_with, GridValues, ModelSide};
 use crate::analysis::{Analysis, Uncertainty};
-use crate::covariance::Covariance;
-use crate::edges::Edge;
 use crate::estimate::Estimate;
-use crate::fitted::{FittedModel, ModelParams};
-use crate::grid::{Axis, Grid};
-use crate::model::{attainable_domain, baseline_grid, Family, Model, Param};
+use crate::fitted::FittedModel;
+use crate::grid::Grid;
+use crate::model::Model;
 use crate::objective::Objective;
-use crate::profile::Interval;
-use crate::report::{Fit, Parameter, Released, Source};
+use crate::report::{Fit, Parameter, Released};
 use crate::scene::Scene;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -28,147 +30,6 @@ pub const MOST_STARTS: usize = 8;
 /// Most restarts of the refinement from a lower point an interval's walk
 /// found.
 pub const MOST_RESTARTS: usize = 3;
-
-/// A model's reported parameters and how each maps onto the objective.
-struct Layout {
-    names: &'static [Param],
-    coordinates: Vec<Coordinate>,
-    /// Grid axes of the nonlinear parameters (model units).
-    axes: GridAxes,
-    /// Box of the nonlinear parameters (internal coordinates).
-    bounds: Vec<(f64, f64)>,
-    /// The same box in the parameters' units.
-    reported: Vec<(f64, f64)>,
-    /// Domain of the nonlinear parameters (internal coordinates).
-    domain: Vec<(f64, f64)>,
-    /// β's box.
-    beta: (f64, f64),
-}
-
-impl Layout {
-    fn new(model: Model, grid: &Grid) -> Self {
-        let log = |(lo, hi): (f64, f64)| (libm::log(lo), libm::log(hi));
-        // The nonlinear parameters and the axes they are searched on.
-        let nonlinear: Vec<(Param, Axis)> = match model.family() {
-            Family::Baseline(b) => {
-                let (x, y) = baseline_grid(b);
-                let names = b.params();
-                vec![(names[0], x), (names[1], y)]
-            }
-            Family::Layered { absorption, .. } => {
-                let mut axes = vec![
-                    (Param::Slope, grid.slope.clone()),
-                    (Param::N, grid.n.clone()),
-                ];
-                if absorption {
-                    axes.push((Param::A, grid.a.clone()));
-                }
-                axes
-            }
-        };
-        // σ/T is searched and refined in its logarithm.
-        let in_log = |name: Param| name == Param::Slope;
-        let internal =
-            |name: Param, range: (f64, f64)| if in_log(name) { log(range) } else { range };
-        let names = model.free_params();
-        let coordinates = names
-            .iter()
-            .map(
-                |&name| match nonlinear.iter().position(|(n, _)| *n == name) {
-                    Some(j) => Coordinate::Nonlinear {
-                        j,
-                        log: in_log(name),
-                    },
-                    None => Coordinate::Beta,
-                },
-            )
-            .collect();
-        Self {
-            names,
-            coordinates,
-            bounds: nonlinear
-                .iter()
-                .map(|(name, axis)| internal(*name, axis.range()))
-                .collect(),
-            reported: nonlinear.iter().map(|(_, axis)| axis.range()).collect(),
-            domain: nonlinear
-                .iter()
-                .map(|&(name, _)| internal(name, attainable_domain(name)))
-                .collect(),
-            beta: if model.correlation().is_some() {
-                grid.beta.range()
-            } else {
-                (0.0, 0.0)
-            },
-            axes: GridAxes {
-                axes: nonlinear.into_iter().map(|(_, axis)| axis.values).collect(),
-            },
-        }
-    }
-
-    /// The nonlinear parameters (internal coordinates) of grid indices.
-    fn theta(&self, indices: &[usize]) -> Vec<f64> {
-        let logarithmic = |j: usize| {
-            self.coordinates
-                .contains(&Coordinate::Nonlinear { j, log: true })
-        };
-        indices
-            .iter()
-            .enumerate()
-            .map(|(j, &i)| {
-                let v = self.axes.axes[j][i];
-                if logarithmic(j) {
-                    libm::log(v)
-                } else {
-                    v
-                }
-            })
-            .collect()
-    }
-}
-
-/// The model's parameters at `point`.
-fn params_of(problem: &Problem, model: Model, point: &Point) -> ModelParams {
-    match model.family() {
-        Family::Baseline(b) => ModelParams::baseline(b, [point.theta[0], point.theta[1]]),
-        Family::Layered { .. } => {
-            let (_, n, a) = problem.basis.slope_n_a(&point.theta);
-            ModelParams::Layered {
-                // In the box exactly (exp(ln x) can miss x by an ulp).
-                slope: Coordinate::Nonlinear { j: 0, log: true }.value(point, problem),
-                beta: point.linear.beta(problem.beta.0),
-                n,
-                a,
-            }
-        }
-    }
-}
-
-/// The estimate of `model` at `point`.
-fn estimate(scene: &Scene, problem: &Problem, model: Model, point: &Point) -> Estimate {
-    let fitted = FittedModel::with_amplitude(
-        model,
-        params_of(problem, model, point),
-        point.linear.amplitude(),
-        scene.data_scale(),
-    );
-    Estimate::of_raw(
-        scene,
-        fitted,
-        &raw_terms(problem, point),
-        problem.parameter_count(),
-    )
-    .expect("the box lies inside the model's domain")
-}
-
-/// The model's raw terms at `point` (`[S, U]`, or `[L, 0]` for a baseline),
-/// from its columns: an [`Estimate`] without evaluating the model again.
-fn raw_terms(problem: &Problem, point: &Point) -> Vec<[f64; 2]> {
-    let Columns { s, u } = problem.basis.columns(&point.theta);
-    (0..s.len())
-        .map(|k| [s[k], u.get(k).copied().unwrap_or(0.0)])
-        .collect()
-}
 
 /// The best grid point (the first on ties).
 fn grid_best(values: &GridValues) -> usize {
@@ -183,15 +44,15 @@ fn grid_best(values: &GridValues) -> usize {
 
 /// One parameter's profile ends, `[below, above]`, each at the 68.27% and
 /// 95% levels as (value, stopped at the face of the box).
-type Ends = [[(f64, bool); 2]; 2];
+pub(super) type Ends = [[(f64, bool); 2]; 2];
 
 /// Intervals and covariance at a minimum.
-struct Analysed {
-    minimum: Point,
-    levels: Option<Levels>,
-    covariance: Option<JacobianCovariance>,
+pub(super) struct Analysed {
+    pub(super) minimum: Point,
+    pub(super) levels: Option<Levels>,
+    pub(super) covariance: Option<JacobianCovariance>,
     /// Per reported parameter, `[below, above]` ends of both levels.
-    profile: Option<Vec<Ends>>,
+    pub(super) profile: Option<Vec<Ends>>,
 }
 
 /// Intervals at `minimum`, refining again from any lower point a walk
@@ -274,12 +135,6 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
             profile: Some(profile),
         };
     }
-}
-
-/// The model's domain of reported parameter `i` (an open lower end at the
-/// smallest value a fit takes), exactly: not through σ/T's logarithm.
-fn domain_of(layout: &Layout, i: usize) -> (f64, f64) {
-    attainable_domain(layout.names[i])
 }
 
 /// One local fit from `minimum` with the box's bound on the side where
@@ -578,113 +433,6 @@ const RESOLVABLE_LEVEL: f64 = 1e-13;
 /// intervals then come from the Jacobian (docs/conventions.md §11b).
 fn fitted_to_rounding(problem: &Problem, levels: &Levels) -> bool {
     levels.heights[0] < RESOLVABLE_LEVEL * problem.dd
-}
-
-/// The covariance of the parameters that have one (the amplitude left out).
-fn correlations(layout: &Layout, c: &JacobianCovariance) -> Option<Covariance> {
-    let kept: Vec<usize> = (0..layout.names.len())
-        .filter(|&i| c.matrix[i][i].is_some())
-        .collect();
-    if kept.len() < 2 {
-        return None;
-    }
-    Some(Covariance {
-        names: kept.iter().map(|&i| layout.names[i]).collect(),
-        matrix: kept
-            .iter()
-            .map(|&i| {
-                kept.iter()
-                    .map(|&j| c.matrix[i][j].unwrap_or(0.0))
-                    .collect()
-            })
-            .collect(),
-    })
-}
-
-/// The reported parameters.
-fn parameters(
-    layout: &Layout,
-    problem: &Problem,
-    grid: &[f64],
-    analysed: Option<&Analysed>,
-    at: &Point,
-    uncertainty: Option<Uncertainty>,
-) -> Vec<Parameter> {
-    layout
-        .coordinates
-        .iter()
-        .enumerate()
-        .map(|(i, &c)| {
-            let (lo, hi) = c.bounds(problem);
-            let (dlo, dhi) = domain_of(layout, i);
-            let value = c.value(at, problem);
-            let mut p = Parameter::new(layout.names[i], grid[i]);
-            p.bounds = Some((lo, hi));
-            if analysed.is_some() {
-                p.refined = Some(value);
-            }
-            if value <= lo || value >= hi {
-                p.flags.push(Edge::RangeEdge);
-            }
-            if value <= dlo || value >= dhi {
-                p.flags.push(Edge::DomainBound);
-            }
-            let Some(analysed) = analysed else {
-                return p;
-            };
-            let sd = analysed.covariance.as_ref().and_then(|cov| cov.sd(i));
-            if matches!(uncertainty, Some(Uncertainty::Jacobian | Uncertainty::Both)) {
-                p.sd = sd;
-            }
-            if let Some(profile) = &analysed.profile {
-                let [below, above] = profile[i];
-                let closed = |(end, at_face): (f64, bool), face: f64| {
-                    if end.is_nan() {
-                        (face, true)
-                    } else {
-                        (end, at_face)
-                    }
-                };
-                let interval = |level: usize| {
-                    let (l, l_face) = closed(below[level], lo);
-                    let (h, h_face) = closed(above[level], hi);
-                    Interval {
-                        lo: l.clamp(lo, value),
-                        hi: h.clamp(value, hi),
-                        open_below: l_face && lo > dlo,
-                        open_above: h_face && hi < dhi,
-                    }
-                };
-                let (i68, i95) = (interval(0), interval(1));
-                if i95.open_below {
-                    p.flags.push(Edge::OpenBelow);
-                }
-                if i95.open_above {
-                    p.flags.push(Edge::OpenAbove);
-                }
-                if below[1].1 && above[1].1 && hi > lo {
-                    p.flags.push(Edge::NotIdentified);
-                }
-                p.interval68 = Some(i68);
-                p.interval95 = Some(i95);
-                p.source = Some(Source::Profile);
-            } else if let (Some(sd), Some(levels)) = (sd, analysed.levels) {
-                let around = |level: usize| {
-                    let d = (levels.heights[level] / levels.s2).sqrt() * sd;
-                    Interval {
-                        lo: (value - d).max(lo),
-                        hi: (value + d).min(hi),
-                        open_below: false,
-                        open_above: false,
-                    }
-                };
-                p.interval68 = Some(around(0));
-                p.interval95 = Some(around(1));
-                p.source = Some(Source::Jacobian);
-            }
-            p
-        })
-        .collect()
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 
 use super::basis::At;
 use super::SceneData;
-use crate::search::sums::{dot, DataSums, SurfaceSums};
+use crate::paper::search::sums::{dot, DataSums, SurfaceSums};
 
 /// Relative margin of every lower bound: a bound is the exact residual it
 /// stands for minus `MARGIN · Σ D²`, which covers the rounding of the bound

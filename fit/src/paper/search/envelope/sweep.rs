@@ -4,7 +4,7 @@
 
 use super::basis::{At, Basis};
 use super::bounds::SurfaceFit;
-use crate::search::sums::SurfaceSums;
+use crate::paper::search::sums::SurfaceSums;
 use laminar_core::mix;
 
 /// Reusable per-shard buffers.
