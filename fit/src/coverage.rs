@@ -16,6 +16,8 @@ use crate::fit::Fitter;
 use crate::fitted::{FittedModel, ModelParams};
 use crate::model::{baseline_interior, Family, Model, Param};
 use crate::objective::Objective;
+use crate::profile::Interval;
+use crate::report::{Parameter, Source};
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
 use laminar_core::measures::max_of;
@@ -53,10 +55,14 @@ impl NoiseModel {
 pub struct Covered {
     /// The parameter.
     pub name: Param,
-    /// Trials whose 68.27% interval held the truth.
+    /// Trials whose model-based 68.27% interval (the profile's, else the
+    /// Jacobian's) held the truth.
     pub in68: usize,
-    /// Trials whose 95% interval held the truth.
+    /// Trials whose model-based 95% interval held the truth.
     pub in95: usize,
+    /// Trials whose headline 68.27% and 95% intervals held the truth (the
+    /// robust ones where formed, [`Source::Robust`]).
+    pub headline: [usize; 2],
     /// Trials with a Jacobian standard deviation.
     pub with_sd: usize,
     /// Of those, trials whose estimate ± 1 sd held the truth.
@@ -78,7 +84,14 @@ pub struct Coverage {
 }
 
 impl Coverage {
-    /// The realised rate of parameter `name` at level 0 (68.27%) or 1 (95%).
+    /// The headline intervals' rate of parameter `name` at level 0
+    /// (68.27%) or 1 (95%).
+    pub fn headline_rate(&self, name: Param, level: usize) -> Option<f64> {
+        let p = self.parameters.iter().find(|p| p.name == name)?;
+        Some(p.headline[level] as f64 / self.trials as f64)
+    }
+
+    /// The model-based rate of parameter `name` at `level` (0: 68.27%, 1: 95%).
     pub fn rate(&self, name: Param, level: usize) -> Option<f64> {
         let p = self.parameters.iter().find(|p| p.name == name)?;
         let n = if level == 0 { p.in68 } else { p.in95 };
@@ -199,6 +212,17 @@ pub fn noisy_sets(
         .collect()
 }
 
+/// A parameter's model-based intervals (68.27%, 95%): the profile's, else
+/// the Jacobian's.
+pub fn model_based(p: &Parameter) -> [Option<Interval>; 2] {
+    let profile = p.intervals(Source::Profile);
+    if profile[0].is_some() {
+        profile
+    } else {
+        p.intervals(Source::Jacobian)
+    }
+}
+
 /// Fits `trials` noisy scenes of `model` ([`noisy_scene`]; truths drawn
 /// from `seed`, [`draw`]) with `fitter` and counts how often each
 /// parameter's intervals contain the truth.
@@ -239,6 +263,7 @@ pub fn coverage(
                         name: p.name,
                         in68: 0,
                         in95: 0,
+                        headline: [0; 2],
                         with_sd: 0,
                         in_sd: 0,
                     });
@@ -246,10 +271,12 @@ pub fn coverage(
                 }
             };
             let c = &mut parameters[slot];
-            let holds =
-                |i: Option<crate::profile::Interval>| i.is_some_and(|i| i.lo <= t && t <= i.hi);
-            c.in68 += usize::from(holds(p.interval68));
-            c.in95 += usize::from(holds(p.interval95));
+            let holds = |i: Option<Interval>| i.is_some_and(|i| i.lo <= t && t <= i.hi);
+            let [m68, m95] = model_based(p);
+            c.in68 += usize::from(holds(m68));
+            c.in95 += usize::from(holds(m95));
+            c.headline[0] += usize::from(holds(p.interval68));
+            c.headline[1] += usize::from(holds(p.interval95));
             if let Some(sd) = p.sd {
                 c.with_sd += 1;
                 c.in_sd += usize::from((p.value() - t).abs() <= sd);

@@ -33,16 +33,30 @@ pub enum Edge {
     /// box: the data do not determine this parameter (e.g. Jensen's σa and
     /// σs′ alone, whose ratio is all the model sees).
     NotIdentified,
+    /// The sandwich (misfit-robust) standard deviation and the model-based
+    /// one differ by more than [`MISFIT_SENSITIVE`]× either way: the
+    /// interval depends on the model fitting the data exactly.
+    MisfitSensitive,
+    /// The free-amplitude objective's profile is flat to within its 68.27%
+    /// level (Δχ² = 1) across the whole box: the value is not determined,
+    /// though the 95% interval may close on one side.
+    NotDetermined,
 }
+
+/// The ratio of the robust to the model-based standard deviation beyond
+/// which (or below whose reciprocal) a parameter is [`Edge::MisfitSensitive`].
+pub const MISFIT_SENSITIVE: f64 = 1.5;
 
 impl Edge {
     /// Every flag, in the order of their bits ([`Edge::bit`]).
-    pub const ALL: [Edge; 5] = [
+    pub const ALL: [Edge; 7] = [
         Self::RangeEdge,
         Self::DomainBound,
         Self::OpenBelow,
         Self::OpenAbove,
         Self::NotIdentified,
+        Self::MisfitSensitive,
+        Self::NotDetermined,
     ];
 
     /// The flag's bit in a mask of flags (`1 << ` its place in
@@ -54,6 +68,8 @@ impl Edge {
             Self::OpenBelow => 4,
             Self::OpenAbove => 8,
             Self::NotIdentified => 16,
+            Self::MisfitSensitive => 32,
+            Self::NotDetermined => 64,
         }
     }
 
@@ -71,6 +87,8 @@ impl fmt::Display for Edge {
             Self::OpenBelow => "open_below",
             Self::OpenAbove => "open_above",
             Self::NotIdentified => "not_identified",
+            Self::MisfitSensitive => "misfit_sensitive",
+            Self::NotDetermined => "not_determined",
         })
     }
 }

@@ -66,6 +66,7 @@ pub mod fitted;
 pub(crate) mod free;
 pub mod grid;
 pub mod measurements;
+pub mod misspecified;
 pub mod model;
 pub mod objective;
 pub mod paper;

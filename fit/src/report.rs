@@ -106,6 +106,15 @@ pub enum Source {
     Profile,
     /// The Jacobian at the refined optimum ([`crate::covariance`]).
     Jacobian,
+    /// The profile's interval with its width scaled by the sandwich
+    /// (misfit-robust) to model-based standard deviation ratio: it holds
+    /// when the model does not fit the data exactly (docs/estimation.md).
+    Robust,
+}
+
+impl Source {
+    /// Every source, in the order outputs list them.
+    pub const ALL: [Source; 3] = [Source::Profile, Source::Robust, Source::Jacobian];
 }
 
 impl fmt::Display for Source {
@@ -113,6 +122,7 @@ impl fmt::Display for Source {
         f.write_str(match self {
             Self::Profile => "profile",
             Self::Jacobian => "jacobian",
+            Self::Robust => "robust",
         })
     }
 }
@@ -130,8 +140,16 @@ pub struct Parameter {
     pub interval68: Option<Interval>,
     /// The 95% interval.
     pub interval95: Option<Interval>,
-    /// Where both intervals come from.
+    /// Where both intervals come from: the headline.
     pub source: Option<Source>,
+    /// The other intervals computed, kept beside the headline (free
+    /// objective: the profile's and the Jacobian's when the headline is
+    /// the robust one).
+    pub alternatives: Vec<Alternative>,
+    /// The sandwich standard deviation over the model-based one (free
+    /// objective): about 1 when the model fits, far from it when the
+    /// residuals are misfit rather than noise.
+    pub misfit_ratio: Option<f64>,
     /// The Jacobian's standard deviation (no bound active).
     pub sd: Option<f64>,
     /// Edge flags (empty for an interior value).
@@ -143,6 +161,17 @@ pub struct Parameter {
     /// For an estimate on an edge of the box that is not a bound of the
     /// model's domain: where one local fit with that bound released goes.
     pub released: Option<Released>,
+}
+
+/// An interval kept beside a parameter's headline.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Alternative {
+    /// Where it comes from.
+    pub source: Source,
+    /// Its 68.27% interval.
+    pub interval68: Interval,
+    /// Its 95% interval.
+    pub interval95: Interval,
 }
 
 /// What releasing a bound of the box gives: a diagnostic, not an estimate.
@@ -167,6 +196,8 @@ impl Parameter {
             interval68: None,
             interval95: None,
             source: None,
+            alternatives: Vec::new(),
+            misfit_ratio: None,
             sd: None,
             flags: Vec::new(),
             bounds: None,
@@ -177,6 +208,18 @@ impl Parameter {
     /// The refined value, or the grid value when not refined.
     pub fn value(&self) -> f64 {
         self.refined.unwrap_or(self.grid)
+    }
+
+    /// The 68.27% and 95% intervals of `source` (the headline's or an
+    /// alternative's; `None` when not computed).
+    pub fn intervals(&self, source: Source) -> [Option<Interval>; 2] {
+        if self.source == Some(source) {
+            return [self.interval68, self.interval95];
+        }
+        self.alternatives
+            .iter()
+            .find(|a| a.source == source)
+            .map_or([None, None], |a| [Some(a.interval68), Some(a.interval95)])
     }
 
     /// Records the 68% and 95% intervals and where they came from, the 95%

@@ -53,6 +53,9 @@ pub(super) struct Analysed {
     pub(super) covariance: Option<JacobianCovariance>,
     /// Per reported parameter, `[below, above]` ends of both levels.
     pub(super) profile: Option<Vec<Ends>>,
+    /// True when the data are fitted to rounding: the residuals say
+    /// nothing of the noise, so no misfit-robust interval is formed.
+    pub(super) rounding: bool,
 }
 
 /// Intervals at `minimum`, refining again from any lower point a walk
@@ -67,6 +70,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
                 levels: None,
                 covariance: None,
                 profile: None,
+                rounding: false,
             };
         };
         let covariance = JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
@@ -74,12 +78,14 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
             analysis.uncertainty,
             Uncertainty::Profile | Uncertainty::Both
         );
-        if !wants_profile || fitted_to_rounding(problem, &levels) {
+        let rounding = fitted_to_rounding(problem, &levels);
+        if !wants_profile || rounding {
             return Analysed {
                 minimum,
                 levels: Some(levels),
                 covariance,
                 profile: None,
+                rounding,
             };
         }
         let sides: Vec<(usize, f64)> = (0..layout.coordinates.len())
@@ -133,6 +139,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
             levels: Some(levels),
             covariance,
             profile: Some(profile),
+            rounding,
         };
     }
 }
@@ -292,6 +299,7 @@ fn fit_from(
             levels: None,
             covariance: None,
             profile: None,
+            rounding: false,
         }
     } else {
         analyse(&problem, layout, refined, analysis)

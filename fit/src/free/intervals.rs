@@ -13,7 +13,7 @@
 use super::problem::{Point, Problem};
 use super::refine::minimise;
 use crate::profile::Z_95;
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// The two-sided normal quantiles of the 68.27% and 95% levels.
 pub const Z: [f64; 2] = [1.0, Z_95];
@@ -101,12 +101,20 @@ impl Coordinate {
 }
 
 /// The Jacobian covariance of the reported parameters (nonlinear ones in
-/// reported units, then β for the layered models, then the amplitude).
+/// reported units, then β for the layered models, then the amplitude): the
+/// model-based one, and the sandwich (Huber–White) one that holds when the
+/// model does not fit the data exactly (docs/estimation.md).
 #[derive(Debug, Clone, PartialEq)]
 pub struct JacobianCovariance {
-    /// `s² (JᵀJ)⁻¹` over the parameters not on a face of the box; a
+    /// `s² (JᵀWJ)⁻¹` over the parameters not on a face of the box; a
     /// parameter on a face has `None` in its row and column.
     pub matrix: Vec<Vec<Option<f64>>>,
+    /// The sandwich `A⁻¹ B A⁻¹`, `A = JᵀWJ`,
+    /// `B = Σ_k w_k² r_k² J_k J_kᵀ / (1 − h_k)²` with the leverages
+    /// `h_k = w_k J_kᵀ A⁻¹ J_k` (HC3: MacKinnon and White 1985; the
+    /// small-sample choice of Long and Ervin 2000), over the same
+    /// parameters.
+    pub robust: Vec<Vec<Option<f64>>>,
 }
 
 impl JacobianCovariance {
@@ -179,18 +187,47 @@ impl JacobianCovariance {
             normal[(i, j)] / (d[i] * d[j])
         });
         let inverse = scaled.cholesky()?.inverse();
+        // The meat: Σ_k w_k² r_k² J_k J_kᵀ / (1 − h_k)², from the weighted
+        // residuals e_k = √w_k r_k and the leverages
+        // h_k = w_k J_kᵀ A⁻¹ J_k (HC3), in the same scaled coordinates.
+        let e = problem.residuals(&columns, &point.linear);
+        let n = kept.len();
+        let mut meat = DMatrix::<f64>::zeros(n, n);
+        for (r, (&w, &e)) in problem.weight.iter().zip(&e).enumerate() {
+            let row =
+                DVector::from_iterator(n, kept.iter().zip(&d).map(|(&i, &di)| jac[i][r] / di));
+            let leverage = w * row.dot(&(&inverse * &row));
+            let f = w * e * e / (1.0 - leverage.min(1.0 - 1e-12)).powi(2);
+            meat += f * &row * row.transpose();
+        }
+        let sandwich = &inverse * meat * &inverse;
         let mut matrix = vec![vec![None; jac.len()]; jac.len()];
+        let mut robust = vec![vec![None; jac.len()]; jac.len()];
         for (a, &i) in kept.iter().enumerate() {
             for (b, &j) in kept.iter().enumerate() {
                 matrix[i][j] = Some(s2 * inverse[(a, b)] / (d[a] * d[b]));
+                let v = sandwich[(a, b)] / (d[a] * d[b]);
+                robust[i][j] = v.is_finite().then_some(v);
             }
         }
-        Some(Self { matrix })
+        Some(Self { matrix, robust })
     }
 
     /// The standard deviation of parameter `i`.
     pub fn sd(&self, i: usize) -> Option<f64> {
         self.matrix[i][i].map(f64::sqrt)
+    }
+
+    /// The sandwich standard deviation of parameter `i`.
+    pub fn robust_sd(&self, i: usize) -> Option<f64> {
+        self.robust[i][i].filter(|v| *v >= 0.0).map(f64::sqrt)
+    }
+
+    /// `robust_sd / sd` of parameter `i`: how much wider the interval that
+    /// survives misfit is than the model-based one (1 when the model fits).
+    pub fn misfit_ratio(&self, i: usize) -> Option<f64> {
+        let r = self.robust_sd(i)? / self.sd(i)?;
+        (r.is_finite() && r > 0.0).then_some(r)
     }
 }
 

@@ -8,9 +8,9 @@ use super::layout::{domain_of, Layout};
 use super::problem::{Point, Problem};
 use crate::analysis::Uncertainty;
 use crate::covariance::Covariance;
-use crate::edges::Edge;
+use crate::edges::{Edge, MISFIT_SENSITIVE};
 use crate::profile::Interval;
-use crate::report::{Parameter, Source};
+use crate::report::{Alternative, Parameter, Source};
 
 /// The covariance of the parameters that have one (the amplitude left out).
 pub(super) fn correlations(layout: &Layout, c: &JacobianCovariance) -> Option<Covariance> {
@@ -64,11 +64,15 @@ pub(super) fn parameters(
             let Some(analysed) = analysed else {
                 return p;
             };
-            let sd = analysed.covariance.as_ref().and_then(|cov| cov.sd(i));
+            let covariance = analysed.covariance.as_ref();
+            let sd = covariance.and_then(|cov| cov.sd(i));
             if matches!(uncertainty, Some(Uncertainty::Jacobian | Uncertainty::Both)) {
                 p.sd = sd;
             }
-            if let Some(profile) = &analysed.profile {
+            // Flags of what the intervals found, after the open ends'.
+            let mut found = Vec::new();
+            // The model-based intervals: the profile's, and the Jacobian's.
+            let profile = analysed.profile.as_ref().map(|profile| {
                 let [below, above] = profile[i];
                 let closed = |(end, at_face): (f64, bool), face: f64| {
                     if end.is_nan() {
@@ -87,11 +91,15 @@ pub(super) fn parameters(
                         open_above: h_face && hi < dhi,
                     }
                 };
-                p.set_intervals([interval(0), interval(1)], Source::Profile);
                 if below[1].1 && above[1].1 && hi > lo {
-                    p.flags.push(Edge::NotIdentified);
+                    found.push(Edge::NotIdentified);
                 }
-            } else if let (Some(sd), Some(levels)) = (sd, analysed.levels) {
+                if below[0].1 && above[0].1 && hi > lo {
+                    found.push(Edge::NotDetermined);
+                }
+                [interval(0), interval(1)]
+            });
+            let jacobian = sd.zip(analysed.levels).map(|(sd, levels)| {
                 let around = |level: usize| {
                     let d = (levels.heights[level] / levels.s2).sqrt() * sd;
                     Interval {
@@ -101,8 +109,62 @@ pub(super) fn parameters(
                         open_above: false,
                     }
                 };
-                p.set_intervals([around(0), around(1)], Source::Jacobian);
+                [around(0), around(1)]
+            });
+            // The robust interval: the profile's (else the Jacobian's), its
+            // distances from the estimate scaled by the sandwich to
+            // model-based sd ratio (docs/estimation.md).
+            let ratio = covariance
+                .and_then(|cov| cov.misfit_ratio(i))
+                .filter(|_| !analysed.rounding);
+            p.misfit_ratio = ratio;
+            if ratio.is_some_and(|r| !(1.0 / MISFIT_SENSITIVE..=MISFIT_SENSITIVE).contains(&r)) {
+                found.push(Edge::MisfitSensitive);
             }
+            let robust = ratio.zip(profile.or(jacobian)).map(|(r, base)| {
+                base.map(|i| {
+                    let down = value - r * (value - i.lo);
+                    let up = value + r * (i.hi - value);
+                    Interval {
+                        lo: down.clamp(lo, value),
+                        hi: up.clamp(value, hi),
+                        open_below: i.open_below || (down < lo && lo > dlo),
+                        open_above: i.open_above || (up > hi && hi < dhi),
+                    }
+                })
+            });
+            // The headline: the robust interval by default (`both`), the
+            // model-based one asked for otherwise; the others kept.
+            let computed = [
+                (Source::Robust, robust),
+                (Source::Profile, profile),
+                (Source::Jacobian, jacobian),
+            ];
+            let preference: &[Source] = match uncertainty {
+                Some(Uncertainty::Both) => &[Source::Robust, Source::Profile, Source::Jacobian],
+                Some(Uncertainty::Profile) => &[Source::Profile, Source::Jacobian],
+                Some(Uncertainty::Jacobian) => &[Source::Jacobian],
+                Some(Uncertainty::Off) | None => &[],
+            };
+            let headline = preference
+                .iter()
+                .find_map(|s| computed.iter().find(|(c, i)| c == s && i.is_some()))
+                .and_then(|&(source, i)| i.map(|i| (source, i)));
+            if let Some((source, intervals)) = headline {
+                p.set_intervals(intervals, source);
+                p.alternatives = computed
+                    .iter()
+                    .filter(|(s, _)| *s != source)
+                    .filter_map(|&(s, i)| {
+                        i.map(|[interval68, interval95]| Alternative {
+                            source: s,
+                            interval68,
+                            interval95,
+                        })
+                    })
+                    .collect();
+            }
+            p.flags.extend(found);
             p
         })
         .collect()

@@ -1,0 +1,145 @@
+//! Do the intervals hold when the model does not fit? (docs/estimation.md,
+//! "When the model does not fit"; the table there is what this prints
+//! with `cargo test --release -p laminar-fit --test misspecified -- --nocapture`.)
+//!
+//! Data from a reflectance richer than the fitted model
+//! ([`laminar_fit::misspecified::Truth`]: the Gaussian model plus a
+//! Lambertian term and a second lobe), fitted by exp and by gauss, on
+//! random designs of K = 200 angles from a CUReT-like distribution, noise
+//! on every measurement. The target is the pseudo-true parameter: the fit
+//! to the noise-free truth on a dense design of 20,000 angles from the same
+//! distribution. The headline interval's 68.27% and 95% rates must lie in
+//! 3σ binomial bands; the model-based (profile) rates are printed beside
+//! them, and at least one of them must fall below its band (else the test
+//! would not be testing misfit).
+
+use laminar_fit::coverage::NoiseModel;
+use laminar_fit::misspecified::{design, Truth};
+use laminar_fit::report::Source;
+use laminar_fit::synthetic::Noise;
+use laminar_fit::{Analysis, Fit, Fitter, Grid, Model, Param, Uncertainty};
+
+/// Trials per setting.
+const TRIALS: usize = 200;
+/// Measurements per trial.
+const K: usize = 200;
+/// Angles of the dense design.
+const DENSE: usize = 20_000;
+
+const SETTINGS: [NoiseModel; 2] = [
+    NoiseModel::Every(0.01),
+    NoiseModel::Heteroscedastic {
+        floor: 0.003,
+        relative: 0.03,
+    },
+];
+
+/// The 3σ binomial band of a rate `p` over [`TRIALS`] trials.
+fn band(p: f64) -> (f64, f64) {
+    let half = 3.0 * (p * (1.0 - p) / TRIALS as f64).sqrt();
+    (p - half, p + half)
+}
+
+fn value(fit: &Fit, name: Param) -> f64 {
+    fit.parameters
+        .iter()
+        .find(|p| p.name == name)
+        .unwrap()
+        .value()
+}
+
+#[test]
+fn robust_intervals_cover_the_pseudo_true_parameters() {
+    let truth = Truth::standard();
+    let mut rng = Noise::new(36);
+    let dense = design(DENSE, &mut rng);
+    let fitter = Fitter::new(Grid::user()).unwrap();
+    let mut failures = Vec::new();
+    let mut model_based_misses = 0;
+    for model in [Model::Exp, Model::Gauss] {
+        for noise in SETTINGS {
+            // The pseudo-true parameters, with the noisy fits' weights.
+            let target = fitter
+                .clone()
+                .analysis(Analysis {
+                    refine: true,
+                    uncertainty: Uncertainty::Off,
+                })
+                .fit(&truth.clean_scene(dense.clone(), noise), model);
+            let names: Vec<Param> = target.parameters.iter().map(|p| p.name).collect();
+            for p in &target.parameters {
+                let (lo, hi) = p.bounds.unwrap();
+                assert!(
+                    lo < p.value() && p.value() < hi,
+                    "{model} {}: the pseudo-true {} {} lies on a face of the box",
+                    noise.label(),
+                    p.name,
+                    p.value()
+                );
+            }
+            let scenes: Vec<_> = (0..TRIALS)
+                .map(|_| truth.noisy_scene(design(K, &mut rng), &dense, noise, &mut rng))
+                .collect();
+            let fits = fitter.fit_batch(&scenes, model);
+            for &name in &names {
+                let t = value(&target, name);
+                // The headline's rate (`None`), or that of a source's intervals.
+                let rate = |source: Option<Source>, level: usize| {
+                    let held = fits
+                        .iter()
+                        .filter(|f| {
+                            let p = f.parameters.iter().find(|p| p.name == name).unwrap();
+                            let i = match source {
+                                None => [p.interval68, p.interval95][level],
+                                Some(s) => p.intervals(s)[level],
+                            };
+                            i.is_some_and(|i| i.lo <= t && t <= i.hi)
+                        })
+                        .count();
+                    held as f64 / TRIALS as f64
+                };
+                let headline = fits[0].parameters.iter().find(|p| p.name == name).unwrap();
+                assert_eq!(
+                    headline.source,
+                    Some(Source::Robust),
+                    "{model} {name}: the headline"
+                );
+                let sensitive = fits
+                    .iter()
+                    .filter(|f| {
+                        f.parameters.iter().any(|p| {
+                            p.name == name && p.flags.contains(&laminar_fit::Edge::MisfitSensitive)
+                        })
+                    })
+                    .count();
+                let (r68, r95) = (rate(None, 0), rate(None, 1));
+                let (p68, p95) = (
+                    rate(Some(Source::Profile), 0),
+                    rate(Some(Source::Profile), 1),
+                );
+                eprintln!(
+                    "misspecified {model} | {} | {name} (pseudo-true {t:.4}): headline 68.27% {r68:.3}, 95% {r95:.3}; profile {p68:.3}, {p95:.3}; misfit_sensitive {sensitive}/{TRIALS}",
+                    noise.label()
+                );
+                for (level, nominal, got) in [(0, 0.6827, r68), (1, 0.95, r95)] {
+                    let (lo, hi) = band(nominal);
+                    if !(lo..=hi).contains(&got) {
+                        failures.push(format!(
+                            "{model} {} {name} level {level}: {got}",
+                            noise.label()
+                        ));
+                    }
+                    let profile = [p68, p95][level];
+                    if profile < lo {
+                        model_based_misses += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "outside the 3σ bands: {failures:?}");
+    assert!(
+        model_based_misses > 0,
+        "the model-based intervals held everywhere: the truth is not misspecified enough to test"
+    );
+}
