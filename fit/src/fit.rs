@@ -14,7 +14,7 @@ use crate::paper::profiles::ProfileCurve;
 use crate::paper::search::Path;
 use crate::report::Fit;
 use crate::scene::Scene;
-use crate::{free, paper};
+use crate::{choice, free, paper};
 use std::sync::Arc;
 
 type Progress = Arc<dyn Fn() + Send + Sync>;
@@ -210,6 +210,8 @@ impl Fitter {
     /// those of fitting each scene alone). Where `given(scene, model)`
     /// supplies parameters, they are assessed ([`Fitter::assess`]) instead
     /// of searched: a data set's own Oren–Nayar parameters, for example.
+    /// With several models, each set's fits are ranked by their
+    /// information criteria ([`Fit::rank`], [`crate::choice`]).
     ///
     /// # Errors
     /// [`FitError::Model`] when given parameters are outside their domain or not the model's.
@@ -240,7 +242,15 @@ impl Fitter {
         }
         let mut fits = Vec::with_capacity(scenes.len() * models.len());
         for j in 0..scenes.len() {
-            fits.extend(by_model.iter().map(|f| f[j].clone()));
+            let mut set: Vec<Fit> = by_model.iter().map(|f| f[j].clone()).collect();
+            // The models of one set ranked by their information criteria.
+            let criteria: Vec<_> = set.iter().map(|f| f.information).collect();
+            if criteria.iter().flatten().count() > 1 {
+                for (fit, rank) in set.iter_mut().zip(choice::rank(&criteria)) {
+                    fit.rank = rank;
+                }
+            }
+            fits.extend(set);
         }
         Ok(fits)
     }

@@ -53,9 +53,11 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod adequacy;
 pub mod albedo;
 pub mod analysis;
 mod baseline;
+pub mod choice;
 pub mod covariance;
 pub mod coverage;
 pub mod edges;

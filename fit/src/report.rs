@@ -4,6 +4,8 @@
 //! flags, box) and the Jacobian's covariance. Both objectives fill it
 //! ([`crate::paper::driver`], [`crate::free::driver`]); every writer reads it.
 
+use crate::adequacy::Adequacy;
+use crate::choice::{Information, Rank};
 use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::estimate::Estimate;
@@ -53,6 +55,15 @@ pub struct Fit {
     /// the estimate, `w = 1/σ²` (1 without uncertainties), p counting the
     /// amplitude.
     pub chi2_weighted: Option<f64>,
+    /// Free-amplitude fits: whether the residuals say the model fits
+    /// ([`crate::adequacy`]).
+    pub adequacy: Option<Adequacy>,
+    /// Free-amplitude fits: the information criteria of the estimate
+    /// ([`crate::choice`]).
+    pub information: Option<Information>,
+    /// Its place among the models fitted to the same set
+    /// ([`crate::Fitter::fit_all`] with several models; [`crate::choice::rank`]).
+    pub rank: Option<Rank>,
 }
 
 impl Fit {

@@ -16,6 +16,8 @@
 //! normalisation, see [`laminar_fit::FittedModel`]).
 
 use crate::error::ReadError;
+use laminar_fit::adequacy::Adequacy;
+use laminar_fit::choice::{Information, Rank};
 use laminar_fit::fitted::format_value;
 use laminar_fit::model::{all_params, Param};
 use laminar_fit::profile::Interval;
@@ -51,7 +53,7 @@ pub const CSV_HEADER: [&str; 15] = [
 ];
 
 /// The columns each parameter gets, after its name and `_`.
-pub const PARAMETER_COLUMNS: [&str; 11] = [
+pub const PARAMETER_COLUMNS: [&str; 12] = [
     "refined",
     "lo68",
     "hi68",
@@ -63,16 +65,23 @@ pub const PARAMETER_COLUMNS: [&str; 11] = [
     "box_hi",
     "released",
     "released_rms",
+    "misfit",
 ];
 
 /// The columns after the parameters' (the objective's, last so that the
 /// columns before them keep their places).
-pub const FIT_COLUMNS: [&str; 5] = [
+pub const FIT_COLUMNS: [&str; 11] = [
     "correlations",
     "trade_offs",
     "objective",
     "amplitude",
     "chi2w_dof",
+    "chi2_p",
+    "runs_p",
+    "lack_of_fit",
+    "aicc",
+    "bic",
+    "rank",
 ];
 
 /// The full CSV header for fits of `models`: [`CSV_HEADER`], then
@@ -166,6 +175,7 @@ fn parameter_cells(p: Option<&ParameterEntry>) -> Vec<String> {
         value(p.bounds.map(|b| b[1])),
         value(p.released.map(|r| r.value)),
         opt(p.released.map(|r| r.rms)),
+        opt(p.misfit_ratio),
     ]
 }
 
@@ -201,6 +211,17 @@ fn row(e: &FitEntry, names: &[Param]) -> Vec<String> {
     out.push(e.objective.to_string());
     out.push(e.amplitude.map(|c| format!("{c:.9e}")).unwrap_or_default());
     out.push(opt(e.chi2w_dof));
+    let p_value = |p: Option<f64>| p.map(|p| format!("{p:.4e}")).unwrap_or_default();
+    out.push(p_value(e.adequacy.and_then(|a| a.chi2_p)));
+    out.push(p_value(e.adequacy.and_then(|a| a.runs_p)));
+    out.push(
+        e.adequacy
+            .map(|a| a.lack_of_fit.to_string())
+            .unwrap_or_default(),
+    );
+    out.push(opt(e.information.and_then(|i| i.aicc)));
+    out.push(opt(e.information.map(|i| i.bic)));
+    out.push(e.rank.map(|r| r.rank.to_string()).unwrap_or_default());
     out
 }
 
@@ -338,6 +359,16 @@ pub struct FitEntry {
     /// before it existed.
     #[serde(default)]
     pub parameters: BTreeMap<String, ParameterEntry>,
+    /// Free objective: whether the residuals say the model fits
+    /// ([`laminar_fit::adequacy`]).
+    #[serde(default)]
+    pub adequacy: Option<Adequacy>,
+    /// Free objective: the information criteria ([`laminar_fit::choice`]).
+    #[serde(default)]
+    pub information: Option<Information>,
+    /// The model's place among those fitted to the same set (several models).
+    #[serde(default)]
+    pub rank: Option<Rank>,
     /// The fitted model's energy, when asked for (`laminar fit --albedo`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy: Option<Energy>,
@@ -500,8 +531,15 @@ pub struct ParameterEntry {
     pub lo95: Option<f64>,
     /// Its upper end.
     pub hi95: Option<f64>,
-    /// Where the interval ends come from.
+    /// Where the interval ends come from (the headline).
     pub interval: Option<Source>,
+    /// The other intervals computed, kept beside the headline.
+    #[serde(default)]
+    pub alternatives: Vec<IntervalEntry>,
+    /// Free objective: the sandwich standard deviation over the
+    /// model-based one (about 1 when the model fits).
+    #[serde(default)]
+    pub misfit_ratio: Option<f64>,
     /// The Jacobian's standard deviation (absent at a domain bound).
     pub sd: Option<f64>,
     /// Edge flags (empty for an interior value).
@@ -514,6 +552,22 @@ pub struct ParameterEntry {
     /// model's domain: one local fit with that bound released.
     #[serde(default)]
     pub released: Option<Released>,
+}
+
+/// An interval kept beside a parameter's headline.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+pub struct IntervalEntry {
+    /// Where it comes from.
+    pub interval: Source,
+    /// The 68.27% interval's lower end.
+    pub lo68: f64,
+    /// Its upper end.
+    pub hi68: f64,
+    /// The 95% interval's lower end.
+    pub lo95: f64,
+    /// Its upper end.
+    pub hi95: f64,
 }
 
 /// A pair as a list, not a tuple: the same JSON, and a Python list too
@@ -541,6 +595,18 @@ impl ParameterEntry {
             lo95,
             hi95,
             interval: p.source,
+            alternatives: p
+                .alternatives
+                .iter()
+                .map(|a| IntervalEntry {
+                    interval: a.source,
+                    lo68: a.interval68.lo,
+                    hi68: a.interval68.hi,
+                    lo95: a.interval95.lo,
+                    hi95: a.interval95.hi,
+                })
+                .collect(),
+            misfit_ratio: p.misfit_ratio,
             sd: p.sd,
             flags: p.flags.clone(),
             bounds: p.bounds.map(|(lo, hi)| [lo, hi]),
@@ -614,6 +680,9 @@ impl FitEntry {
                 .iter()
                 .map(|p| (p.name.to_string(), ParameterEntry::new(p)))
                 .collect(),
+            adequacy: r.adequacy,
+            information: r.information,
+            rank: r.rank,
             energy: None,
         }
     }
@@ -649,6 +718,9 @@ fn empty_file() -> FitsFile {
             ("chi2_dof", "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p"),
             ("chi2w_dof", "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)"),
             ("amplitude", "free: the fitted amplitude c (P = c·M on the data divided by their max)"),
+            ("adequacy", "free: does the model fit? chi2_p = P(χ²_ν ≥ Σ w r²) with the input's σ; runs_z, runs_p: the runs of residual signs ordered by the half vector's zenith θh (then θi), standardised, and the one-sided p-value of too few runs; lack_of_fit when either p-value is below 0.01"),
+            ("information", "free: aic, aicc, bic on the weighted objective (with σ: χ² + 2k, …, k = p; without: K ln(Σr²/K) + 2k, k = p + 1); lower is better, differences between models fitted to one set count"),
+            ("rank", "the model's place among those fitted to the same set by AICc (1 best), delta = its AICc above the best's, weight = its Akaike weight"),
             ("params", "fitted parameters rounded to 10 decimals; beta is eq. 8's β (free) or the balance of the paper normalisation (paper); not_identified in place of a value the data do not determine (the parameter's flags hold not_identified; fitted keeps a value, which predicts the same)"),
             ("fitted", "the model to predict with: full-precision params; normalisation = {amplitude} (free: P = amplitude·(beta·L_sb + (1−beta)·L_sf)), or the maxima over the fit's geometries of the raw surface term, raw subsurface term and the normalised mix (paper; baselines: of the raw radiance; P = (beta·L_sb/subsurface_max + (1−beta)·L_sf/surface_max)/mix_max)"),
             ("beta_eq8", "the balance of eq. 8 giving the fitted lobe: P = eq8_scale·(beta_eq8·L_sb + (1−beta_eq8)·L_sf)"),
@@ -656,7 +728,7 @@ fn empty_file() -> FitsFile {
             ("fitted_note", "fitted is the refined model when the fit was refined (grid_fitted is then the grid's best); laminar predict uses fitted"),
             ("rms_grid", "Δ_RMS of the best grid point (= rms for the paper objective)"),
             ("rms_refined", "Δ_RMS after refinement (free: Levenberg–Marquardt from the grid's basins inside the box, which lowers the weighted objective; paper: Nelder–Mead in f64 within the model's domain, never above rms_grid)"),
-            ("parameters", "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where they come from: profile = the profile of the objective at Δχ² = 1 and 3.84 (free without uncertainties: F(1, K − p)'s quantiles) with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (paper: the grid value is first or last of its axis, the optimum may lie outside the range searched; free: the estimate is on a face of the box), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side), not_identified (free: the 95% interval is the whole box); box: [lo, hi], the box the free objective searched, refined and bounded the intervals in; released: for an estimate on a face of the box that is not a bound of the model's domain, the value and Δ_RMS of one local fit with that bound released (a diagnostic, not an estimate)"),
+            ("parameters", "each searched parameter: grid (the grid value), refined, lo68/hi68 and lo95/hi95 (68.27% and 95% intervals), interval (where the headline comes from: robust = the profile's interval with its distances from the estimate scaled by the sandwich (HC3) to model-based standard deviation ratio, the free objective's default, which holds when the model does not fit exactly; profile = the profile of the objective at Δχ² = 1 and 3.84 (free without uncertainties: F(1, K − p)'s quantiles) with the noise variance from the residuals, Σ(D−P)²/(K−p), or from the input's uncertainties; jacobian = refined ± 1 and 1.96 sd), sd (the Jacobian's standard deviation, only when no parameter is at a domain bound), flags: range_edge (paper: the grid value is first or last of its axis, the optimum may lie outside the range searched; free: the estimate is on a face of the box), domain_bound (grid or refined value at a bound of the model's domain, e.g. a = 0 or 1, n = 1), open_below/open_above (the 95% profile interval does not close within the range searched on that side), not_identified (free: the 95% interval is the whole box), not_determined (free: the 68.27% interval is the whole box), misfit_sensitive (free: misfit_ratio beyond 1.5 or below 1/1.5); alternatives: the other intervals computed ({interval, lo68, hi68, lo95, hi95}); misfit_ratio: the sandwich sd over the model-based sd; box: [lo, hi], the box the free objective searched, refined and bounded the intervals in; released: for an estimate on a face of the box that is not a bound of the model's domain, the value and Δ_RMS of one local fit with that bound released (a diagnostic, not an estimate)"),
             ("correlations", "correlations of the refined parameters from the Jacobian covariance s²(JᵀJ)⁻¹"),
             ("trade_offs", "pairs of parameters whose correlation is at least 0.9 in magnitude: the data constrain their combination, not each one"),
         ]
@@ -790,9 +862,13 @@ pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
 }
 
 /// Records as a Markdown table: each fit's reported Δ_RMS and χ²/ν (as
-/// the CSV's `rms` and `chi2_dof`) and parameters.
+/// the CSV's `rms` and `chi2_dof`), parameters, adequacy (`fit`: `ok` or
+/// `lack of fit` with the p-value that says so) and, for the models fitted
+/// to one set, their ranking by AICc (`rank`, `ΔAICc`, Akaike `weight`).
 pub fn markdown(records: &[Fit]) -> String {
-    let header = ["sample", "channel", "model", "rms", "chi2_dof", "params"];
+    let header = [
+        "sample", "channel", "model", "rms", "chi2_dof", "params", "fit", "rank", "ΔAICc", "weight",
+    ];
     let rows: Vec<Vec<String>> = records
         .iter()
         .map(|r| {
@@ -804,10 +880,33 @@ pub fn markdown(records: &[Fit]) -> String {
                 format!("{:.4}", e.rms),
                 opt(e.chi2_dof),
                 params_text(&e.params, e.model, ParamValue::text),
+                e.adequacy.map(adequacy_text).unwrap_or_default(),
+                e.rank.map(|k| k.rank.to_string()).unwrap_or_default(),
+                e.rank
+                    .map(|k| format!("{:.2}", k.delta))
+                    .unwrap_or_default(),
+                e.rank
+                    .map(|k| format!("{:.3}", k.weight))
+                    .unwrap_or_default(),
             ]
         })
         .collect();
     markdown_table(&header, &rows)
+}
+
+/// `ok`, or `lack of fit` with the smallest p-value below the threshold.
+fn adequacy_text(a: Adequacy) -> String {
+    if !a.lack_of_fit {
+        return "ok".into();
+    }
+    let p = [a.chi2_p.map(|p| ("χ²", p)), a.runs_p.map(|p| ("runs", p))]
+        .into_iter()
+        .flatten()
+        .min_by(|x, y| x.1.total_cmp(&y.1));
+    match p {
+        Some((test, p)) => format!("lack of fit ({test} p = {p:.1e})"),
+        None => "lack of fit".into(),
+    }
 }
 
 /// Writes `contents` to `path` whole or not at all (temporary file, then rename).

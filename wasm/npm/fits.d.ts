@@ -19,12 +19,12 @@ export type Objective = "free" | "paper";
 /**
  * What an edge flag says.
  */
-export type Edge = "range_edge" | "domain_bound" | "open_below" | "open_above" | "not_identified";
+export type Edge = "range_edge" | "domain_bound" | "open_below" | "open_above" | "not_identified" | "misfit_sensitive" | "not_determined";
 
 /**
  * Where an interval comes from.
  */
-export type Source = "profile" | "jacobian";
+export type Source = "profile" | "jacobian" | "robust";
 
 /**
  * What releasing a bound of the box gives: a diagnostic, not an estimate.
@@ -85,9 +85,18 @@ lo95: number | null,
  */
 hi95: number | null, 
 /**
- * Where the interval ends come from.
+ * Where the interval ends come from (the headline).
  */
 interval: Source | null, 
+/**
+ * The other intervals computed, kept beside the headline.
+ */
+alternatives: Array<IntervalEntry>, 
+/**
+ * Free objective: the sandwich standard deviation over the
+ * model-based one (about 1 when the model fits).
+ */
+misfit_ratio: number | null, 
 /**
  * The Jacobian's standard deviation (absent at a domain bound).
  */
@@ -339,6 +348,19 @@ chi2w_dof: number | null,
  * before it existed.
  */
 parameters: { [key in string]: FitParameter }, 
+/**
+ * Free objective: whether the residuals say the model fits
+ * (`laminar_fit::adequacy`).
+ */
+adequacy: Adequacy | null, 
+/**
+ * Free objective: the information criteria (`laminar_fit::choice`).
+ */
+information: Information | null, 
+/**
+ * The model's place among those fitted to the same set (several models).
+ */
+rank: Rank | null, 
 /**
  * The fitted model's energy, when asked for (`laminar fit --albedo`).
  */

@@ -12,7 +12,9 @@ use super::problem::{Point, Problem};
 use super::record::{correlations, parameters};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{grid_starts, grid_values, grid_values_with, GridValues, ModelSide};
+use crate::adequacy::Adequacy;
 use crate::analysis::{Analysis, Uncertainty};
+use crate::choice::Information;
 use crate::estimate::Estimate;
 use crate::fitted::FittedModel;
 use crate::grid::Grid;
@@ -276,6 +278,9 @@ fn fit_from(
         objective: Objective::Free,
         amplitude: Some(grid_point.linear.amplitude()),
         chi2_weighted: None,
+        adequacy: None,
+        information: None,
+        rank: None,
         best: best.clone(),
     };
     let grid_values_of: Vec<f64> = layout
@@ -334,9 +339,28 @@ fn fit_from(
         .and_then(|c| correlations(layout, c));
     record.amplitude = Some(minimum.linear.amplitude());
     record.chi2_weighted = chi2_weighted(&problem, minimum);
+    record.adequacy = Some(adequacy(scene, &problem, minimum));
+    record.information = Information::new(
+        minimum.sse,
+        problem.data.len(),
+        problem.parameter_count(),
+        problem.weighted,
+    );
     record.parameters = parameters;
     record.refined = Some(refined_estimate);
     record
+}
+
+/// The adequacy tests of the residuals at `point` ([`crate::adequacy`]).
+fn adequacy(scene: &Scene, problem: &Problem, point: &Point) -> Adequacy {
+    let columns = problem.basis.columns(&point.theta);
+    let e = problem.residuals(&columns, &point.linear);
+    Adequacy::new(
+        scene.angles(),
+        &e,
+        problem.parameter_count(),
+        problem.weighted,
+    )
 }
 
 /// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the

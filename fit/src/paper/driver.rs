@@ -265,6 +265,9 @@ pub(crate) fn record(
         objective: Objective::Paper,
         amplitude: None,
         chi2_weighted: None,
+        adequacy: None,
+        information: None,
+        rank: None,
     }
 }
 
