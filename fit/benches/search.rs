@@ -67,6 +67,7 @@ fn analysis(c: &mut Criterion) {
             Analysis {
                 refine: true,
                 uncertainty: Uncertainty::Off,
+                ..Analysis::FULL
             },
         ),
         (
@@ -74,6 +75,7 @@ fn analysis(c: &mut Criterion) {
             Analysis {
                 refine: true,
                 uncertainty: Uncertainty::Profile,
+                ..Analysis::FULL
             },
         ),
         ("refine_both", Analysis::FULL),

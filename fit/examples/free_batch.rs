@@ -24,6 +24,7 @@ fn analysis() -> Analysis {
     Analysis {
         refine,
         uncertainty,
+        ..Analysis::FULL
     }
 }
 

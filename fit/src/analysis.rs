@@ -3,6 +3,7 @@
 //! every front end read these settings.
 
 use crate::error::{find_named, UnknownName};
+pub use crate::free::bootstrap::{DEFAULT_RESAMPLES, MOST_RESAMPLES};
 use std::fmt;
 use std::str::FromStr;
 
@@ -16,23 +17,35 @@ pub enum Uncertainty {
     /// Standard deviations and correlations from the Jacobian at the refined
     /// optimum; intervals `θ ± 1 sd` and `θ ± 1.96 sd`.
     Jacobian,
-    /// Both: intervals from the profile, standard deviations and
-    /// correlations from the Jacobian.
+    /// Both (the default): profile intervals, standard deviations and
+    /// correlations from the Jacobian; under the free objective the
+    /// headline interval is the robust one (the profile's calibrated by
+    /// the sandwich covariance), the profile's and the Jacobian's kept.
     Both,
+    /// What `both` computes, and a pairs bootstrap (free objective) whose
+    /// percentile intervals are the headline ([`Analysis::resamples`]
+    /// refits, seeded by [`Analysis::seed`]).
+    Bootstrap,
 }
 
 impl Uncertainty {
     /// Every choice, in the order help texts list them.
-    pub const ALL: [Uncertainty; 4] = [Self::Off, Self::Profile, Self::Jacobian, Self::Both];
+    pub const ALL: [Uncertainty; 5] = [
+        Self::Off,
+        Self::Profile,
+        Self::Jacobian,
+        Self::Both,
+        Self::Bootstrap,
+    ];
 
     /// True for profile intervals.
     pub fn profile(self) -> bool {
-        matches!(self, Self::Profile | Self::Both)
+        matches!(self, Self::Profile | Self::Both | Self::Bootstrap)
     }
 
     /// True for the Jacobian's standard deviations.
     pub fn jacobian(self) -> bool {
-        matches!(self, Self::Jacobian | Self::Both)
+        matches!(self, Self::Jacobian | Self::Both | Self::Bootstrap)
     }
 }
 
@@ -43,6 +56,7 @@ impl fmt::Display for Uncertainty {
             Self::Profile => "profile",
             Self::Jacobian => "jacobian",
             Self::Both => "both",
+            Self::Bootstrap => "bootstrap",
         })
     }
 }
@@ -54,6 +68,29 @@ impl FromStr for Uncertainty {
     }
 }
 
+/// The bootstrap's resample count from its text: a whole number from 2
+/// to [`MOST_RESAMPLES`] (the rule every front end applies).
+///
+/// # Errors
+/// A message naming the value and the rule.
+pub fn parse_resamples(text: &str) -> Result<usize, String> {
+    let rule = format!("give a whole number from 2 to {MOST_RESAMPLES}");
+    match text.trim().parse::<usize>() {
+        Ok(n) if (2..=MOST_RESAMPLES).contains(&n) => Ok(n),
+        _ => Err(format!("`{text}`: {rule}")),
+    }
+}
+
+/// The bootstrap's seed from its text: a whole number from 0 to 2⁶⁴ − 1.
+///
+/// # Errors
+/// A message naming the value and the rule.
+pub fn parse_seed(text: &str) -> Result<u64, String> {
+    text.trim()
+        .parse::<u64>()
+        .map_err(|_| format!("`{text}`: give a whole number from 0 to {}", u64::MAX))
+}
+
 /// What a fit does after its grid search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Analysis {
@@ -61,6 +98,11 @@ pub struct Analysis {
     pub refine: bool,
     /// Which uncertainty to compute.
     pub uncertainty: Uncertainty,
+    /// Resamples of the bootstrap ([`Uncertainty::Bootstrap`]), 2 to
+    /// [`MOST_RESAMPLES`] ([`parse_resamples`]).
+    pub resamples: usize,
+    /// The bootstrap's seed: the same seed, the same intervals.
+    pub seed: u64,
 }
 
 impl Analysis {
@@ -68,11 +110,14 @@ impl Analysis {
     pub const FULL: Analysis = Analysis {
         refine: true,
         uncertainty: Uncertainty::Both,
+        resamples: DEFAULT_RESAMPLES,
+        seed: 0,
     };
     /// The grid search alone.
     pub const NONE: Analysis = Analysis {
         refine: false,
         uncertainty: Uncertainty::Off,
+        ..Analysis::FULL
     };
 
     /// True when the grid's profile is needed (for intervals or for the

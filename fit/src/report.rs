@@ -121,11 +121,19 @@ pub enum Source {
     /// (misfit-robust) to model-based standard deviation ratio: it holds
     /// when the model does not fit the data exactly (docs/estimation.md).
     Robust,
+    /// The percentiles of a pairs bootstrap's refits (free objective,
+    /// `uncertainty = bootstrap`).
+    Bootstrap,
 }
 
 impl Source {
     /// Every source, in the order outputs list them.
-    pub const ALL: [Source; 3] = [Source::Profile, Source::Robust, Source::Jacobian];
+    pub const ALL: [Source; 4] = [
+        Source::Profile,
+        Source::Robust,
+        Source::Bootstrap,
+        Source::Jacobian,
+    ];
 }
 
 impl fmt::Display for Source {
@@ -134,6 +142,7 @@ impl fmt::Display for Source {
             Self::Profile => "profile",
             Self::Jacobian => "jacobian",
             Self::Robust => "robust",
+            Self::Bootstrap => "bootstrap",
         })
     }
 }
@@ -161,6 +170,9 @@ pub struct Parameter {
     /// objective): about 1 when the model fits, far from it when the
     /// residuals are misfit rather than noise.
     pub misfit_ratio: Option<f64>,
+    /// With a bootstrap: the largest Monte Carlo standard deviation of its
+    /// four interval ends (how far another seed could move them).
+    pub bootstrap_error: Option<f64>,
     /// The Jacobian's standard deviation (no bound active).
     pub sd: Option<f64>,
     /// Edge flags (empty for an interior value).
@@ -209,6 +221,7 @@ impl Parameter {
             source: None,
             alternatives: Vec::new(),
             misfit_ratio: None,
+            bootstrap_error: None,
             sd: None,
             flags: Vec::new(),
             bounds: None,

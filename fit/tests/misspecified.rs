@@ -64,6 +64,7 @@ fn robust_intervals_cover_the_pseudo_true_parameters() {
                 .analysis(Analysis {
                     refine: true,
                     uncertainty: Uncertainty::Off,
+                    ..Analysis::FULL
                 })
                 .fit(&truth.clean_scene(dense.clone(), noise), model);
             let names: Vec<Param> = target.parameters.iter().map(|p| p.name).collect();

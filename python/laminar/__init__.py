@@ -76,7 +76,17 @@ def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64")
     return {name: values.reshape(shape) for name, values in out.items()}
 
 
-def fit(measurements, model="exp", grid=None, refine=True, uncertainty="both", threads=None, objective="free"):
+def fit(
+    measurements,
+    model="exp",
+    grid=None,
+    refine=True,
+    uncertainty="both",
+    threads=None,
+    objective="free",
+    resamples=200,
+    seed=0,
+):
     """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
     ``jensen``, ``oren-nayar``) to a :class:`Measurements`.
 
@@ -91,10 +101,13 @@ def fit(measurements, model="exp", grid=None, refine=True, uncertainty="both", t
     (``FitResult.params`` are then the refined values, ``grid_params`` the
     grid's). ``uncertainty``: ``"profile"`` (68%/95% intervals from the
     profile of the objective), ``"jacobian"`` (standard deviations and
-    correlations at the refined optimum), ``"both"`` or ``"off"``; see
-    ``FitResult.parameters``. ``threads``: worker threads (default: all
-    cores)."""
-    return _fit(measurements, model, grid, refine, uncertainty, threads, objective)
+    correlations at the refined optimum), ``"both"`` (the default: with the
+    free objective the headline interval is the robust one, the profile's
+    calibrated by the sandwich covariance), ``"bootstrap"`` (a pairs
+    bootstrap of ``resamples`` refits seeded by ``seed`` as the headline)
+    or ``"off"``; see ``FitResult.parameters``. ``threads``: worker threads
+    (default: all cores)."""
+    return _fit(measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed)
 
 
 def fit_batch(

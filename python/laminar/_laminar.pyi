@@ -10,7 +10,7 @@ import numpy.typing as npt
 Model = Literal["exp", "gauss", "rh-exp", "rh-gauss", "jensen", "oren-nayar"]
 LayeredModel = Literal["exp", "gauss", "rh-exp", "rh-gauss"]
 Objective = Literal["free", "paper"]
-Uncertainty = Literal["off", "profile", "jacobian", "both"]
+Uncertainty = Literal["off", "profile", "jacobian", "both", "bootstrap"]
 Quantity = Literal["brdf", "radiance"]
 AngleUnit = Literal["rad", "deg"]
 Precision = Literal["f64", "f32"]
@@ -144,6 +144,8 @@ def fit(
     uncertainty: Uncertainty = "both",
     threads: Optional[int] = None,
     objective: Objective = "free",
+    resamples: int = 200,
+    seed: int = 0,
 ) -> FitResult: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],

@@ -70,7 +70,7 @@ def _seconds_per_set(k, options):
     (:data:`STAGE_SECONDS`)."""
     stages = STAGE_SECONDS[options["objective"]]
     refine = stages["refine"] if options["refine"] else 0.0
-    profile = stages["profile"] if options["uncertainty"] in ("profile", "both") else 0.0
+    profile = stages["profile"] if options["uncertainty"] in ("profile", "both", "bootstrap") else 0.0
     return max(k, 1) * (stages["search"] + refine + profile)
 
 

@@ -327,10 +327,14 @@ fn fitter(
     refine: bool,
     uncertainty: &str,
     objective: &str,
+    (resamples, seed): (u64, u64),
 ) -> PyResult<Fitter> {
     let mut s = Settings::default();
     s.set("objective", objective).map_err(value_error)?;
     s.set("uncertainty", uncertainty).map_err(value_error)?;
+    s.set("resamples", &resamples.to_string())
+        .map_err(value_error)?;
+    s.set("seed", &seed.to_string()).map_err(value_error)?;
     s.analysis.refine = refine;
     s.threads = threads;
     for (name, spec) in grid.unwrap_or_default() {
@@ -751,7 +755,7 @@ fn render<'py>(
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free"))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0))]
 #[allow(clippy::too_many_arguments)]
 fn fit(
     py: Python<'_>,
@@ -762,9 +766,18 @@ fn fit(
     uncertainty: &str,
     threads: Option<usize>,
     objective: &str,
+    resamples: u64,
+    seed: u64,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
-    let fitter = fitter(grid, threads, refine, uncertainty, objective)?;
+    let fitter = fitter(
+        grid,
+        threads,
+        refine,
+        uncertainty,
+        objective,
+        (resamples, seed),
+    )?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
@@ -880,7 +893,14 @@ fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let fitter = fitter(grid, threads, refine, uncertainty, objective)?;
+    let fitter = fitter(
+        grid,
+        threads,
+        refine,
+        uncertainty,
+        objective,
+        (laminar_fit::analysis::DEFAULT_RESAMPLES as u64, 0),
+    )?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

@@ -48,8 +48,14 @@ export interface FitOptions {
   objective?: 'free' | 'paper';
   /** Refine the best grid point (default true). */
   refine?: boolean;
-  /** Intervals and standard deviations (default 'both'). */
-  uncertainty?: 'off' | 'profile' | 'jacobian' | 'both';
+  /** Intervals and standard deviations (default 'both': with the free
+   * objective the robust interval is the headline; 'bootstrap' adds a pairs
+   * bootstrap's percentile intervals as the headline). */
+  uncertainty?: 'off' | 'profile' | 'jacobian' | 'both' | 'bootstrap';
+  /** Resamples of the bootstrap, 2 to 100000 (default 200). */
+  resamples?: number;
+  /** Seed of the bootstrap's resamples (default 0). */
+  seed?: number;
   /** Grid axes (and the free objective's box) as `start:stop:count`,
    * `start:stop:count:log` or one value (default: the objective's grid). */
   slope?: string;
@@ -95,6 +101,16 @@ pub(crate) fn settings_from_js(
                 .as_string()
                 .ok_or_else(|| error(format_args!("options.{name}: give a string")))?;
             s.set(name, &text)
+                .map_err(|e| error(format_args!("options.{e}")))?;
+        }
+    }
+    for name in ["resamples", "seed"] {
+        if let Some(v) = field(name)? {
+            let n = v
+                .as_f64()
+                .filter(|n| n.is_finite() && n.fract() == 0.0 && *n >= 0.0)
+                .ok_or_else(|| error(format_args!("options.{name}: give a whole number")))?;
+            s.set(name, &format!("{n:.0}"))
                 .map_err(|e| error(format_args!("options.{e}")))?;
         }
     }

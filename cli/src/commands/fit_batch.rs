@@ -134,17 +134,10 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
             .enumerate()
             .map(|(i, set)| scene(done + i, set))
             .collect::<Result<Vec<_>, _>>()?;
-        let by_model: Vec<Vec<laminar_fit::Fit>> = args
-            .models
-            .iter()
-            .map(|&model| fitter.fit_batch(&scenes, model))
-            .collect();
-        for row in 0..scenes.len() {
-            for fits in &by_model {
-                let fit = &fits[row];
-                pairs += fit.evaluated as f64 * fit.measurements as f64;
-                out.write(fit).map_err(|e| io_error(&args.out, e))?;
-            }
+        // Set-major, each set's models ranked (Fitter::fit_all).
+        for fit in &fitter.fit_all(&scenes, &args.models, |_, _| None)? {
+            pairs += fit.evaluated as f64 * fit.measurements as f64;
+            out.write(fit).map_err(|e| io_error(&args.out, e))?;
         }
         done += scenes.len();
         bar.inc(scenes.len() as u64);

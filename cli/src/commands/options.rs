@@ -253,10 +253,26 @@ pub struct AnalysisArgs {
     pub refine: Switch,
     /// Uncertainty of each parameter: profile (68%/95% intervals from the
     /// profile of the objective), jacobian (sd and correlations from
-    /// the Jacobian at the refined optimum, when no bound is active), both,
-    /// or off.
+    /// the Jacobian at the refined optimum, when no bound is active), both
+    /// (free objective: the robust interval, the profile's calibrated by the
+    /// sandwich covariance, as the headline), bootstrap (both, and a pairs
+    /// bootstrap's percentile intervals as the headline), or off.
     #[arg(long, default_value = "both", value_parser = parse_uncertainty)]
     pub uncertainty: Uncertainty,
+    /// Resamples of the bootstrap (`--uncertainty bootstrap`), 2 to 100000.
+    #[arg(long, default_value = "200", allow_hyphen_values = true, value_parser = parse_resamples)]
+    pub resamples: usize,
+    /// Seed of the bootstrap's resamples: the same seed, the same intervals.
+    #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = parse_seed)]
+    pub seed: u64,
+}
+
+fn parse_resamples(s: &str) -> Result<usize, String> {
+    laminar_fit::analysis::parse_resamples(s)
+}
+
+fn parse_seed(s: &str) -> Result<u64, String> {
+    laminar_fit::analysis::parse_seed(s)
 }
 
 fn parse_uncertainty(s: &str) -> Result<Uncertainty, UnknownName> {
@@ -269,6 +285,8 @@ impl AnalysisArgs {
         Analysis {
             refine: self.refine == Switch::On,
             uncertainty: self.uncertainty,
+            resamples: self.resamples,
+            seed: self.seed,
         }
     }
 }

@@ -6,6 +6,7 @@
 //! [`crate::paper::driver`]; [`crate::Fitter`] dispatches to one or the other.
 
 use super::basis::Basis;
+use super::bootstrap::bootstrap;
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::layout::{domain_of, estimate, params_of, raw_terms, Layout};
 use super::problem::{Point, Problem};
@@ -76,10 +77,7 @@ fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Ana
             };
         };
         let covariance = JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
-        let wants_profile = matches!(
-            analysis.uncertainty,
-            Uncertainty::Profile | Uncertainty::Both
-        );
+        let wants_profile = analysis.uncertainty.profile();
         let rounding = fitted_to_rounding(problem, &levels);
         if !wants_profile || rounding {
             return Analysed {
@@ -289,7 +287,15 @@ fn fit_from(
         .map(|c| c.value(&grid_point, &problem))
         .collect();
     if !analysis.refine {
-        record.parameters = parameters(layout, &problem, &grid_values_of, None, &grid_point, None);
+        record.parameters = parameters(
+            layout,
+            &problem,
+            &grid_values_of,
+            None,
+            &grid_point,
+            None,
+            None,
+        );
         record.chi2_weighted = chi2_weighted(&problem, &grid_point);
         return record;
     }
@@ -311,6 +317,17 @@ fn fit_from(
     };
     let minimum = &analysed.minimum;
     let refined_estimate = estimate(scene, &problem, model, minimum);
+    let resampled = (analysis.uncertainty == Uncertainty::Bootstrap)
+        .then(|| {
+            bootstrap(
+                &problem,
+                layout,
+                minimum,
+                (analysis.resamples, analysis.seed),
+                |i| domain_of(layout, i),
+            )
+        })
+        .flatten();
     let mut parameters = parameters(
         layout,
         &problem,
@@ -318,6 +335,7 @@ fn fit_from(
         Some(&analysed),
         minimum,
         Some(analysis.uncertainty),
+        resampled.as_ref(),
     );
     release_faces(
         scene,
@@ -330,12 +348,7 @@ fn fit_from(
     record.covariance = analysed
         .covariance
         .as_ref()
-        .filter(|_| {
-            matches!(
-                analysis.uncertainty,
-                Uncertainty::Jacobian | Uncertainty::Both
-            )
-        })
+        .filter(|_| analysis.uncertainty.jacobian())
         .and_then(|c| correlations(layout, c));
     record.amplitude = Some(minimum.linear.amplitude());
     record.chi2_weighted = chi2_weighted(&problem, minimum);

@@ -17,6 +17,7 @@
 //! Everything reported lies in the box that was searched.
 
 pub mod basis;
+pub mod bootstrap;
 pub mod driver;
 pub mod intervals;
 pub mod layout;

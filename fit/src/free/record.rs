@@ -2,6 +2,7 @@
 //! ([`Parameter`]: grid and refined value, box, flags, intervals) and the
 //! correlations of the Jacobian's covariance.
 
+use super::bootstrap::Bootstrapped;
 use super::driver::Analysed;
 use super::intervals::JacobianCovariance;
 use super::layout::{domain_of, Layout};
@@ -41,6 +42,7 @@ pub(super) fn parameters(
     analysed: Option<&Analysed>,
     at: &Point,
     uncertainty: Option<Uncertainty>,
+    bootstrap: Option<&Bootstrapped>,
 ) -> Vec<Parameter> {
     layout
         .coordinates
@@ -66,7 +68,7 @@ pub(super) fn parameters(
             };
             let covariance = analysed.covariance.as_ref();
             let sd = covariance.and_then(|cov| cov.sd(i));
-            if matches!(uncertainty, Some(Uncertainty::Jacobian | Uncertainty::Both)) {
+            if uncertainty.is_some_and(Uncertainty::jacobian) {
                 p.sd = sd;
             }
             // Flags of what the intervals found, after the open ends'.
@@ -135,12 +137,21 @@ pub(super) fn parameters(
             });
             // The headline: the robust interval by default (`both`), the
             // model-based one asked for otherwise; the others kept.
+            let resampled = bootstrap.map(|b| b.intervals[i]);
+            p.bootstrap_error = resampled.map(|b| b.1);
             let computed = [
+                (Source::Bootstrap, resampled.map(|b| b.0)),
                 (Source::Robust, robust),
                 (Source::Profile, profile),
                 (Source::Jacobian, jacobian),
             ];
             let preference: &[Source] = match uncertainty {
+                Some(Uncertainty::Bootstrap) => &[
+                    Source::Bootstrap,
+                    Source::Robust,
+                    Source::Profile,
+                    Source::Jacobian,
+                ],
                 Some(Uncertainty::Both) => &[Source::Robust, Source::Profile, Source::Jacobian],
                 Some(Uncertainty::Profile) => &[Source::Profile, Source::Jacobian],
                 Some(Uncertainty::Jacobian) => &[Source::Jacobian],

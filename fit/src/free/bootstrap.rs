@@ -1,0 +1,139 @@
+//! The pairs (case-resampling) bootstrap of a free-amplitude fit
+//! (docs/estimation.md, "When the model does not fit"): `B` resamples of
+//! the measurements with replacement, each refitted from the full fit's
+//! minimum, and each parameter's percentile intervals with their own Monte
+//! Carlo error. Like the sandwich it assumes nothing of the residuals but
+//! their independence; unlike it, it sees the estimate's nonlinearity.
+//!
+//! A resample with counts `c_k` (multinomial, `Σ c_k = K`) is the same
+//! objective as the duplicated rows: the weights become `c_k w_k`, so no
+//! basis is rebuilt. Resample `b` draws from its own generator seeded by
+//! `(seed, b)`, and the resamples run in parallel, collected in order: the
+//! intervals do not depend on the thread count.
+
+use super::intervals::Coordinate;
+use super::layout::Layout;
+use super::problem::{Point, Problem};
+use super::refine::{minimise, SCREENING};
+use crate::profile::Interval;
+use crate::synthetic::Noise;
+use rayon::prelude::*;
+
+/// Resamples a bootstrap draws unless told otherwise.
+pub const DEFAULT_RESAMPLES: usize = 200;
+
+/// Most resamples a fit takes.
+pub const MOST_RESAMPLES: usize = 100_000;
+
+/// The two-sided levels' lower quantiles (68.27%, 95%).
+const LOWER: [f64; 2] = [0.158_655_253_931_457, 0.025];
+
+/// Each reported parameter's bootstrap intervals (68.27%, 95%) and the
+/// largest Monte Carlo standard deviation of their four ends.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Bootstrapped {
+    /// Per reported parameter, in the layout's order.
+    pub(super) intervals: Vec<([Interval; 2], f64)>,
+}
+
+/// The generator of resample `b` of a bootstrap seeded `seed`.
+fn generator(seed: u64, b: usize) -> Noise {
+    Noise::new(seed ^ (b as u64).wrapping_mul(0xD605_BBB5_8C8A_BBAD))
+}
+
+/// `problem` with each measurement's weight times its count in a resample.
+fn resampled(problem: &Problem, rng: &mut Noise) -> Problem {
+    let k = problem.data.len();
+    let mut counts = vec![0u32; k];
+    for _ in 0..k {
+        let i = ((rng.uniform() * k as f64) as usize).min(k - 1);
+        counts[i] += 1;
+    }
+    let mut out = problem.clone();
+    for (i, &c) in counts.iter().enumerate() {
+        let c = f64::from(c);
+        out.weight[i] *= c;
+        out.root_weight[i] *= c.sqrt();
+        out.weighted_data[i] *= c;
+    }
+    out.dd = out
+        .weighted_data
+        .iter()
+        .zip(&out.data)
+        .map(|(w, d)| w * d)
+        .sum();
+    out
+}
+
+/// The `q` quantile of sorted `values` (linear between order statistics).
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    let h = q * (sorted.len() - 1) as f64;
+    let (i, f) = (h.floor() as usize, h - h.floor());
+    let j = (i + 1).min(sorted.len() - 1);
+    sorted[i] + f * (sorted[j] - sorted[i])
+}
+
+/// The Monte Carlo standard deviation of the `q` quantile of sorted
+/// `values`: half the spread of the order statistics one binomial standard
+/// deviation `√(B q (1 − q))` either side of it.
+fn quantile_error(sorted: &[f64], q: f64) -> f64 {
+    let b = sorted.len() as f64;
+    let spread = (b * q * (1.0 - q)).sqrt() / b;
+    0.5 * (quantile(sorted, (q + spread).min(1.0)) - quantile(sorted, (q - spread).max(0.0)))
+}
+
+/// The bootstrap of `problem` around its minimum `minimum`: `resamples`
+/// refits seeded by `seed`; `domain(i)` is reported parameter `i`'s domain
+/// (a face of the box that is not one of its bounds leaves an end open).
+/// `None` with fewer than two resamples.
+pub(super) fn bootstrap(
+    problem: &Problem,
+    layout: &Layout,
+    minimum: &Point,
+    (resamples, seed): (usize, u64),
+    domain: impl Fn(usize) -> (f64, f64),
+) -> Option<Bootstrapped> {
+    if resamples < 2 {
+        return None;
+    }
+    let free = vec![true; problem.dim()];
+    let values: Vec<Vec<f64>> = (0..resamples)
+        .into_par_iter()
+        .map(|b| {
+            let p = resampled(problem, &mut generator(seed, b));
+            let point = minimise(&p, &minimum.theta, &free, p.beta, SCREENING).point;
+            layout
+                .coordinates
+                .iter()
+                .map(|c| c.value(&point, &p))
+                .collect()
+        })
+        .collect();
+    let intervals = layout
+        .coordinates
+        .iter()
+        .enumerate()
+        .map(|(i, &c): (usize, &Coordinate)| {
+            let mut sorted: Vec<f64> = values.iter().map(|v| v[i]).collect();
+            sorted.sort_by(f64::total_cmp);
+            let (lo, hi) = c.bounds(problem);
+            let (dlo, dhi) = domain(i);
+            let value = c.value(minimum, problem);
+            let mut error = 0.0f64;
+            let levels = LOWER.map(|q| {
+                let (a, b) = (quantile(&sorted, q), quantile(&sorted, 1.0 - q));
+                error = error
+                    .max(quantile_error(&sorted, q))
+                    .max(quantile_error(&sorted, 1.0 - q));
+                Interval {
+                    lo: a.min(value).max(lo),
+                    hi: b.max(value).min(hi),
+                    open_below: a <= lo && lo > dlo,
+                    open_above: b >= hi && hi < dhi,
+                }
+            });
+            (levels, error)
+        })
+        .collect();
+    Some(Bootstrapped { intervals })
+}
