@@ -46,7 +46,7 @@ impl<B: BaselineModel> Evaluate for Measured<B> {
 
 /// A baseline's terms at a scene's measurements.
 #[derive(Debug)]
-pub(crate) struct BaselineGeometry {
+pub struct BaselineGeometry {
     baseline: Baseline,
     terms: Box<dyn Evaluate>,
 }
@@ -62,7 +62,7 @@ impl Clone for BaselineGeometry {
 
 impl BaselineGeometry {
     /// The terms of `baseline` at `angles`.
-    pub(crate) fn new(baseline: Baseline, angles: &[Angles]) -> Self {
+    pub fn new(baseline: Baseline, angles: &[Angles]) -> Self {
         struct Build<'a>(&'a [Angles]);
         impl WithBaseline for Build<'_> {
             type Output = Box<dyn Evaluate>;
@@ -78,7 +78,7 @@ impl BaselineGeometry {
     }
 
     /// The baseline.
-    pub(crate) fn baseline(&self) -> Baseline {
+    pub fn baseline(&self) -> Baseline {
         self.baseline
     }
 
@@ -87,12 +87,12 @@ impl BaselineGeometry {
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming a parameter outside its domain.
-    pub(crate) fn radiance(&self, params: [f64; 2]) -> Result<Vec<f64>, InputError> {
+    pub fn radiance(&self, params: [f64; 2]) -> Result<Vec<f64>, InputError> {
         self.terms.radiance(params)
     }
 
     /// Number of measurements.
-    pub(crate) fn len(&self) -> usize {
+    pub fn len(&self) -> usize {
         self.terms.len()
     }
 }

@@ -65,7 +65,7 @@ pub mod error;
 pub mod estimate;
 pub mod fit;
 pub mod fitted;
-pub(crate) mod free;
+pub mod free;
 pub mod grid;
 pub mod measurements;
 pub mod misspecified;

@@ -11,7 +11,7 @@
 //! The grid search before it is [`crate::paper::search`]; the free-amplitude
 //! objective has its own pipeline, [`crate::free`].
 
-pub(crate) mod driver;
+pub mod driver;
 pub mod intervals;
 pub mod objective;
 pub mod profiles;
