@@ -24,7 +24,7 @@ export type Edge = "range_edge" | "domain_bound" | "open_below" | "open_above" |
 /**
  * Where an interval comes from.
  */
-export type Source = "profile" | "jacobian" | "robust";
+export type Source = "profile" | "jacobian" | "robust" | "bootstrap";
 
 /**
  * What releasing a bound of the box gives: a diagnostic, not an estimate.
