@@ -540,6 +540,10 @@ pub struct ParameterEntry {
     /// model-based one (about 1 when the model fits).
     #[serde(default)]
     pub misfit_ratio: Option<f64>,
+    /// With a bootstrap: the largest Monte Carlo standard deviation of its
+    /// interval ends.
+    #[serde(default)]
+    pub bootstrap_error: Option<f64>,
     /// The Jacobian's standard deviation (absent at a domain bound).
     pub sd: Option<f64>,
     /// Edge flags (empty for an interior value).
@@ -607,6 +611,7 @@ impl ParameterEntry {
                 })
                 .collect(),
             misfit_ratio: p.misfit_ratio,
+            bootstrap_error: p.bootstrap_error,
             sd: p.sd,
             flags: p.flags.clone(),
             bounds: p.bounds.map(|(lo, hi)| [lo, hi]),

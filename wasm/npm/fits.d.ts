@@ -98,6 +98,11 @@ alternatives: Array<IntervalEntry>,
  */
 misfit_ratio: number | null, 
 /**
+ * With a bootstrap: the largest Monte Carlo standard deviation of its
+ * interval ends.
+ */
+bootstrap_error: number | null, 
+/**
  * The Jacobian's standard deviation (absent at a domain bound).
  */
 sd: number | null, 
