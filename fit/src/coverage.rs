@@ -99,6 +99,24 @@ impl Coverage {
     }
 }
 
+/// The noise settings of the coverage tests (well-specified and
+/// misspecified): σ = 0.01 on every measurement, estimated; and
+/// σ = 0.003 + 0.03·P given to the fit.
+pub const SETTINGS: [NoiseModel; 2] = [
+    NoiseModel::Every(0.01),
+    NoiseModel::Heteroscedastic {
+        floor: 0.003,
+        relative: 0.03,
+    },
+];
+
+/// The 3σ binomial band of a rate whose nominal value is `p`, over
+/// `trials` trials.
+pub fn band(p: f64, trials: usize) -> (f64, f64) {
+    let half = 3.0 * (p * (1.0 - p) / trials as f64).sqrt();
+    (p - half, p + half)
+}
+
 /// Truths drawn uniformly from inside the searched box, away from its ends:
 /// for the free objective σ/T log-uniform over [0.2, 5], β ∈ [0.15, 0.85],
 /// n ∈ [1.15, 2.2], a ∈ [0.1, 0.9]; for the paper objective inside the

@@ -10,26 +10,16 @@
 //! within 3σ binomial bands, and its robust rates (the headline) must not
 //! fall below them.
 
-use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel};
+use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel, SETTINGS};
 use laminar_fit::synthetic::Noise;
 use laminar_fit::{Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
 
-/// The settings where the intervals failed before (issue 21).
-const SETTINGS: [NoiseModel; 2] = [
-    NoiseModel::Every(0.01),
-    NoiseModel::Heteroscedastic {
-        floor: 0.003,
-        relative: 0.03,
-    },
-];
-
 /// The 3σ binomial band of a rate `p` over [`TRIALS`] trials.
 fn band(p: f64) -> (f64, f64) {
-    let half = 3.0 * (p * (1.0 - p) / TRIALS as f64).sqrt();
-    (p - half, p + half)
+    laminar_fit::coverage::band(p, TRIALS)
 }
 
 fn fitter() -> Fitter {

@@ -13,7 +13,7 @@
 //! them, and at least one of them must fall below its band (else the test
 //! would not be testing misfit).
 
-use laminar_fit::coverage::NoiseModel;
+use laminar_fit::coverage::SETTINGS;
 use laminar_fit::misspecified::{design, Truth};
 use laminar_fit::report::Source;
 use laminar_fit::synthetic::Noise;
@@ -26,18 +26,9 @@ const K: usize = 200;
 /// Angles of the dense design.
 const DENSE: usize = 20_000;
 
-const SETTINGS: [NoiseModel; 2] = [
-    NoiseModel::Every(0.01),
-    NoiseModel::Heteroscedastic {
-        floor: 0.003,
-        relative: 0.03,
-    },
-];
-
 /// The 3σ binomial band of a rate `p` over [`TRIALS`] trials.
 fn band(p: f64) -> (f64, f64) {
-    let half = 3.0 * (p * (1.0 - p) / TRIALS as f64).sqrt();
-    (p - half, p + half)
+    laminar_fit::coverage::band(p, TRIALS)
 }
 
 fn value(fit: &Fit, name: Param) -> f64 {
