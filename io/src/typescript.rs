@@ -8,7 +8,11 @@
 //! LAMINAR_BLESS=1 cargo test -p laminar-io typescript
 //! ```
 
-use crate::fits::{Energy, FitEntry, FitsFile, NotIdentified, ParamValue, ParameterEntry, Units};
+use crate::fits::{
+    Energy, FitEntry, FitsFile, IntervalEntry, NotIdentified, ParamValue, ParameterEntry, Units,
+};
+use laminar_fit::adequacy::Adequacy;
+use laminar_fit::choice::{Information, Rank};
 use laminar_fit::fitted::{ModelParams, NormalisationConstants};
 use laminar_fit::report::{Released, Source};
 use laminar_fit::{Edge, FittedModel, Model, Objective, Param};
@@ -52,6 +56,52 @@ fn tidy(text: &str) -> String {
     out.replace(" *\n */", " */")
 }
 
+/// One declared type: its TypeScript name, declaration and the names of the
+/// types it refers to.
+struct Declared {
+    name: fn(&Config) -> String,
+    decl: fn(&Config) -> String,
+    dependencies: fn(&Config) -> Vec<String>,
+}
+
+impl Declared {
+    const fn of<T: TS + 'static>() -> Self {
+        Declared {
+            name: |cfg| T::name(cfg),
+            decl: declare::<T>,
+            dependencies: |cfg| {
+                T::dependencies(cfg)
+                    .into_iter()
+                    .map(|d| d.ts_name)
+                    .collect()
+            },
+        }
+    }
+}
+
+/// Every type the file declares, each after the types it refers to.
+const DECLARED: &[Declared] = &[
+    Declared::of::<Model>(),
+    Declared::of::<Objective>(),
+    Declared::of::<Edge>(),
+    Declared::of::<Source>(),
+    Declared::of::<Released>(),
+    Declared::of::<NotIdentified>(),
+    Declared::of::<ParamValue>(),
+    Declared::of::<IntervalEntry>(),
+    Declared::of::<ParameterEntry>(),
+    Declared::of::<ModelParams>(),
+    Declared::of::<NormalisationConstants>(),
+    Declared::of::<FittedModel>(),
+    Declared::of::<Units>(),
+    Declared::of::<Energy>(),
+    Declared::of::<Adequacy>(),
+    Declared::of::<Information>(),
+    Declared::of::<Rank>(),
+    Declared::of::<FitEntry>(),
+    Declared::of::<FitsFile>(),
+];
+
 /// The whole file.
 fn declarations() -> String {
     let cfg = Config::new();
@@ -66,25 +116,25 @@ fn declarations() -> String {
         "export type Param = {};\n\n",
         union(Param::ALL.map(Param::name))
     );
-    let decls = [
-        declare::<Model>(&cfg),
-        declare::<Objective>(&cfg),
-        declare::<Edge>(&cfg),
-        declare::<Source>(&cfg),
-        declare::<Released>(&cfg),
-        declare::<NotIdentified>(&cfg),
-        declare::<ParamValue>(&cfg),
-        declare::<ParameterEntry>(&cfg),
-        declare::<ModelParams>(&cfg),
-        declare::<NormalisationConstants>(&cfg),
-        declare::<FittedModel>(&cfg),
-        declare::<Units>(&cfg),
-        declare::<Energy>(&cfg),
-        declare::<FitEntry>(&cfg),
-        declare::<FitsFile>(&cfg),
-    ];
+    let decls: Vec<String> = DECLARED.iter().map(|d| (d.decl)(&cfg)).collect();
     out += &decls.join("\n");
     tidy(&out)
+}
+
+#[test]
+fn every_type_the_declarations_name_is_declared() {
+    let cfg = Config::new();
+    let mut names: Vec<String> = vec!["Param".into()];
+    names.extend(DECLARED.iter().map(|d| (d.name)(&cfg)));
+    for d in DECLARED {
+        for dep in (d.dependencies)(&cfg) {
+            assert!(
+                names.contains(&dep),
+                "{} refers to {dep}, which {PATH} does not declare: add it to DECLARED",
+                (d.name)(&cfg)
+            );
+        }
+    }
 }
 
 #[test]

@@ -55,6 +55,31 @@ export type NotIdentified = "not_identified";
 export type ParamValue = number | NotIdentified;
 
 /**
+ * An interval kept beside a parameter's headline.
+ */
+export type IntervalEntry = { 
+/**
+ * Where it comes from.
+ */
+interval: Source, 
+/**
+ * The 68.27% interval's lower end.
+ */
+lo68: number, 
+/**
+ * Its upper end.
+ */
+hi68: number, 
+/**
+ * The 95% interval's lower end.
+ */
+lo95: number, 
+/**
+ * Its upper end.
+ */
+hi95: number, };
+
+/**
  * One searched parameter of a fit in the fitted-model file
  * (docs/conventions.md §11, §11b).
  */
@@ -245,6 +270,63 @@ error: Array<number>,
  * model reflects more energy than it receives.
  */
 energy_gain: boolean, };
+
+/**
+ * What the residuals say of a fit's adequacy.
+ */
+export type Adequacy = { 
+/**
+ * With σ given: `P(χ²_ν ≥ Σ w r²)` (absent without σ).
+ */
+chi2_p: number | null, 
+/**
+ * The runs test's standardised count of runs `(R + ½ − E R)/sd R`
+ * (negative: fewer runs than independent residuals give).
+ */
+runs_z: number | null, 
+/**
+ * Its one-sided p-value `Φ(runs_z)`.
+ */
+runs_p: number | null, 
+/**
+ * True when either p-value is below `LACK_OF_FIT`.
+ */
+lack_of_fit: boolean, };
+
+/**
+ * A fit's information criteria.
+ */
+export type Information = { 
+/**
+ * Akaike's criterion.
+ */
+aic: number, 
+/**
+ * Akaike's with the small-sample correction (NaN-free: absent when
+ * `K ≤ k + 1`).
+ */
+aicc: number | null, 
+/**
+ * Schwarz's Bayesian criterion.
+ */
+bic: number, };
+
+/**
+ * One model's place among the models fitted to a set.
+ */
+export type Rank = { 
+/**
+ * 1 for the best (lowest AICc).
+ */
+rank: number, 
+/**
+ * Its AICc (else AIC) above the best's.
+ */
+delta: number, 
+/**
+ * Its Akaike weight among the models ranked.
+ */
+weight: number, };
 
 /**
  * One fit in the fitted-model file: the CSV's columns (params as an
