@@ -91,6 +91,26 @@ pub fn parse_seed(text: &str) -> Result<u64, String> {
         .map_err(|_| format!("`{text}`: give a whole number from 0 to {}", u64::MAX))
 }
 
+/// Folds of a model comparison's cross-validation unless told otherwise.
+pub const DEFAULT_FOLDS: usize = 5;
+
+/// Most folds (leave-one-out on 100 measurements).
+pub const MOST_FOLDS: usize = 100;
+
+/// The cross-validation's fold count from its text: 0 (none) or a whole
+/// number from 2 to [`MOST_FOLDS`] (the rule every front end applies).
+///
+/// # Errors
+/// A message naming the value and the rule.
+pub fn parse_folds(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n == 0 || (2..=MOST_FOLDS).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "`{text}`: give 0 (no cross-validation) or a whole number from 2 to {MOST_FOLDS}"
+        )),
+    }
+}
+
 /// What a fit does after its grid search.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Analysis {
@@ -101,8 +121,13 @@ pub struct Analysis {
     /// Resamples of the bootstrap ([`Uncertainty::Bootstrap`]), 2 to
     /// [`MOST_RESAMPLES`] ([`parse_resamples`]).
     pub resamples: usize,
-    /// The bootstrap's seed: the same seed, the same intervals.
+    /// The seed of the bootstrap and of the cross-validation's folds: the
+    /// same seed, the same intervals and errors.
     pub seed: u64,
+    /// Folds of the cross-validation of each model when several are
+    /// compared on one set ([`crate::Fitter::fit_all`]; 0 for none, else
+    /// 2 to [`MOST_FOLDS`], [`parse_folds`]).
+    pub folds: usize,
 }
 
 impl Analysis {
@@ -112,6 +137,7 @@ impl Analysis {
         uncertainty: Uncertainty::Both,
         resamples: DEFAULT_RESAMPLES,
         seed: 0,
+        folds: DEFAULT_FOLDS,
     };
     /// The grid search alone.
     pub const NONE: Analysis = Analysis {
@@ -119,6 +145,11 @@ impl Analysis {
         uncertainty: Uncertainty::Off,
         ..Analysis::FULL
     };
+
+    /// This analysis without the cross-validation (a model fitted alone).
+    pub(crate) fn alone(self) -> Analysis {
+        Analysis { folds: 0, ..self }
+    }
 
     /// True when the grid's profile is needed (for intervals or for the
     /// starts of the refinement).

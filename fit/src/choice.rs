@@ -10,6 +10,11 @@
 //! constants are the same for every model fitted to one set, so
 //! differences rank the models; the lowest AICc ranks first, and its
 //! Akaike weight `exp(−ΔAICc/2)/Σ exp(−ΔAICc/2)` says by how much.
+//!
+//! Beside the criteria, each model compared is cross-validated
+//! ([`CrossValidation`], [`crate::Analysis::folds`] folds): an error
+//! that assumes nothing of the likelihood, so it still ranks fairly when
+//! no model is right.
 
 use serde::{Deserialize, Serialize};
 
@@ -54,6 +59,22 @@ impl Information {
     pub fn score(&self) -> f64 {
         self.aicc.unwrap_or(self.aic)
     }
+}
+
+/// A fit's K-fold cross-validated error ([`crate::free`]'s
+/// `cross_validation`): each measurement predicted by the fit to the folds
+/// that hold it out.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
+pub struct CrossValidation {
+    /// Folds the measurements were dealt into.
+    pub folds: usize,
+    /// `sqrt(Σ w r²/K)` of the held-out residuals (w = 1/σ² with σ
+    /// given, else 1: then in units of the data divided by their max).
+    pub rms: f64,
+    /// The same measure of the full fit's own residuals, for comparison:
+    /// `rms` well above it says the model follows its training noise.
+    pub in_sample: f64,
 }
 
 /// One model's place among the models fitted to a set.

@@ -4,6 +4,7 @@
 
 use crate::error::ModelError;
 use crate::fitted::{FittedModel, ModelParams};
+use crate::graphics_metrics::GraphicsMetrics;
 use crate::model::Model;
 use crate::scene::Scene;
 use laminar_core::{chi_square_per_dof, rms_error, ChiSquare};
@@ -18,6 +19,8 @@ pub struct Estimate {
     pub rms: f64,
     /// `χ²/ν` (eq. 16), when there are degrees of freedom left.
     pub chi2: Option<ChiSquare<f64>>,
+    /// The graphics literature's measures ([`crate::graphics_metrics`]).
+    pub graphics: Option<GraphicsMetrics>,
 }
 
 impl Estimate {
@@ -32,6 +35,7 @@ impl Estimate {
             fitted,
             rms: rms_error(&scene.data, &prediction).unwrap_or(f64::NAN),
             chi2: chi_square_per_dof(&scene.data, &prediction, model.parameter_count()).ok(),
+            graphics: GraphicsMetrics::new(&scene.data, &prediction, scene.data_scale),
         })
     }
 
@@ -66,6 +70,7 @@ impl Estimate {
             fitted,
             rms: rms_error(&scene.data, prediction).unwrap_or(f64::NAN),
             chi2: chi_square_per_dof(&scene.data, prediction, p).ok(),
+            graphics: GraphicsMetrics::new(&scene.data, prediction, scene.data_scale),
         }
     }
 

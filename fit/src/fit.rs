@@ -192,10 +192,16 @@ impl Fitter {
     /// fitter's path, a fixed at 0 for the Ragheb–Hancock variants; the
     /// baselines their own grids, [`crate::model::baseline_grid`]).
     pub fn fit(&self, scene: &Scene, model: Model) -> Fit {
+        self.fit_with(scene, model, self.analysis.alone())
+    }
+
+    /// [`Fitter::fit`] with `analysis` (the fitter's, with or without the
+    /// folds of a model comparison).
+    fn fit_with(&self, scene: &Scene, model: Model, analysis: Analysis) -> Fit {
         let tick = || self.tick();
         self.run(|| match self.objective {
             Objective::Free => {
-                let fit = free::driver::fit(scene, model, &self.grid, self.analysis);
+                let fit = free::driver::fit(scene, model, &self.grid, analysis);
                 tick();
                 fit
             }
@@ -211,7 +217,9 @@ impl Fitter {
     /// supplies parameters, they are assessed ([`Fitter::assess`]) instead
     /// of searched: a data set's own Oren–Nayar parameters, for example.
     /// With several models, each set's fits are ranked by their
-    /// information criteria ([`Fit::rank`], [`crate::choice`]).
+    /// information criteria ([`Fit::rank`], [`crate::choice`]) and, under
+    /// the free objective, cross-validated ([`Fit::cross_validation`],
+    /// [`Analysis::folds`] folds).
     ///
     /// # Errors
     /// [`FitError::Model`] when given parameters are outside their domain or not the model's.
@@ -221,20 +229,24 @@ impl Fitter {
         models: &[Model],
         given: impl Fn(usize, Model) -> Option<ModelParams>,
     ) -> Result<Vec<Fit>, FitError> {
+        let analysis = match models.len() {
+            0 | 1 => self.analysis.alone(),
+            _ => self.analysis,
+        };
         let mut by_model = Vec::with_capacity(models.len());
         for &model in models {
             let params: Vec<Option<ModelParams>> =
                 (0..scenes.len()).map(|j| given(j, model)).collect();
             by_model.push(
                 if model.is_layered() && params.iter().all(Option::is_none) {
-                    self.fit_batch(scenes, model)
+                    self.fit_batch_with(scenes, model, analysis)
                 } else {
                     scenes
                         .iter()
                         .zip(params)
                         .map(|(scene, params)| match params {
                             Some(params) => self.assess(scene, model, params),
-                            None => Ok(self.fit(scene, model)),
+                            None => Ok(self.fit_with(scene, model, analysis)),
                         })
                         .collect::<Result<Vec<_>, _>>()?
                 },
@@ -314,11 +326,15 @@ impl Fitter {
     /// # Ok::<(), laminar_fit::FitError>(())
     /// ```
     pub fn fit_batch(&self, scenes: &[Scene], model: Model) -> Vec<Fit> {
+        self.fit_batch_with(scenes, model, self.analysis.alone())
+    }
+
+    /// [`Fitter::fit_batch`] with `analysis` (the fitter's, with or without
+    /// the folds of a model comparison).
+    fn fit_batch_with(&self, scenes: &[Scene], model: Model, analysis: Analysis) -> Vec<Fit> {
         let tick = || self.tick();
         self.run(|| match self.objective {
-            Objective::Free => {
-                free::driver::fit_batch(scenes, model, &self.grid, self.analysis, &tick)
-            }
+            Objective::Free => free::driver::fit_batch(scenes, model, &self.grid, analysis, &tick),
             Objective::Paper => self.paper(&tick).fit_batch(scenes, model),
         })
     }

@@ -66,6 +66,7 @@ pub mod estimate;
 pub mod fit;
 pub mod fitted;
 pub mod free;
+pub mod graphics_metrics;
 pub mod grid;
 pub mod measurements;
 pub mod misspecified;

@@ -5,7 +5,7 @@
 //! ([`crate::paper::driver`], [`crate::free::driver`]); every writer reads it.
 
 use crate::adequacy::Adequacy;
-use crate::choice::{Information, Rank};
+use crate::choice::{CrossValidation, Information, Rank};
 use crate::covariance::Covariance;
 use crate::edges::Edge;
 use crate::estimate::Estimate;
@@ -64,6 +64,10 @@ pub struct Fit {
     /// Its place among the models fitted to the same set
     /// ([`crate::Fitter::fit_all`] with several models; [`crate::choice::rank`]).
     pub rank: Option<Rank>,
+    /// Free-amplitude fits compared with other models on the same set: the
+    /// K-fold cross-validated error ([`crate::choice::CrossValidation`];
+    /// [`crate::Analysis::folds`]).
+    pub cross_validation: Option<CrossValidation>,
 }
 
 impl Fit {

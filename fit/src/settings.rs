@@ -21,7 +21,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::analysis::{parse_resamples, parse_seed, Analysis};
+use crate::analysis::{parse_folds, parse_resamples, parse_seed, Analysis};
 use crate::error::{choices, FitError, GridError, UnknownName};
 use crate::fit::Fitter;
 use crate::fitted::param_names;
@@ -76,12 +76,13 @@ pub enum SettingError {
 }
 
 /// The names [`Settings::set`] takes besides the grid's axes ([`Grid::PARAMS`]).
-pub const NAMES: [&str; 7] = [
+pub const NAMES: [&str; 8] = [
     "objective",
     "refine",
     "uncertainty",
     "resamples",
     "seed",
+    "folds",
     "path",
     "threads",
 ];
@@ -90,7 +91,8 @@ impl Settings {
     /// Sets option `name` from its text: `objective` (`free`, `paper`),
     /// `refine` (`true`, `false`), `uncertainty` (`off`, `profile`,
     /// `jacobian`, `both`, `bootstrap`), `resamples` (the bootstrap's, 2 to
-    /// 100,000), `seed` (the bootstrap's), `path` (`METHOD-ARITH`),
+    /// 100,000), `seed` (the bootstrap's and the folds'), `folds` (of the
+    /// cross-validation comparing models: 0, or 2 to 100), `path` (`METHOD-ARITH`),
     /// `threads` (a count)
     /// or a grid axis by its parameter's name (`slope`, `beta`, `n`, `a`:
     /// `start:stop:count`, `start:stop:count:log` or one value).
@@ -116,6 +118,7 @@ impl Settings {
             }
             "resamples" => self.analysis.resamples = parse_resamples(value).map_err(invalid)?,
             "seed" => self.analysis.seed = parse_seed(value).map_err(invalid)?,
+            "folds" => self.analysis.folds = parse_folds(value).map_err(invalid)?,
             "path" => self.path = value.parse().map_err(|e| invalid(format!("{e}")))?,
             "threads" => {
                 let t = value

@@ -17,8 +17,9 @@
 
 use crate::error::ReadError;
 use laminar_fit::adequacy::Adequacy;
-use laminar_fit::choice::{Information, Rank};
+use laminar_fit::choice::{CrossValidation, Information, Rank};
 use laminar_fit::fitted::format_value;
+use laminar_fit::graphics_metrics::GraphicsMetrics;
 use laminar_fit::model::{all_params, Param};
 use laminar_fit::profile::Interval;
 use laminar_fit::report::{Released, Source, NOT_IDENTIFIED};
@@ -70,7 +71,7 @@ pub const PARAMETER_COLUMNS: [&str; 12] = [
 
 /// The columns after the parameters' (the objective's, last so that the
 /// columns before them keep their places).
-pub const FIT_COLUMNS: [&str; 11] = [
+pub const FIT_COLUMNS: [&str; 14] = [
     "correlations",
     "trade_offs",
     "objective",
@@ -82,6 +83,9 @@ pub const FIT_COLUMNS: [&str; 11] = [
     "aicc",
     "bic",
     "rank",
+    "cv_rms",
+    "cosine_rms",
+    "cube_root",
 ];
 
 /// The full CSV header for fits of `models`: [`CSV_HEADER`], then
@@ -222,6 +226,10 @@ fn row(e: &FitEntry, names: &[Param]) -> Vec<String> {
     out.push(opt(e.information.and_then(|i| i.aicc)));
     out.push(opt(e.information.map(|i| i.bic)));
     out.push(e.rank.map(|r| r.rank.to_string()).unwrap_or_default());
+    out.push(opt(e.cross_validation.map(|c| c.rms)));
+    let measure = |m: Option<f64>| m.map(|m| format!("{m:.6e}")).unwrap_or_default();
+    out.push(measure(e.graphics.map(|g| g.cosine_rms)));
+    out.push(measure(e.graphics.map(|g| g.cube_root)));
     out
 }
 
@@ -369,6 +377,14 @@ pub struct FitEntry {
     /// The model's place among those fitted to the same set (several models).
     #[serde(default)]
     pub rank: Option<Rank>,
+    /// Free objective, several models: the K-fold cross-validated error
+    /// ([`laminar_fit::choice::CrossValidation`]).
+    #[serde(default)]
+    pub cross_validation: Option<CrossValidation>,
+    /// The graphics literature's error measures of the reported estimate
+    /// ([`laminar_fit::graphics_metrics`]).
+    #[serde(default)]
+    pub graphics: Option<GraphicsMetrics>,
     /// The fitted model's energy, when asked for (`laminar fit --albedo`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy: Option<Energy>,
@@ -688,6 +704,8 @@ impl FitEntry {
             adequacy: r.adequacy,
             information: r.information,
             rank: r.rank,
+            cross_validation: r.cross_validation,
+            graphics: reported.graphics,
             energy: None,
         }
     }
@@ -869,10 +887,12 @@ pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {
 /// Records as a Markdown table: each fit's reported Δ_RMS and χ²/ν (as
 /// the CSV's `rms` and `chi2_dof`), parameters, adequacy (`fit`: `ok` or
 /// `lack of fit` with the p-value that says so) and, for the models fitted
-/// to one set, their ranking by AICc (`rank`, `ΔAICc`, Akaike `weight`).
+/// to one set, their ranking by AICc (`rank`, `ΔAICc`, Akaike `weight`)
+/// and cross-validated error (`cv_rms`).
 pub fn markdown(records: &[Fit]) -> String {
     let header = [
-        "sample", "channel", "model", "rms", "chi2_dof", "params", "fit", "rank", "ΔAICc", "weight",
+        "sample", "channel", "model", "rms", "chi2_dof", "params", "fit", "rank", "ΔAICc",
+        "weight", "cv_rms",
     ];
     let rows: Vec<Vec<String>> = records
         .iter()
@@ -893,6 +913,7 @@ pub fn markdown(records: &[Fit]) -> String {
                 e.rank
                     .map(|k| format!("{:.3}", k.weight))
                     .unwrap_or_default(),
+                opt(e.cross_validation.map(|c| c.rms)),
             ]
         })
         .collect();

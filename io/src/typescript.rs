@@ -12,8 +12,9 @@ use crate::fits::{
     Energy, FitEntry, FitsFile, IntervalEntry, NotIdentified, ParamValue, ParameterEntry, Units,
 };
 use laminar_fit::adequacy::Adequacy;
-use laminar_fit::choice::{Information, Rank};
+use laminar_fit::choice::{CrossValidation, Information, Rank};
 use laminar_fit::fitted::{ModelParams, NormalisationConstants};
+use laminar_fit::graphics_metrics::GraphicsMetrics;
 use laminar_fit::report::{Released, Source};
 use laminar_fit::{Edge, FittedModel, Model, Objective, Param};
 use ts_rs::{Config, TS};
@@ -98,6 +99,8 @@ const DECLARED: &[Declared] = &[
     Declared::of::<Adequacy>(),
     Declared::of::<Information>(),
     Declared::of::<Rank>(),
+    Declared::of::<CrossValidation>(),
+    Declared::of::<GraphicsMetrics>(),
     Declared::of::<FitEntry>(),
     Declared::of::<FitsFile>(),
 ];

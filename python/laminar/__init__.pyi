@@ -1,6 +1,6 @@
 """Type stubs of the laminar package."""
 
-from typing import Optional
+from typing import Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -35,7 +35,21 @@ def fit(
     uncertainty: Uncertainty = "both",
     threads: Optional[int] = None,
     objective: Objective = "free",
+    resamples: int = 200,
+    seed: int = 0,
 ) -> FitResult: ...
+def compare(
+    measurements: Measurements,
+    models: Optional[Sequence[Model]] = None,
+    grid: Grid = None,
+    refine: bool = True,
+    uncertainty: Uncertainty = "both",
+    threads: Optional[int] = None,
+    objective: Objective = "free",
+    resamples: int = 200,
+    seed: int = 0,
+    folds: int = 5,
+) -> list[FitResult]: ...
 def fit_batch(
     geometry: npt.ArrayLike,
     values: npt.ArrayLike,

@@ -106,6 +106,16 @@ class FitResult:
     def amplitude(self) -> Optional[float]: ...
     @property
     def chi2w_dof(self) -> Optional[float]: ...
+    @property
+    def adequacy(self) -> Optional[dict[str, object]]: ...
+    @property
+    def information(self) -> Optional[dict[str, Optional[float]]]: ...
+    @property
+    def rank(self) -> Optional[dict[str, float]]: ...
+    @property
+    def cross_validation(self) -> Optional[dict[str, float]]: ...
+    @property
+    def graphics(self) -> Optional[dict[str, float]]: ...
     def predict(
         self, theta_i: Array, phi_i: Array, theta_v: Array, phi_v: Array, radiance: bool = False
     ) -> Array: ...
@@ -147,6 +157,18 @@ def fit(
     resamples: int = 200,
     seed: int = 0,
 ) -> FitResult: ...
+def compare(
+    measurements: Measurements,
+    models: Optional[list[str]] = None,
+    grid: Grid = None,
+    refine: bool = True,
+    uncertainty: Uncertainty = "both",
+    threads: Optional[int] = None,
+    objective: Objective = "free",
+    resamples: int = 200,
+    seed: int = 0,
+    folds: int = 5,
+) -> list[FitResult]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
     values: npt.NDArray[np.float64],

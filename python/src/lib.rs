@@ -327,9 +327,10 @@ fn fitter(
     refine: bool,
     uncertainty: &str,
     objective: &str,
-    (resamples, seed): (u64, u64),
+    (resamples, seed, folds): (u64, u64, u64),
 ) -> PyResult<Fitter> {
     let mut s = Settings::default();
+    s.set("folds", &folds.to_string()).map_err(value_error)?;
     s.set("objective", objective).map_err(value_error)?;
     s.set("uncertainty", uncertainty).map_err(value_error)?;
     s.set("resamples", &resamples.to_string())
@@ -494,6 +495,42 @@ impl FitResult {
     #[getter]
     fn chi2w_dof(&self) -> Option<f64> {
         self.fit.chi2_weighted
+    }
+
+    /// Free objective, refined: what the residuals say of the model's
+    /// adequacy, `{"chi2_p", "runs_z", "runs_p", "lack_of_fit"}` (None
+    /// where not computed).
+    #[getter]
+    fn adequacy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.fit.adequacy)
+    }
+
+    /// Free objective, refined: the information criteria, `{"aic", "aicc", "bic"}`.
+    #[getter]
+    fn information<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.fit.information)
+    }
+
+    /// From `compare`: the model's place among those compared,
+    /// `{"rank", "delta", "weight"}` (ΔAICc and the Akaike weight).
+    #[getter]
+    fn rank<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.fit.rank)
+    }
+
+    /// From `compare`: the K-fold cross-validated error,
+    /// `{"folds", "rms", "in_sample"}`.
+    #[getter]
+    fn cross_validation<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.fit.cross_validation)
+    }
+
+    /// The graphics literature's error measures of the estimate,
+    /// `{"cosine_rms", "cube_root"}` (Ngan et al.'s cos θi-weighted RMS and
+    /// Forés et al.'s cube-root distance, in the input's units).
+    #[getter]
+    fn graphics<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_python(py, &self.fit.estimate().graphics)
     }
 
     /// The normalised prediction P at lab-frame angles (radians), as the fit
@@ -776,11 +813,53 @@ fn fit(
         refine,
         uncertainty,
         objective,
-        (resamples, seed),
+        (resamples, seed, 0),
     )?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
+}
+
+/// Fits each of `models` (default: every model) to `measurements` and
+/// compares them: each result's `rank` (by AICc, with ΔAICc and the Akaike
+/// weight), `information` and `cross_validation` (`folds`-fold, seeded by
+/// `seed`), in the order of `models`.
+#[pyfunction]
+#[pyo3(signature = (measurements, models = None, grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, folds = 5))]
+#[allow(clippy::too_many_arguments)]
+fn compare(
+    py: Python<'_>,
+    measurements: &Measurements,
+    models: Option<Vec<String>>,
+    grid: Option<HashMap<String, Bound<'_, PyAny>>>,
+    refine: bool,
+    uncertainty: &str,
+    threads: Option<usize>,
+    objective: &str,
+    resamples: u64,
+    seed: u64,
+    folds: u64,
+) -> PyResult<Vec<FitResult>> {
+    let models: Vec<Model> = match models {
+        Some(names) => names
+            .iter()
+            .map(|m| parse("models", m))
+            .collect::<PyResult<_>>()?,
+        None => Model::ALL.to_vec(),
+    };
+    let fitter = fitter(
+        grid,
+        threads,
+        refine,
+        uncertainty,
+        objective,
+        (resamples, seed, folds),
+    )?;
+    let scene = measurements.scene()?;
+    let fits = py
+        .detach(|| fitter.fit_all(std::slice::from_ref(&scene), &models, |_, _| None))
+        .map_err(value_error)?;
+    Ok(fits.into_iter().map(|fit| FitResult { fit }).collect())
 }
 
 /// The layered models' parameters, in the order of their batch columns.
@@ -899,7 +978,7 @@ fn fit_batch<'py>(
         refine,
         uncertainty,
         objective,
-        (laminar_fit::analysis::DEFAULT_RESAMPLES as u64, 0),
+        (laminar_fit::analysis::DEFAULT_RESAMPLES as u64, 0, 0),
     )?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
@@ -968,6 +1047,7 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(fit, m)?)?;
     m.add_function(wrap_pyfunction!(fit_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(paper_angles, m)?)?;
     m.add_class::<Measurements>()?;
     m.add_class::<FitResult>()?;

@@ -329,6 +329,40 @@ delta: number,
 weight: number, };
 
 /**
+ * A fit's K-fold cross-validated error (`crate::free`'s
+ * `cross_validation`): each measurement predicted by the fit to the folds
+ * that hold it out.
+ */
+export type CrossValidation = { 
+/**
+ * Folds the measurements were dealt into.
+ */
+folds: number, 
+/**
+ * `sqrt(Σ w r²/K)` of the held-out residuals (w = 1/σ² with σ
+ * given, else 1: then in units of the data divided by their max).
+ */
+rms: number, 
+/**
+ * The same measure of the full fit's own residuals, for comparison:
+ * `rms` well above it says the model follows its training noise.
+ */
+in_sample: number, };
+
+/**
+ * A fit's graphics error measures (see the module docs).
+ */
+export type GraphicsMetrics = { 
+/**
+ * Ngan et al.'s cos θi-weighted RMS, in the input's units.
+ */
+cosine_rms: number, 
+/**
+ * Forés et al.'s cube-root distance, in the cube root of the input's units.
+ */
+cube_root: number, };
+
+/**
  * One fit in the fitted-model file: the CSV's columns (params as an
  * object) and the portable fitted models.
  */
@@ -448,6 +482,16 @@ information: Information | null,
  * The model's place among those fitted to the same set (several models).
  */
 rank: Rank | null, 
+/**
+ * Free objective, several models: the K-fold cross-validated error
+ * (`laminar_fit::choice::CrossValidation`).
+ */
+cross_validation: CrossValidation | null, 
+/**
+ * The graphics literature's error measures of the reported estimate
+ * (`laminar_fit::graphics_metrics`).
+ */
+graphics: GraphicsMetrics | null, 
 /**
  * The fitted model's energy, when asked for (`laminar fit --albedo`).
  */

@@ -54,8 +54,10 @@ export interface FitOptions {
   uncertainty?: 'off' | 'profile' | 'jacobian' | 'both' | 'bootstrap';
   /** Resamples of the bootstrap, 2 to 100000 (default 200). */
   resamples?: number;
-  /** Seed of the bootstrap's resamples (default 0). */
+  /** Seed of the bootstrap's resamples and of the cross-validation's folds (default 0). */
   seed?: number;
+  /** Folds of the cross-validation comparing models (0 for none, 2 to 100; default 5). */
+  folds?: number;
   /** Grid axes (and the free objective's box) as `start:stop:count`,
    * `start:stop:count:log` or one value (default: the objective's grid). */
   slope?: string;
@@ -104,7 +106,7 @@ pub(crate) fn settings_from_js(
                 .map_err(|e| error(format_args!("options.{e}")))?;
         }
     }
-    for name in ["resamples", "seed"] {
+    for name in ["resamples", "seed", "folds"] {
         if let Some(v) = field(name)? {
             let n = v
                 .as_f64()

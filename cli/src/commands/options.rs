@@ -262,9 +262,18 @@ pub struct AnalysisArgs {
     /// Resamples of the bootstrap (`--uncertainty bootstrap`), 2 to 100000.
     #[arg(long, default_value = "200", allow_hyphen_values = true, value_parser = parse_resamples)]
     pub resamples: usize,
-    /// Seed of the bootstrap's resamples: the same seed, the same intervals.
+    /// Seed of the bootstrap's resamples and of the cross-validation's
+    /// folds: the same seed, the same intervals and errors.
     #[arg(long, default_value = "0", allow_hyphen_values = true, value_parser = parse_seed)]
     pub seed: u64,
+    /// Folds of the cross-validation of each model when several are fitted
+    /// (0 for none, else 2 to 100).
+    #[arg(long, default_value = "5", allow_hyphen_values = true, value_parser = parse_folds)]
+    pub folds: usize,
+}
+
+fn parse_folds(s: &str) -> Result<usize, String> {
+    laminar_fit::analysis::parse_folds(s)
 }
 
 fn parse_resamples(s: &str) -> Result<usize, String> {
@@ -287,6 +296,7 @@ impl AnalysisArgs {
             uncertainty: self.uncertainty,
             resamples: self.resamples,
             seed: self.seed,
+            folds: self.folds,
         }
     }
 }

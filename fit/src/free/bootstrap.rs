@@ -44,14 +44,19 @@ fn generator(seed: u64, b: usize) -> Noise {
 /// `problem` with each measurement's weight times its count in a resample.
 fn resampled(problem: &Problem, rng: &mut Noise) -> Problem {
     let k = problem.data.len();
-    let mut counts = vec![0u32; k];
+    let mut counts = vec![0.0; k];
     for _ in 0..k {
         let i = ((rng.uniform() * k as f64) as usize).min(k - 1);
-        counts[i] += 1;
+        counts[i] += 1.0;
     }
+    reweighted(problem, &counts)
+}
+
+/// `problem` with measurement `k`'s weight times `counts[k]` (a resample's
+/// count, or 0 for a measurement held out of a fold).
+pub(super) fn reweighted(problem: &Problem, counts: &[f64]) -> Problem {
     let mut out = problem.clone();
     for (i, &c) in counts.iter().enumerate() {
-        let c = f64::from(c);
         out.weight[i] *= c;
         out.root_weight[i] *= c.sqrt();
         out.weighted_data[i] *= c;

@@ -7,6 +7,7 @@
 
 use super::basis::Basis;
 use super::bootstrap::bootstrap;
+use super::cross_validation::cross_validate;
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
 use super::layout::{domain_of, estimate, params_of, raw_terms, Layout};
 use super::problem::{Point, Problem};
@@ -279,6 +280,7 @@ fn fit_from(
         adequacy: None,
         information: None,
         rank: None,
+        cross_validation: None,
         best: best.clone(),
     };
     let grid_values_of: Vec<f64> = layout
@@ -359,6 +361,7 @@ fn fit_from(
         problem.parameter_count(),
         problem.weighted,
     );
+    record.cross_validation = cross_validate(&problem, minimum, (analysis.folds, analysis.seed));
     record.parameters = parameters;
     record.refined = Some(refined_estimate);
     record

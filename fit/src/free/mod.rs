@@ -18,6 +18,7 @@
 
 pub mod basis;
 pub mod bootstrap;
+mod cross_validation;
 pub mod driver;
 pub mod intervals;
 pub mod layout;

@@ -268,6 +268,7 @@ pub(crate) fn record(
         adequacy: None,
         information: None,
         rank: None,
+        cross_validation: None,
     }
 }
 
