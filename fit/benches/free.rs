@@ -6,12 +6,16 @@
 //! `CURET_DIR` is set, else the built-in synthetic one (K = 200); the
 //! batch's sets are the model at parameters drawn inside the box plus
 //! seeded noise of 1% of the max on every measurement on that geometry.
+//! The `free_analysis` group times what docs/estimation.md's analyses cost
+//! per set on one thread: the pairs bootstrap (B = 200, on top of the
+//! defaults) and the comparison of the six models (each fitted with the
+//! defaults and 5-fold cross-validated, then ranked).
 //! Run: `cargo bench --bench free`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use laminar_fit::coverage::{noisy_sets, NoiseModel};
 use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene};
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -81,5 +85,31 @@ fn free(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, free);
+fn analyses(c: &mut Criterion) {
+    let (label, scene) = scene();
+    let one_thread = |analysis| {
+        Fitter::new(Grid::user())
+            .expect("the default box is valid")
+            .threads(1)
+            .expect("one thread")
+            .analysis(analysis)
+    };
+    let mut group = c.benchmark_group(format!("free_analysis_{label}"));
+    group.sample_size(10);
+    let bootstrap = one_thread(Analysis {
+        uncertainty: Uncertainty::Bootstrap,
+        ..Analysis::FULL
+    });
+    group.bench_function("exp_bootstrap_200_one_thread", |b| {
+        b.iter(|| black_box(bootstrap.fit(&scene, Model::Exp)))
+    });
+    let compare = one_thread(Analysis::FULL);
+    let scenes = std::slice::from_ref(&scene);
+    group.bench_function("six_models_5_fold_one_thread", |b| {
+        b.iter(|| black_box(compare.fit_all(scenes, &Model::ALL, |_, _| None)))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, free, analyses);
 criterion_main!(benches);
