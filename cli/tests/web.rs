@@ -556,6 +556,16 @@ fn page_fits_in_chromium_as_the_cli_does() {
         ])
         .arg(&expected))
     .unwrap_or_else(|e| panic!("laminar fit: {e}"));
+    // The same example with every model compared.
+    let comparison = dir.join("comparison.json");
+    let every = Model::ALL.map(|m| m.name()).join(",");
+    run(Command::new(env!("CARGO_BIN_EXE_laminar"))
+        .args(["fit", "--measurements"])
+        .arg(&example)
+        .args(["--quantity", "radiance", "--models", &every])
+        .args(["--format", "json", "--out"])
+        .arg(&comparison))
+    .unwrap_or_else(|e| panic!("laminar fit --models {every}: {e}"));
     let screenshot = root.join("target/web-test/page.png");
     let out = stdout(
         Command::new("node")
@@ -563,6 +573,7 @@ fn page_fits_in_chromium_as_the_cli_does() {
             .arg(&site)
             .arg(&expected)
             .arg(&screenshot)
+            .arg(&comparison)
             .env("CHROMIUM", &chromium),
     )
     .unwrap_or_else(|e| panic!("{e}"));

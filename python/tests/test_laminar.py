@@ -61,6 +61,31 @@ def test_fit_of_a_csv_equals_the_cli(tmp_path):
         assert p["interval"] == "robust", name  # the profile calibrated by the sandwich
 
 
+def test_compare_equals_the_cli_with_every_model(tmp_path):
+    g = geometry()
+    path = write_csv(tmp_path / "set.csv", g, radiance(g))
+    m = laminar.Measurements.from_csv(path, quantity="radiance")
+    results = laminar.compare(m, grid=GRID, folds=4, seed=7)
+    models = ",".join(laminar.MODELS)
+    fits = cli_fits("--measurements", path, "--quantity", "radiance", "--models", models, "--folds", 4, "--seed", 7, *GRID_ARGS)
+    assert [json.loads(r.to_json())["fits"][0] for r in results] == fits
+    assert [r.model for r in results] == list(laminar.MODELS)
+    assert sorted(r.rank["rank"] for r in results)[0] == 1
+    assert sum(r.rank["weight"] for r in results) == pytest.approx(1.0)
+    for r, f in zip(results, fits):
+        assert r.cross_validation == f["cross_validation"] and r.cross_validation["folds"] == 4
+        assert r.cross_validation["rms"] >= r.cross_validation["in_sample"]
+        assert r.information == f["information"] and r.adequacy == f["adequacy"]
+        assert set(r.graphics) == {"cosine_rms", "cube_root"}
+    # One model alone is neither ranked nor cross-validated.
+    alone = laminar.fit(m, "exp", grid=GRID)
+    assert alone.rank is None and alone.cross_validation is None and alone.adequacy["lack_of_fit"] in (True, False)
+    with pytest.raises(ValueError, match="folds"):
+        laminar.compare(m, ["exp", "gauss"], folds=1)
+    with pytest.raises(ValueError, match="models"):
+        laminar.compare(m, ["exp", "lambert"])
+
+
 def test_from_arrays_equals_from_csv_and_predict_reproduces_rms(tmp_path):
     g = geometry()
     values = radiance(g, seed=4)
@@ -232,7 +257,7 @@ pool = [
     np.array(["a"]), np.arange(4, dtype=np.int8), g, m, object(), b"bytes", 1j,
 ]
 functions = [
-    (laminar.evaluate, 8), (laminar.fit, 2), (laminar.fit_batch, 3), (laminar.paper_angles, 4),
+    (laminar.evaluate, 8), (laminar.fit, 2), (laminar.compare, 2), (laminar.fit_batch, 3), (laminar.paper_angles, 4),
     (laminar.Measurements.from_arrays, 5), (laminar.Measurements.from_csv, 1),
     (laminar.Measurements.from_merl, 2), (laminar.Measurements.from_curet, 2),
 ]

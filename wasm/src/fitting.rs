@@ -144,16 +144,38 @@ pub fn fit(
     settings: &Settings,
     progress: Option<js_sys::Function>,
 ) -> Result<String, JsError> {
-    let model: Model = model.parse().map_err(error)?;
-    let scene = measurements.set.scene(channel).map_err(error)?;
+    compare(measurements, channel, &[model], settings, progress)
+}
+
+/// Fits each of `models` to `channel` of `measurements` with `settings`, as
+/// `laminar fit --models` does (several models: ranked and
+/// cross-validated, [`laminar_fit::choice`]; JavaScript:
+/// [`crate::js::fitting::compare`]), and returns the fitted-model file of
+/// the fits in the order of `models`; `progress(done, total)` is called
+/// after each grid shard.
+///
+/// # Errors
+/// For an unknown model, or a channel the set lacks or that cannot be fitted.
+pub fn compare(
+    measurements: &Measurements,
+    channel: &str,
+    models: &[&str],
+    settings: &Settings,
+    progress: Option<js_sys::Function>,
+) -> Result<String, JsError> {
+    let models = models
+        .iter()
+        .map(|m| m.parse::<Model>().map_err(error))
+        .collect::<Result<Vec<_>, _>>()?;
+    let scenes = [measurements.set.scene(channel).map_err(error)?];
     let fitter = settings.fitter().map_err(error)?.on_progress(tick);
-    let total = fitter.shards(model);
+    let total = fitter.fit_all_shards(&scenes, &models);
     // A fit started from another fit's callback keeps the outer fit's
     // progress aside and gives it back when done.
     let outer = PROGRESS.with(|slot| slot.replace(progress.map(|f| (f, 0, total))));
-    let fit = fitter.fit(&scene, model);
+    let fits = fitter.fit_all(&scenes, &models, |_, _| None);
     PROGRESS.with(|slot| *slot.borrow_mut() = outer);
-    Ok(fits::json(&[fit]))
+    Ok(fits::json(&fits.map_err(error)?))
 }
 
 /// The normalised prediction of a fitted model at each geometry of

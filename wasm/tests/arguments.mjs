@@ -31,14 +31,14 @@ for (const simd of [false, true]) {
   const pool = [
     undefined, null, true, 0, -1, 0.3, 1.48, 1e308, NaN, Infinity, 2 ** 53, 10n, Symbol('s'), () => 1,
     '', 'exp', 'gauss', 'rh-exp', 'value', '1.2', 'rad', 'radiance', 'x'.repeat(10_000), '\u0000\u001b[2J',
-    [], [0.3, 0.2, 0.5], ['0.3', 0.2, 0.5], [[1]], {}, { length: 1e9 }, { objective: 'paper', refine: 'no' },
+    [], ['exp', 'jensen'], [0.3, 0.2, 0.5], ['0.3', 0.2, 0.5], [[1]], {}, { length: 1e9 }, { objective: 'paper', refine: 'no' },
     { onProgress: 3 }, { slope: 7 }, new Float64Array([0.3, 0.2, 0.5]), new Float64Array(2), new Float32Array(3),
     new Uint8Array([1, 2, 3]), csv, new ArrayBuffer(8), fitted, '{}', m, JSON.parse(fitted).fits[0].fitted,
     { model: 'exp', params: { slope: 1, beta: '0.5', n: 1.4, a: 0 }, normalisation: {} },
   ];
   const exports = [
     ['validateParams', 4], ['totalRadiance', 6], ['totalRadianceF32', 6], ['components', 6],
-    ['curetSamples', 3], ['fit', 4], ['predict', 3], ['fromCsv', 4], ['fromCuret', 4], ['scene', 1],
+    ['curetSamples', 3], ['fit', 4], ['compare', 4], ['predict', 3], ['fromCsv', 4], ['fromCuret', 4], ['scene', 1],
     ['predictFitted', 2],
   ];
   const call = (name, args) => {

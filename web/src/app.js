@@ -24,7 +24,7 @@ const NEEDS_WHOLE = ['files', 'example'];
 for (const id of NEEDS_WHOLE) $(id).disabled = true;
 
 let source = null; // see source.js
-let fitting = null; // { channel, model, source } of the last fit asked for
+let fitting = null; // { channel, model, models, source } of the last fit asked for
 let busy = false; // a fit is under way
 const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
 
@@ -44,9 +44,11 @@ function useSource(s) {
     const what = s.kind === 'csv' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
     status('loaded', `${what}: ${m.length} measurements, channels ${channels.join(', ')}.`);
     $('fit').disabled = busy;
+    $('compare').disabled = busy;
   } catch (e) {
     source = null;
     $('fit').disabled = true;
+    $('compare').disabled = true;
     status('loaded', String(e.message ?? e), true);
   } finally {
     m?.free();
@@ -102,15 +104,18 @@ for (const id of ['angles', 'quantity']) {
 }
 $('sample').addEventListener('change', () => useSource({ ...source, sample: Number($('sample').value) }));
 
-// Fitting, in the worker: one fit at a time.
-$('fit').addEventListener('click', () => {
-  fitting = { channel: $('channel').value, model: $('model').value, source };
+// Fitting, in the worker: one fit (or one comparison) at a time.
+function startFit(models) {
+  fitting = { channel: $('channel').value, model: $('model').value, models, source };
   busy = true;
   $('fit').disabled = true;
+  $('compare').disabled = true;
   $('progress').removeAttribute('value');
   status('fit-status', 'searching the grid…');
   worker.postMessage(fitting);
-});
+}
+$('fit').addEventListener('click', () => startFit(null));
+$('compare').addEventListener('click', () => startFit(MODELS.map((m) => m.name)));
 worker.onmessage = ({ data }) => {
   if (data.progress) {
     const [done, total] = data.progress;
@@ -121,6 +126,7 @@ worker.onmessage = ({ data }) => {
   }
   busy = false;
   $('fit').disabled = source === null;
+  $('compare').disabled = source === null;
   if (data.error) {
     $('progress').value = 0;
     return status('fit-status', data.error, true);
@@ -134,17 +140,41 @@ worker.onmessage = ({ data }) => {
 export const parameterOrder = (entry) =>
   Object.keys(entry.fitted.params).filter((k) => k in entry.parameters).map((k) => [k, entry.parameters[k]]);
 
-function showFit(json) {
-  const entry = JSON.parse(json).fits[0];
-  const rows = parameterOrder(entry).map(([name, p]) => [
-    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
-  ]);
-  $('params').tBodies[0].replaceChildren(...rows.map((cells) => {
+/** Table rows of `cells`, each row's `data-key` its first cell. */
+function tableRows(rows) {
+  return rows.map((cells) => {
     const tr = document.createElement('tr');
-    tr.dataset.parameter = cells[0];
+    tr.dataset.key = cells[0];
     for (const c of cells) tr.appendChild(Object.assign(document.createElement('td'), { textContent: c }));
     return tr;
-  }));
+  });
+}
+
+/** What the residuals say of a fit (`fit` in `laminar fit --format markdown`). */
+export const adequacyText = (a) => {
+  if (!a) return '–';
+  if (!a.lack_of_fit) return 'ok';
+  const p = [['χ²', a.chi2_p], ['runs', a.runs_p]].filter(([, v]) => v !== null && v < 0.01);
+  return `lack of fit (${p.map(([k, v]) => `${k} p = ${v.toExponential(1)}`).join(', ')})`;
+};
+
+/** The comparison table's rows of a fitted-model file's fits (the browser test forms the CLI's the same way). */
+export const rankingRows = (fits) => fits.map((e) => [
+  e.model, e.rank ? String(e.rank.rank) : '–', fmt(e.rank?.delta), fmt(e.rank?.weight),
+  fmt(e.cross_validation?.rms), fmt(e.cross_validation?.in_sample), fmt(e.rms), adequacyText(e.adequacy),
+]);
+
+function showFit(json) {
+  const fits = JSON.parse(json).fits;
+  const compared = fits.length > 1;
+  $('comparison').hidden = !compared;
+  if (compared) $('ranking').tBodies[0].replaceChildren(...tableRows(rankingRows(fits)));
+  // The fit shown in detail: the best ranked of a comparison.
+  const entry = compared ? fits.find((e) => e.rank?.rank === 1) ?? fits[0] : fits[0];
+  const rows = parameterOrder(entry).map(([name, p]) => [
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, fmt(p.interval), p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
+  ]);
+  $('params').tBodies[0].replaceChildren(...tableRows(rows));
   const free = entry.objective === 'free';
   const refined = entry.rms_refined === null ? '' : `, refined ${fmt(entry.rms_refined)}`;
   const beta = free
@@ -153,13 +183,17 @@ function showFit(json) {
   $('measures').textContent = `${entry.sample}/${entry.channel}/${entry.model} (${free ? 'free amplitude' : 'paper'} objective): `
     + `Δ_RMS (eq. 15) ${fmt(entry.rms)} (grid ${fmt(entry.rms_grid)}${refined}); `
     + `χ²/ν (eq. 16) ${fmt(entry.chi2_dof)}; ${entry.measurements} measurements. ${beta}`;
+  const g = entry.graphics;
+  $('adequacy').textContent = `Adequacy: ${adequacyText(entry.adequacy)}.`
+    + (g ? ` Graphics measures: cos θi-weighted RMS ${fmt(g.cosine_rms)} (Ngan et al.), cube-root distance ${fmt(g.cube_root)} (Forés et al.).` : '');
   $('fit-json').textContent = json;
   $('download').href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
   $('results').hidden = false;
   const m = measurementsFrom(L, fitting.source);
   try {
     const scene = m.scene(fitting.channel);
-    scatter($('scatter'), scene.data, L.predict(json, undefined, scene.angles));
+    const select = compared ? `${entry.sample}/${entry.channel}/${entry.model}` : undefined;
+    scatter($('scatter'), scene.data, L.predict(json, select, scene.angles));
   } finally {
     m.free();
   }

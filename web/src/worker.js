@@ -10,9 +10,10 @@ self.onmessage = async ({ data }) => {
   try {
     m = measurementsFrom(L, data.source);
     const start = performance.now();
-    const json = L.fit(m, data.channel, data.model, {
-      onProgress: (done, total) => self.postMessage({ progress: [done, total] }),
-    });
+    const options = { onProgress: (done, total) => self.postMessage({ progress: [done, total] }) };
+    const json = data.models
+      ? L.compare(m, data.channel, data.models, options)
+      : L.fit(m, data.channel, data.model, options);
     self.postMessage({ json, ms: performance.now() - start });
   } catch (e) {
     self.postMessage({ error: String(e?.message ?? e) });

@@ -4,15 +4,19 @@
 // slider and checks that the lobe is redrawn, saves a screenshot, and
 // measures the package's speed in the browser.
 //
-// node web/tests/browser.mjs DIST EXPECTED_FITS_JSON SCREENSHOT.png
+// Then compares every model and checks the ranking against `laminar fit`
+// with every model.
+//
+// node web/tests/browser.mjs DIST EXPECTED_FITS_JSON SCREENSHOT.png EXPECTED_COMPARISON_JSON
 // prints one JSON line of measurements; exits non-zero on any failure.
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
 import { extname, join, normalize } from 'node:path';
 import { chromium } from 'playwright-core';
 
-const [dist, expectedFile, screenshot] = process.argv.slice(2);
+const [dist, expectedFile, screenshot, comparisonFile] = process.argv.slice(2);
 const expected = await readFile(expectedFile, 'utf8');
+const comparison = await readFile(comparisonFile, 'utf8');
 const BENCH = new URL('../../wasm/bench/speed.js', import.meta.url);
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm' };
 
@@ -74,7 +78,7 @@ try {
   const rows = await page.$$eval('#params tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
   const order = Object.keys(entry.fitted.params).filter((k) => k in entry.parameters);
   const want = order.map((name) => [name, entry.parameters[name]]).map(([name, p]) => [
-    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
+    name, fmt(p.grid), fmt(p.refined), `[${fmt(p.lo68)}, ${fmt(p.hi68)}]`, `[${fmt(p.lo95)}, ${fmt(p.hi95)}]`, p.interval, p.box ? `[${fmt(p.box[0])}, ${fmt(p.box[1])}]` : '–', p.flags.join(', '),
   ]);
   check(JSON.stringify(rows) === JSON.stringify(want), `parameter table ${JSON.stringify(rows)} != ${JSON.stringify(want)}`);
   check(rows.length === 4, `${rows.length} parameter rows`);
@@ -101,6 +105,19 @@ try {
   check(sphere.corner === 24, `the sphere's background is ${sphere.corner}`);
   check((await page.textContent('#value-slope')) === '0.3', 'the σ/T slider\'s value is not shown');
   await page.screenshot({ path: screenshot, fullPage: true });
+
+  // Every model compared: the page's file is the CLI's with every model,
+  // and its table ranks them as the file does.
+  await page.click('#compare');
+  await page.waitForSelector('#comparison:not([hidden])', { timeout: 300_000 });
+  await page.waitForSelector('#compare:enabled');
+  check(await page.textContent('#fit-json') === comparison, 'the page\'s comparison differs from `laminar fit --models …`');
+  const ranked = JSON.parse(comparison).fits;
+  const ranking = await page.$$eval('#ranking tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+  const wantRanking = ranked.map((e) => [e.model, String(e.rank.rank), fmt(e.rank.delta), fmt(e.rank.weight), fmt(e.cross_validation.rms)]);
+  check(JSON.stringify(ranking.map((r) => r.slice(0, 5))) === JSON.stringify(wantRanking), `ranking ${JSON.stringify(ranking)} != ${JSON.stringify(wantRanking)}`);
+  check(ranking.length === 6 && ranking.filter((r) => r[1] === '1').length === 1, `ranking ${JSON.stringify(ranking)}`);
+  await page.screenshot({ path: screenshot.replace(/\.png$/, '-compare.png'), fullPage: true });
 
   // A defective file: the page names its line, column and value, and offers no fit.
   await page.setInputFiles('#files', {

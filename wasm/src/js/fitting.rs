@@ -176,6 +176,48 @@ pub fn fit(
     )?)
 }
 
+/// Fits each model of `models` (names as `fit` takes them) to `channel` of
+/// `measurements` and compares them, as `laminar fit --models` does: the
+/// fitted-model file of every fit, in the order of `models`, each with its
+/// `rank` (by AICc, with ΔAICc and the Akaike weight), `information` and
+/// `cross_validation` (`options.folds` folds, default 5, dealt by
+/// `options.seed`). `options` as `fit`'s; `onProgress` counts every
+/// model's shards.
+///
+/// # Errors
+/// A `TypeError` for an argument or option of the wrong type (named); an
+/// `Error` for an unknown model, a wrong option value, or a channel the set
+/// lacks or that cannot be fitted.
+#[wasm_bindgen(js_name = compare)]
+pub fn compare(
+    measurements: &Measurements,
+    #[wasm_bindgen(unchecked_param_type = "string")] channel: JsValue,
+    #[wasm_bindgen(unchecked_param_type = "string[]")] models: JsValue,
+    options: Option<FitOptions>,
+) -> Result<String, JsValue> {
+    let channel = string(&channel, "channel")?;
+    let list = models
+        .dyn_ref::<js_sys::Array>()
+        .ok_or_else(|| type_error("models", "an array of model names", &models))?;
+    let names = list
+        .iter()
+        .enumerate()
+        .map(|(i, m)| string(&m, &format!("models[{i}]")))
+        .collect::<Result<Vec<_>, _>>()?;
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let (settings, progress) = match options {
+        Some(o) => settings_from_js(&o)?,
+        None => (Settings::default(), None),
+    };
+    Ok(fitting::compare(
+        measurements,
+        &channel,
+        &names,
+        &settings,
+        progress,
+    )?)
+}
+
 /// The normalised prediction of a fitted model at each geometry of
 /// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
 /// predicted at its own geometries (`laminar predict`). `fitsJson` is a
