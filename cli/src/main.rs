@@ -3,7 +3,7 @@
 
 mod commands;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
@@ -33,6 +33,18 @@ enum Command {
     Reproduce(commands::reproduce::ReproduceArgs),
 }
 
+/// `command` with every option of it and of its subcommands taking a
+/// negative number as its value (`--size -3`), so that the option's own
+/// check, not the parser's "unexpected argument", names what is wrong.
+fn negatives_are_values(command: clap::Command) -> clap::Command {
+    command
+        .mut_args(|a| {
+            let takes_values = a.get_action().takes_values();
+            a.allow_negative_numbers(takes_values)
+        })
+        .mut_subcommands(negatives_are_values)
+}
+
 fn main() -> ExitCode {
     // An empty CURET_DIR means "no CUReT directory", as if it were unset
     // (clap would otherwise read it as `--data` without a value).
@@ -41,7 +53,10 @@ fn main() -> ExitCode {
     }
     // clap's errors quote the arguments: they pass through the escaping
     // every other message gets (help and version go to stdout unchanged).
-    let cli = match Cli::try_parse() {
+    let parsed = negatives_are_values(Cli::command())
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
             eprint!(

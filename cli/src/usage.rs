@@ -126,15 +126,24 @@ pub enum UsageError {
         /// The MERL file not written.
         out: PathBuf,
     },
-    /// `albedo --tolerance` out of range.
-    #[error("--tolerance {0}: must lie in (0, 1)")]
-    Tolerance(f64),
     /// `albedo --theta-v` out of range.
     #[error("--theta-v: {0}° is outside [0, 90]")]
     ThetaV(f64),
     /// `render --size` out of range.
     #[error("--size {0}: must lie in [16, 4096]")]
-    Size(usize),
+    Size(i64),
+    /// `--out` whose extension names another format than the one written.
+    #[error("{}: --out names a {named} file, but this writes {writes}: give a name ending in .{extension}", .out.display())]
+    OutExtension {
+        /// The output.
+        out: PathBuf,
+        /// The format its extension names.
+        named: &'static str,
+        /// The format written.
+        writes: &'static str,
+        /// The extension of the format written.
+        extension: &'static str,
+    },
     /// `render --light-polar` out of range.
     #[error("--light-polar {0}: must lie in [0, 89] degrees")]
     LightPolar(f64),

@@ -230,6 +230,68 @@ const CASES: &[Case] = &[
         files: || vec![],
         needles: &["nodir/table.txt", "cannot read"],
     },
+    // Negative numbers reach each option's own check (issue 39).
+    Case {
+        surface: "numeric options",
+        args: "render --fit {d}/fit.json --select synthetic/avg/exp --out {d}/out.png --environment -1",
+        files: || vec![],
+        needles: &["--environment -1: must be a finite number ≥ 0"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "render --fit {d}/fit.json --select synthetic/avg/exp --out {d}/out.png --size -3",
+        files: || vec![],
+        needles: &["--size -3: must lie in [16, 4096]"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "albedo --fit {d}/fit.json --select synthetic/avg/exp --tolerance -1",
+        files: || vec![],
+        needles: &["tolerance -1.0: give a relative tolerance from 1e-12"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "albedo --fit {d}/fit.json --select synthetic/avg/exp --theta-v -10",
+        files: || vec![],
+        needles: &["--theta-v: -10° is outside [0, 90]"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "albedo --fit {d}/fit.json --select synthetic/avg/exp --tolerance 1e-300",
+        files: || vec![],
+        needles: &["tolerance 1e-300: give a relative tolerance from 1e-12"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "fit --models exp --slope -1:2:3",
+        files: || vec![],
+        needles: &["slope = -1 is outside"],
+    },
+    Case {
+        surface: "numeric options",
+        args: "fit --models exp --folds 1",
+        files: || vec![],
+        needles: &["--folds", "give 0 (no cross-validation) or a whole number from 2 to 100"],
+    },
+    // An output whose extension names another format.
+    Case {
+        surface: "output extension",
+        args: "render --fit {d}/fit.json --select synthetic/avg/exp --out {d}/out.jpg",
+        files: || vec![],
+        needles: &["out.jpg: --out names a JPEG file, but this writes PNG"],
+    },
+    Case {
+        surface: "output extension",
+        args: "fit --models exp --format json --out {d}/out.csv",
+        files: || vec![],
+        needles: &["out.csv: --out names a CSV file, but this writes JSON"],
+    },
+    Case {
+        surface: "output extension",
+        args: "predict --fit {d}/fit.json --select synthetic/avg/exp --geometry {d}/g.csv --out {d}/out.json",
+        files: || vec![("g.csv", GEOMETRY.to_vec())],
+        needles: &["out.json: --out names a JSON file, but this writes CSV"],
+    },
     // Faults of the output path.
     Case {
         surface: "output path",

@@ -20,6 +20,45 @@ use crate::error::ModelError;
 use crate::fitted::FittedModel;
 use gauss_quad::legendre::GaussLegendre;
 use laminar_core::Angles;
+use thiserror::Error;
+
+/// The relative tolerance of the quadrature: two successive rules must
+/// agree within it. Checked once here, for every front end: from
+/// [`Tolerance::FINEST`] up to (not including) 1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance(f64);
+
+/// A tolerance outside `[Tolerance::FINEST, 1)`.
+#[derive(Debug, Clone, Copy, PartialEq, Error)]
+#[error("tolerance {0:?}: give a relative tolerance from 1e-12 up to (not including) 1")]
+pub struct ToleranceError(pub f64);
+
+impl Tolerance {
+    /// The finest tolerance: two rules of up to a million terms each,
+    /// summed in f64, round at about 10⁻¹³ of their value, so a finer
+    /// target could only run to [`MOST_NODES`] and stop unmet.
+    pub const FINEST: f64 = 1e-12;
+
+    /// Every front end's default, 10⁻⁶.
+    pub const DEFAULT: Tolerance = Tolerance(1e-6);
+
+    /// `tolerance`, checked.
+    ///
+    /// # Errors
+    /// [`ToleranceError`] for a value outside `[FINEST, 1)` or NaN.
+    pub fn new(tolerance: f64) -> Result<Self, ToleranceError> {
+        if (Self::FINEST..1.0).contains(&tolerance) {
+            Ok(Self(tolerance))
+        } else {
+            Err(ToleranceError(tolerance))
+        }
+    }
+
+    /// Its value.
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
 
 /// The directional albedo at one view angle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,14 +85,16 @@ pub const MOST_NODES: usize = 1024;
 /// per dimension, after which the error says how far it got).
 ///
 /// ```
-/// use laminar_fit::{albedo::directional_albedo, FittedModel, Model, ModelParams};
+/// use laminar_fit::albedo::{directional_albedo, Tolerance};
+/// use laminar_fit::{FittedModel, Model, ModelParams};
 /// // Oren–Nayar at σ = 0 is Lambertian, ρ/π · cos θi: its albedo is ρ
 /// // (here times the amplitude 1.5 and the data's scale 2).
 /// let params = ModelParams::OrenNayar { sigma: 0.0, rho: 0.8 };
 /// let lambert = FittedModel::with_amplitude(Model::OrenNayar, params, 1.5, 2.0);
-/// let a = directional_albedo(&lambert, 0.7, 1e-10)?;
+/// let a = directional_albedo(&lambert, 0.7, Tolerance::new(1e-10)?)?;
 /// assert!((a.albedo - 2.4).abs() < 1e-12 && a.error < 1e-10);
-/// # Ok::<(), laminar_fit::ModelError>(())
+/// assert!(Tolerance::new(0.0).is_err() && Tolerance::new(1e-300).is_err());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
 /// # Errors
@@ -62,8 +103,9 @@ pub const MOST_NODES: usize = 1024;
 pub fn directional_albedo(
     model: &FittedModel,
     theta_v: f64,
-    tolerance: f64,
+    tolerance: Tolerance,
 ) -> Result<Albedo, ModelError> {
+    let tolerance = tolerance.get();
     let mut nodes = FIRST_NODES;
     let mut previous = rule(model, theta_v, nodes)?;
     loop {
@@ -119,7 +161,7 @@ fn rule(model: &FittedModel, theta_v: f64, n: usize) -> Result<f64, ModelError> 
 pub fn albedo_table(
     model: &FittedModel,
     theta_v: &[f64],
-    tolerance: f64,
+    tolerance: Tolerance,
 ) -> Result<Vec<Albedo>, ModelError> {
     theta_v
         .iter()
@@ -160,7 +202,8 @@ mod tests {
         for (model, params) in cases {
             let fitted = FittedModel::with_amplitude(model, params, 0.8, 1.0);
             for theta_v in [0.0, 0.6, 1.3] {
-                let got = directional_albedo(&fitted, theta_v, 1e-9).unwrap();
+                let got =
+                    directional_albedo(&fitted, theta_v, Tolerance::new(1e-9).unwrap()).unwrap();
                 let steps = 1000;
                 let (dt, dp) = (
                     core::f64::consts::FRAC_PI_2 / steps as f64,
@@ -196,7 +239,7 @@ mod tests {
             rho: 0.5,
         };
         let fitted = FittedModel::with_amplitude(Model::OrenNayar, params, 1.0, 1.0);
-        assert!(directional_albedo(&fitted, 2.0, 1e-6).is_err());
-        assert!(directional_albedo(&fitted, f64::NAN, 1e-6).is_err());
+        assert!(directional_albedo(&fitted, 2.0, Tolerance::new(1e-6).unwrap()).is_err());
+        assert!(directional_albedo(&fitted, f64::NAN, Tolerance::new(1e-6).unwrap()).is_err());
     }
 }

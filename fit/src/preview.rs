@@ -165,7 +165,7 @@ pub fn render(models: &[FittedModel], scene: &Scene) -> Result<Image, ModelError
     let mut radiance = vec![0.0; size * size * channels];
     let lit_angles: Vec<_> = lit.iter().map(|(_, a)| *a).collect();
     for (c, model) in models.iter().enumerate() {
-        let albedo: Vec<f64> = albedo_table(model, &thetas, 1e-6)?
+        let albedo: Vec<f64> = albedo_table(model, &thetas, crate::albedo::Tolerance::DEFAULT)?
             .iter()
             .map(|a| a.albedo)
             .collect();
@@ -326,9 +326,13 @@ mod tests {
         let m = model(0.4);
         let image = render(&[m], &scene).unwrap();
         let centre = image.radiance[16 * 33 + 16];
-        let rho = crate::albedo::directional_albedo(&m, 0.0, 1e-9)
-            .unwrap()
-            .albedo;
+        let rho = crate::albedo::directional_albedo(
+            &m,
+            0.0,
+            crate::albedo::Tolerance::new(1e-9).unwrap(),
+        )
+        .unwrap()
+        .albedo;
         assert!(
             (centre - 2.0 * rho).abs() < 1e-3 * rho,
             "{centre} against {}",

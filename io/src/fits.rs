@@ -433,7 +433,11 @@ impl Energy {
     /// When the model cannot predict.
     pub fn of(fitted: &FittedModel, units: Units) -> Result<Self, laminar_fit::ModelError> {
         let radians: Vec<f64> = Self::THETA_V.iter().map(|t| t.to_radians()).collect();
-        let table = laminar_fit::albedo::albedo_table(fitted, &radians, 1e-6)?;
+        let table = laminar_fit::albedo::albedo_table(
+            fitted,
+            &radians,
+            laminar_fit::albedo::Tolerance::DEFAULT,
+        )?;
         let albedo: Vec<f64> = table.iter().map(|a| a.albedo).collect();
         Ok(Self {
             units,

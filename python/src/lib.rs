@@ -726,7 +726,9 @@ impl FittedModel {
 
     /// The directional albedo ρ(θv) = ∫ f cos θi dωi at each view angle
     /// (radians), in the input's units, and each value's quadrature error
-    /// (docs/conventions.md §12): two arrays.
+    /// (docs/conventions.md §12): two arrays. `tolerance`: the relative
+    /// agreement of two successive quadrature rules, from 1e-12 up to (not
+    /// including) 1.
     #[pyo3(signature = (theta_v, tolerance = 1e-6))]
     fn albedo<'py>(
         &self,
@@ -735,6 +737,7 @@ impl FittedModel {
         tolerance: f64,
     ) -> PyResult<ArrayPair<'py>> {
         let thetas = vec1(&theta_v)?;
+        let tolerance = laminar_fit::albedo::Tolerance::new(tolerance).map_err(value_error)?;
         let fitted = self.fitted;
         let table = py
             .detach(|| laminar_fit::albedo::albedo_table(&fitted, &thetas, tolerance))

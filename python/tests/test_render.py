@@ -59,6 +59,10 @@ def test_fitted_model_predicts_and_integrates_as_the_cli(fits):
     rows = cli("albedo", "--fit", path, "--theta-v", "0:60:3").splitlines()[1:]
     assert [float(r.split(",")[1]) for r in rows] == pytest.approx(albedo, rel=1e-9)
     assert np.all(error <= 1e-6 * albedo)
+    # The tolerance's rule is the library's, as for `laminar albedo --tolerance`.
+    for bad in (0.0, -1.0, 1.0, 1e-300, float("nan")):
+        with pytest.raises(ValueError, match="give a relative tolerance from 1e-12"):
+            m.albedo(np.array([0.0]), tolerance=bad)
     # The file's own rh- label selects the Ragheb–Hancock best, a bad one names the choices.
     with pytest.raises(ValueError, match="no fit `x/y/z`; the file holds"):
         laminar.FittedModel.from_file(str(path), "x/y/z")

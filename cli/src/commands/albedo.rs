@@ -1,11 +1,11 @@
 //! `laminar albedo`: a fitted model's directional albedo over view angles.
 
-use super::options::{check_out, emit, report_time};
+use super::options::{check_extension, check_out, emit, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::albedo::albedo_table;
+use laminar_fit::albedo::{albedo_table, Tolerance};
 use laminar_fit::Axis;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -29,20 +29,30 @@ pub struct AlbedoArgs {
     /// View angles θv in degrees, `start:stop:count` (within [0, 90]).
     #[arg(long, value_parser = Axis::parse, default_value = "0:85:18")]
     theta_v: Axis,
-    /// Relative agreement of two successive quadrature rules.
-    #[arg(long, default_value_t = 1e-6)]
-    tolerance: f64,
+    /// Relative agreement of two successive quadrature rules, from 1e-12
+    /// up to (not including) 1.
+    #[arg(long, default_value = "1e-6", value_parser = parse_tolerance)]
+    tolerance: Tolerance,
     /// Write the CSV to FILE (whole or not at all) instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+}
+
+/// `--tolerance`, by the library's rule ([`Tolerance::new`]).
+fn parse_tolerance(text: &str) -> Result<Tolerance, String> {
+    let value: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    Tolerance::new(value).map_err(|e| e.to_string())
 }
 
 /// Runs `laminar albedo`.
 pub fn run(args: &AlbedoArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref(), std::slice::from_ref(&args.fit.file))?;
-    if !(args.tolerance > 0.0 && args.tolerance < 1.0) {
-        return Err(UsageError::Tolerance(args.tolerance).into());
+    if let Some(out) = &args.out {
+        check_extension(out, OutputFormat::Csv)?;
     }
     if let Some(bad) = args
         .theta_v

@@ -1,6 +1,6 @@
 //! `laminar export`: a fitted model tabulated as a MERL file.
 
-use super::options::{check_out, report_time};
+use super::options::{check_extension, check_out, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::usage::UsageError;
@@ -32,6 +32,7 @@ pub struct ExportArgs {
 pub fn run(args: &ExportArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(Some(&args.merl), std::slice::from_ref(&args.fit.file))?;
+    check_extension(&args.merl, OutputFormat::Merl)?;
     let sel = args.fit.selected()?;
     // The parameters were validated by the selection: the per-bin
     // evaluations can then only fail by a value that is not finite, which

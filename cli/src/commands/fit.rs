@@ -1,8 +1,9 @@
 //! `laminar fit`: fit models to measurements by exhaustive grid search.
 
 use super::options::{
-    any_model, check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs, ChannelArgs,
-    CuretArgs, FileArgs, GridArgs, ObjectiveArgs, PathArgs, ThreadArgs, PAIRS,
+    any_model, check_extension, check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs,
+    ChannelArgs, CuretArgs, FileArgs, GridArgs, ObjectiveArgs, OutputFormat, PathArgs, ThreadArgs,
+    PAIRS,
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
@@ -120,6 +121,14 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         .chain(args.curet.inputs())
         .collect();
     check_out(args.out.as_ref(), &inputs)?;
+    if let Some(out) = &args.out {
+        let writes = match args.format {
+            Format::Csv => OutputFormat::Csv,
+            Format::Json => OutputFormat::Json,
+            Format::Markdown => OutputFormat::Markdown,
+        };
+        check_extension(out, writes)?;
+    }
     if args.albedo && !matches!(args.format, Format::Json) {
         return Err(UsageError::AlbedoWithoutJson.into());
     }

@@ -160,17 +160,17 @@ pub fn jobs(
 pub struct GridArgs {
     /// σ/T axis `start:stop:count`, `start:stop:count:log` or one value
     /// (free: 0.02:20:40:log; paper: 0.12:4.04:50).
-    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    #[arg(long, value_parser = Axis::parse, allow_hyphen_values = true)]
     pub slope: Option<Axis>,
     /// β axis (free: 0:1, solved in closed form, so only its range is used;
     /// paper: 0.01:1:100).
-    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    #[arg(long, value_parser = Axis::parse, allow_hyphen_values = true)]
     pub beta: Option<Axis>,
     /// n axis (free: 1:2.5:11; paper: 1.3:1.5:11).
-    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    #[arg(long, value_parser = Axis::parse, allow_hyphen_values = true)]
     pub n: Option<Axis>,
     /// a axis (free: 0:1:21; paper: 0:1:101).
-    #[arg(long, value_parser = Axis::parse, allow_negative_numbers = true)]
+    #[arg(long, value_parser = Axis::parse, allow_hyphen_values = true)]
     pub a: Option<Axis>,
 }
 
@@ -406,6 +406,91 @@ pub fn curet_inputs(dir: &Path, brdf: &[PathBuf]) -> Vec<PathBuf> {
         inputs.push(dir.join(b));
     }
     inputs
+}
+
+/// The formats the commands write, by the extension that names each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OutputFormat {
+    /// Comma-separated values.
+    Csv,
+    /// JSON (the fitted-model file, a batch's results).
+    Json,
+    /// A Markdown table.
+    Markdown,
+    /// A PNG image.
+    Png,
+    /// A MERL binary BRDF.
+    Merl,
+}
+
+impl OutputFormat {
+    const ALL: [OutputFormat; 5] = [Self::Csv, Self::Json, Self::Markdown, Self::Png, Self::Merl];
+
+    /// Its name in messages.
+    fn name(self) -> &'static str {
+        match self {
+            Self::Csv => "CSV",
+            Self::Json => "JSON",
+            Self::Markdown => "Markdown",
+            Self::Png => "PNG",
+            Self::Merl => "MERL",
+        }
+    }
+
+    /// The extensions that name it, the usual one first.
+    fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Self::Csv => &["csv"],
+            Self::Json => &["json"],
+            Self::Markdown => &["md", "markdown"],
+            Self::Png => &["png"],
+            Self::Merl => &["binary"],
+        }
+    }
+
+    /// The format an extension names, if any (also images a command does
+    /// not write, so `--out a.jpg` is caught).
+    fn named_by(extension: &str) -> Option<&'static str> {
+        let e = extension.to_ascii_lowercase();
+        if let Some(f) = Self::ALL
+            .into_iter()
+            .find(|f| f.extensions().contains(&e.as_str()))
+        {
+            return Some(f.name());
+        }
+        match e.as_str() {
+            "jpg" | "jpeg" => Some("JPEG"),
+            "exr" => Some("OpenEXR"),
+            "tif" | "tiff" => Some("TIFF"),
+            "txt" => Some("text"),
+            "zarr" => Some("Zarr"),
+            _ => None,
+        }
+    }
+}
+
+/// Refuses an output whose extension names another format than `writes`
+/// (`render --out a.jpg`, `fit --format json --out fits.csv`); a name
+/// with no extension, or one no format claims, is taken as given.
+///
+/// # Errors
+/// [`UsageError::OutExtension`] naming the file and both formats.
+pub fn check_extension(out: &Path, writes: OutputFormat) -> Result<(), UsageError> {
+    let Some(extension) = out.extension().and_then(|e| e.to_str()) else {
+        return Ok(());
+    };
+    let lower = extension.to_ascii_lowercase();
+    match OutputFormat::named_by(&lower) {
+        Some(named) if !writes.extensions().contains(&lower.as_str()) => {
+            Err(UsageError::OutExtension {
+                out: out.to_path_buf(),
+                named,
+                writes: writes.name(),
+                extension: writes.extensions()[0],
+            })
+        }
+        _ => Ok(()),
+    }
 }
 
 /// Writes `text` to `out` (whole or not at all), or prints it.

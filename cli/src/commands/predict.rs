@@ -1,6 +1,6 @@
 //! `laminar predict`: a fitted model's normalised prediction anywhere.
 
-use super::options::{check_out, emit, report_time};
+use super::options::{check_extension, check_out, emit, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::selection::{FileInput, InputFormat};
@@ -104,6 +104,9 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
         inputs.extend(super::options::curet_inputs(dir, args.brdf.as_slice()));
     }
     check_out(args.out.as_ref(), &inputs)?;
+    if let Some(out) = &args.out {
+        check_extension(out, OutputFormat::Csv)?;
+    }
     let sel = args.fit.selected()?;
     let (rows, angles, data): (Vec<usize>, Vec<Angles>, Option<Vec<f64>>) =
         if let Some(path) = &args.geometry {

@@ -1,6 +1,6 @@
 //! `laminar render`: a preview of fitted models, a lit sphere as a PNG.
 
-use super::options::{check_out, report_time};
+use super::options::{check_extension, check_out, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::usage::UsageError;
@@ -27,12 +27,12 @@ pub struct RenderArgs {
     /// times (red, green, blue). May be left out when the file holds one fit.
     #[arg(long)]
     select: Vec<String>,
-    /// The PNG to write.
+    /// The PNG to write (its name ends in .png).
     #[arg(long)]
     out: PathBuf,
     /// Image width and height in pixels (16 to 4096).
     #[arg(long, default_value_t = 256)]
-    size: usize,
+    size: i64,
     /// The light's angle from the view axis, degrees (0 to 89; default 60).
     #[arg(long)]
     light_polar: Option<f64>,
@@ -50,18 +50,17 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(Some(&args.out), std::slice::from_ref(&args.file))?;
-    let scene = Scene::new(
-        args.size,
-        args.light_polar,
-        args.light_azimuth,
-        args.environment,
-    )
-    .map_err(|e| match e {
-        SceneError::Size(v) => UsageError::Size(v),
-        SceneError::LightPolar(v) => UsageError::LightPolar(v),
-        SceneError::LightAzimuth(v) => UsageError::LightAzimuth(v),
-        SceneError::Environment(v) => UsageError::Environment(v),
-    })?;
+    check_extension(&args.out, OutputFormat::Png)?;
+    let size = usize::try_from(args.size).map_err(|_| UsageError::Size(args.size))?;
+    let scene =
+        Scene::new(size, args.light_polar, args.light_azimuth, args.environment).map_err(|e| {
+            match e {
+                SceneError::Size(_) => UsageError::Size(args.size),
+                SceneError::LightPolar(v) => UsageError::LightPolar(v),
+                SceneError::LightAzimuth(v) => UsageError::LightAzimuth(v),
+                SceneError::Environment(v) => UsageError::Environment(v),
+            }
+        })?;
     let selections: Vec<Option<String>> = match args.select.len() {
         0 => vec![None],
         1 | 3 => args.select.iter().cloned().map(Some).collect(),
