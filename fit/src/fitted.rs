@@ -189,7 +189,10 @@ pub fn format_value(v: f64) -> String {
 }
 
 /// The constants of the normalisation a fit used (docs/conventions.md §4).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// A file's constants must be exactly one normalisation's: read with the
+/// constants of two (`amplitude` beside `surface_max`), or an unknown
+/// name, is an error naming them (which would the prediction use?).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 #[serde(untagged)]
 pub enum NormalisationConstants {
@@ -217,6 +220,72 @@ pub enum NormalisationConstants {
         /// The fitted amplitude `c ≥ 0`.
         amplitude: f64,
     },
+}
+
+/// Every constant a file's normalisation may hold, to tell which one it is.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AnyConstants {
+    surface_max: Option<f64>,
+    subsurface_max: Option<f64>,
+    mix_max: Option<f64>,
+    radiance_max: Option<f64>,
+    amplitude: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for NormalisationConstants {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let c = AnyConstants::deserialize(d)?;
+        match c {
+            AnyConstants {
+                surface_max: Some(surface_max),
+                subsurface_max: Some(subsurface_max),
+                mix_max: Some(mix_max),
+                radiance_max: None,
+                amplitude: None,
+            } => Ok(Self::Layered {
+                surface_max,
+                subsurface_max,
+                mix_max,
+            }),
+            AnyConstants {
+                surface_max: None,
+                subsurface_max: None,
+                mix_max: None,
+                radiance_max: Some(radiance_max),
+                amplitude: None,
+            } => Ok(Self::Baseline { radiance_max }),
+            AnyConstants {
+                surface_max: None,
+                subsurface_max: None,
+                mix_max: None,
+                radiance_max: None,
+                amplitude: Some(amplitude),
+            } => Ok(Self::Amplitude { amplitude }),
+            _ => {
+                let given: Vec<&str> = [
+                    ("surface_max", c.surface_max),
+                    ("subsurface_max", c.subsurface_max),
+                    ("mix_max", c.mix_max),
+                    ("radiance_max", c.radiance_max),
+                    ("amplitude", c.amplitude),
+                ]
+                .into_iter()
+                .filter_map(|(name, v)| v.map(|_| name))
+                .collect();
+                Err(serde::de::Error::custom(format!(
+                    "normalisation holds {}: give one normalisation's constants, \
+                     surface_max, subsurface_max and mix_max (a layered model, paper objective), \
+                     radiance_max (a baseline, paper objective) or amplitude (free objective)",
+                    if given.is_empty() {
+                        "no constant".to_string()
+                    } else {
+                        given.join(", ")
+                    }
+                )))
+            }
+        }
+    }
 }
 
 /// A fitted model: what is needed to predict anywhere.

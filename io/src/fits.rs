@@ -1168,6 +1168,29 @@ mod tests {
             .fit(&synthetic::default_scene(), Model::Exp)
     }
 
+    /// A fitted model holding two normalisations' constants (which would
+    /// predict?) or an unknown one is refused, naming the file, where and
+    /// the constants.
+    #[test]
+    fn ambiguous_normalisations_are_refused() {
+        let file: serde_json::Value = serde_json::from_str(&json(&[fit(Objective::Free)])).unwrap();
+        for (extra, needle) in [
+            ("surface_max", "normalisation holds surface_max, amplitude"),
+            ("scale", "unknown field `scale`"),
+        ] {
+            let mut bad = file.clone();
+            bad["fits"][0]["fitted"]["normalisation"][extra] = 2.0.into();
+            let text = serde_json::to_string_pretty(&bad).unwrap();
+            let e = parse_fits(Path::new("f.json"), &text)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("f.json") && e.contains("line") && e.contains(needle),
+                "{e}"
+            );
+        }
+    }
+
     #[test]
     fn version_2_round_trips_and_version_1_files_are_read_as_paper_fits() {
         let free = json(&[fit(Objective::Free)]);

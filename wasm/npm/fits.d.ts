@@ -184,6 +184,9 @@ rho: number, };
 
 /**
  * The constants of the normalisation a fit used (docs/conventions.md §4).
+ * A file's constants must be exactly one normalisation's: read with the
+ * constants of two (`amplitude` beside `surface_max`), or an unknown
+ * name, is an error naming them (which would the prediction use?).
  */
 export type NormalisationConstants = { 
 /**
