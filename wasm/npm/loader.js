@@ -28,5 +28,45 @@ export async function loadBuild(base, glue, options = {}) {
   const url = new URL(`./${simd ? 'simd' : 'plain'}/laminar_wasm_bg.wasm`, base);
   const source = url.protocol === 'file:' ? await (await import('node:fs/promises')).readFile(url) : url;
   await module.default({ module_or_path: source });
-  return Object.freeze({ ...module, simd });
+  return Object.freeze({ ...module, ...guardedFits(module), simd });
+}
+
+/**
+ * `fit` and `compare` of the whole package, marking their measurements as
+ * in use while they run, and `Measurements.prototype.free` refusing a set
+ * in use (called from `onProgress`, freeing it would leave the handle
+ * unusable and the fit reading freed memory): an `Error`, after which the
+ * set still works and can be freed once the fit returns. Nothing for the
+ * evaluation-only package.
+ */
+const GUARDED = new WeakMap(); // a build's module → its guarded fits
+
+function guardedFits(module) {
+  const Measurements = module.Measurements;
+  if (!Measurements) return {};
+  if (GUARDED.has(module)) return GUARDED.get(module);
+  const inUse = new Map(); // a set → how many fits of it are running
+  const free = Measurements.prototype.free;
+  Measurements.prototype.free = function () {
+    if (inUse.has(this)) {
+      throw new Error('Measurements.free(): a fit of this set is running (free it after the fit returns)');
+    }
+    return free.call(this);
+  };
+  const guard = (run) => (m, ...rest) => {
+    const held = m instanceof Measurements;
+    if (held) inUse.set(m, (inUse.get(m) ?? 0) + 1);
+    try {
+      return run(m, ...rest);
+    } finally {
+      if (held) {
+        const n = inUse.get(m) - 1;
+        if (n === 0) inUse.delete(m);
+        else inUse.set(m, n);
+      }
+    }
+  };
+  const fits = { fit: guard(module.fit), compare: guard(module.compare) };
+  GUARDED.set(module, fits);
+  return fits;
 }

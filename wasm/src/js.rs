@@ -57,10 +57,34 @@ fn number(value: &JsValue, name: &str) -> Result<f64, JsValue> {
         .ok_or_else(|| type_error(name, "a number", value))
 }
 
+/// The `RangeError` of argument `name`, whose `bytes` the module's memory
+/// (4 GiB at most, less what it already holds) cannot hold.
+fn too_large(name: &str, bytes: usize) -> JsValue {
+    js_sys::RangeError::new(&format!(
+        "{name}: {} MiB do not fit in the module's memory (4 GiB at most): give fewer values at a time",
+        bytes >> 20
+    ))
+    .into()
+}
+
+/// An empty vector with room for `len` values of argument `name`, or its
+/// `RangeError` (a failed allocation would abort the module).
+pub(crate) fn room<T>(len: usize, name: &str) -> Result<Vec<T>, JsValue> {
+    let bytes = len.saturating_mul(core::mem::size_of::<T>());
+    let mut v = Vec::new();
+    v.try_reserve_exact(len)
+        .map_err(|_| too_large(name, bytes))?;
+    Ok(v)
+}
+
 /// Argument `name` as numbers: a `Float64Array`, or an array of numbers.
 fn numbers(value: &JsValue, name: &str) -> Result<Vec<f64>, JsValue> {
     if let Some(a) = value.dyn_ref::<js_sys::Float64Array>() {
-        return Ok(a.to_vec());
+        let len = a.length() as usize;
+        let mut v = room(len, name)?;
+        v.resize(len, 0.0);
+        a.copy_to(&mut v);
+        return Ok(v);
     }
     if js_sys::Array::is_array(value) {
         return js_sys::Array::from(value)
@@ -88,17 +112,25 @@ fn params(values: [&JsValue; 4]) -> Result<[f64; 4], JsValue> {
 }
 
 /// The arguments every evaluation takes: the model name, the flat angles
-/// and the four parameters, each type-checked.
+/// and the four parameters, each type-checked; and room for the `outputs`
+/// arrays of one f64 per geometry the evaluation returns (a `RangeError`
+/// naming `angles` when the module cannot hold them).
 fn evaluation(
     model: &JsValue,
     angles: &JsValue,
     values: [&JsValue; 4],
+    outputs: usize,
 ) -> Result<(String, Vec<f64>, [f64; 4]), JsValue> {
-    Ok((
+    let (model, angles, params) = (
         string(model, "model")?,
         numbers(angles, "angles")?,
         params(values)?,
-    ))
+    );
+    drop(room::<f64>(
+        (angles.len() / 3).saturating_mul(outputs),
+        "angles",
+    )?);
+    Ok((model, angles, params))
 }
 
 /// Checks the parameters: σ/T > 0, β and a in [0, 1], n ≥ 1 (finite).
@@ -134,7 +166,7 @@ pub fn total_radiance(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Vec<f64>, JsValue> {
-    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a], 1)?;
     Ok(evaluate::total_radiance_f64(&model, &angles, s, b, n, a)?)
 }
 
@@ -153,7 +185,7 @@ pub fn total_radiance_f32(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Vec<f32>, JsValue> {
-    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a], 1)?;
     Ok(evaluate::total_radiance_f32(&model, &angles, s, b, n, a)?)
 }
 
@@ -170,7 +202,7 @@ pub fn components(
     #[wasm_bindgen(unchecked_param_type = "number")] n: JsValue,
     #[wasm_bindgen(unchecked_param_type = "number")] a: JsValue,
 ) -> Result<Components, JsValue> {
-    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a])?;
+    let (model, angles, [s, b, n, a]) = evaluation(&model, &angles, [&slope, &beta, &n, &a], 7)?;
     Ok(evaluate::components(&model, &angles, s, b, n, a)?)
 }
 
@@ -206,12 +238,21 @@ pub fn predict_fitted(
         })
         .collect::<Result<_, _>>()?;
     let normalisation = field(&fitted, "normalisation", "fitted")?;
-    let names: &[&str] =
-        if field(&normalisation, "amplitude", "fitted.normalisation")?.is_undefined() {
-            &["surface_max", "subsurface_max", "mix_max"]
-        } else {
-            &["amplitude"]
-        };
+    let layered = ["surface_max", "subsurface_max", "mix_max"];
+    let given = |c: &str| -> Result<bool, JsValue> {
+        Ok(!field(&normalisation, c, "fitted.normalisation")?.is_undefined())
+    };
+    let names: &[&str] = match (given("amplitude")?, layered.iter().find(|c| given(c).unwrap_or(false))) {
+        (true, Some(other)) => {
+            return Err(js_sys::Error::new(&format!(
+                "fitted.normalisation holds both amplitude and {other}: give one normalisation's constants \
+                 (amplitude, or surface_max, subsurface_max and mix_max)"
+            ))
+            .into())
+        }
+        (true, None) => &["amplitude"],
+        (false, _) => &layered,
+    };
     let constants = names
         .iter()
         .map(|c| {
@@ -223,6 +264,7 @@ pub fn predict_fitted(
         })
         .collect::<Result<Vec<_>, JsValue>>()?;
     let angles = numbers(&angles, "angles")?;
+    drop(room::<f64>(angles.len() / 3, "angles")?);
     let p = [values[0], values[1], values[2], values[3]];
     Ok(evaluate::predict_fitted(&model, &angles, p, &constants)?)
 }

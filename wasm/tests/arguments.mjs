@@ -69,6 +69,39 @@ for (const simd of [false, true]) {
       process.exit(1);
     }
   }
+  const fail = (what) => {
+    console.error(`${simd ? 'simd' : 'plain'}: ${what}`);
+    process.exit(1);
+  };
+  // free() from onProgress during a fit is refused, and the set still works.
+  const busy = L.Measurements.fromCsv('example.csv', csv, 'rad', 'radiance');
+  let refused = null;
+  L.fit(busy, 'value', 'exp', {
+    onProgress: () => {
+      try {
+        busy.free();
+      } catch (e) {
+        refused = e;
+      }
+    },
+  });
+  if (!(refused instanceof Error) || !String(refused.message).includes('a fit of this set is running')) fail(`free() during a fit: ${refused}`);
+  if (busy.scene('value').data.length !== busy.length) fail('the set no longer works after the refused free()');
+  busy.free();
+  // An array the module cannot hold is a RangeError naming the argument,
+  // not a trap; the module still evaluates after it.
+  for (const [what, call] of [
+    ['the input', () => L.totalRadiance('exp', new Float64Array(2 ** 29 - 1), 1.2, 0.4, 1.4, 0.3)],
+    ['the outputs', () => L.components('exp', new Float64Array(3 * 2 ** 26), 1.2, 0.4, 1.4, 0.3)],
+  ]) {
+    try {
+      call();
+      fail(`${what} too large for the module was accepted`);
+    } catch (e) {
+      if (!(e instanceof RangeError) || !String(e.message).startsWith('angles: ')) fail(`${what} too large: ${e}`);
+    }
+    if (L.totalRadiance('exp', new Float64Array([0.3, 0.2, 0.5]), 1.2, 0.4, 1.4, 0.3).length !== 1) fail(`after ${what}: the module no longer evaluates`);
+  }
   m.free();
   out[simd ? 'simd' : 'plain'] = tally;
 }

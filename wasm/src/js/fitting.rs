@@ -29,10 +29,14 @@ fn whole(value: &JsValue, name: &str) -> Result<u32, JsValue> {
 
 /// Argument `name` as bytes: a `Uint8Array`.
 fn bytes(value: &JsValue, name: &str) -> Result<Vec<u8>, JsValue> {
-    value
+    let a = value
         .dyn_ref::<js_sys::Uint8Array>()
-        .map(js_sys::Uint8Array::to_vec)
-        .ok_or_else(|| type_error(name, "a Uint8Array", value))
+        .ok_or_else(|| type_error(name, "a Uint8Array", value))?;
+    let len = a.length() as usize;
+    let mut v = super::room(len, name)?;
+    v.resize(len, 0);
+    a.copy_to(&mut v);
+    Ok(v)
 }
 
 /// Every model `fit` takes, from the model descriptor
