@@ -27,7 +27,7 @@ import numpy as np
 
 from ._laminar import BATCH_COLUMNS, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
 from ._laminar import evaluate as _evaluate
-from ._laminar import compare as _compare
+from ._laminar import compare
 from ._laminar import fit as _fit
 from ._laminar import fit_batch as _fit_batch
 
@@ -112,33 +112,6 @@ def fit(
     or ``"off"``; see ``FitResult.parameters``. ``threads``: worker threads
     (default: all cores)."""
     return _fit(measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed)
-
-
-def compare(
-    measurements,
-    models=None,
-    grid=None,
-    refine=True,
-    uncertainty="both",
-    threads=None,
-    objective="free",
-    resamples=200,
-    seed=0,
-    folds=5,
-):
-    """Fits each of ``models`` (default: every model of :data:`MODELS`) to
-    a :class:`Measurements` and compares them, as ``laminar fit`` does with
-    several models: a list of :class:`FitResult` in the order of ``models``,
-    each with its ``rank`` (``{"rank", "delta", "weight"}``: 1 for the
-    lowest AICc, ΔAICc, the Akaike weight), ``information`` (AIC, AICc,
-    BIC), ``cross_validation`` (``folds``-fold, the folds dealt by
-    ``seed``; ``folds=0`` for none), ``adequacy`` and ``graphics``. The
-    other arguments are :func:`fit`'s. Ranks need the free objective and
-    ``refine``."""
-    return _compare(
-        measurements, None if models is None else list(models), grid, refine, uncertainty, threads, objective,
-        resamples, seed, folds,
-    )
 
 
 def fit_batch(

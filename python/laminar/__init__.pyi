@@ -1,6 +1,6 @@
 """Type stubs of the laminar package."""
 
-from typing import Optional, Sequence
+from typing import Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -8,6 +8,8 @@ import numpy.typing as npt
 from ._laminar import BATCH_COLUMNS as BATCH_COLUMNS
 from ._laminar import FLAG_BITS as FLAG_BITS
 from ._laminar import FitResult as FitResult
+from ._laminar import compare as compare
+from ._laminar import fit as fit
 from ._laminar import FittedModel as FittedModel
 from ._laminar import render as render
 from ._laminar import AngleUnit, Grid, LayeredModel, Model, Objective, Precision, Quantity, Uncertainty
@@ -27,29 +29,6 @@ def evaluate(
     a: npt.ArrayLike,
     precision: Precision = "f64",
 ) -> dict[str, npt.NDArray[np.float64]]: ...
-def fit(
-    measurements: Measurements,
-    model: Model = "exp",
-    grid: Grid = None,
-    refine: bool = True,
-    uncertainty: Uncertainty = "both",
-    threads: Optional[int] = None,
-    objective: Objective = "free",
-    resamples: int = 200,
-    seed: int = 0,
-) -> FitResult: ...
-def compare(
-    measurements: Measurements,
-    models: Optional[Sequence[Model]] = None,
-    grid: Grid = None,
-    refine: bool = True,
-    uncertainty: Uncertainty = "both",
-    threads: Optional[int] = None,
-    objective: Objective = "free",
-    resamples: int = 200,
-    seed: int = 0,
-    folds: int = 5,
-) -> list[FitResult]: ...
 def fit_batch(
     geometry: npt.ArrayLike,
     values: npt.ArrayLike,

@@ -159,7 +159,7 @@ def fit(
 ) -> FitResult: ...
 def compare(
     measurements: Measurements,
-    models: Optional[list[str]] = None,
+    models: Optional[Sequence[Model]] = None,
     grid: Grid = None,
     refine: bool = True,
     uncertainty: Uncertainty = "both",

@@ -16,7 +16,7 @@ use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::fits::FitEntry;
 use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
-use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
@@ -823,17 +823,22 @@ fn fit(
     Ok(FitResult { fit })
 }
 
-/// Fits each of `models` (default: every model) to `measurements` and
-/// compares them: each result's `rank` (by AICc, with ΔAICc and the Akaike
-/// weight), `information` and `cross_validation` (`folds`-fold, seeded by
-/// `seed`), in the order of `models`.
+/// Fits each of ``models`` (an iterable of names; default: every model of
+/// ``MODELS``) to a ``Measurements`` and compares them, as ``laminar fit``
+/// does with several models: a list of ``FitResult`` in the order of
+/// ``models``, each with its ``rank`` (``{"rank", "delta", "weight"}``: 1
+/// for the lowest AICc, ΔAICc, the Akaike weight), ``information`` (AIC,
+/// AICc, BIC), ``cross_validation`` (``folds``-fold, the folds dealt by
+/// ``seed``; ``folds=0`` for none), ``adequacy`` and ``graphics``. The
+/// other arguments are ``fit``'s. Ranks need the free objective and
+/// ``refine``.
 #[pyfunction]
 #[pyo3(signature = (measurements, models = None, grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, folds = 5))]
 #[allow(clippy::too_many_arguments)]
 fn compare(
     py: Python<'_>,
     measurements: &Measurements,
-    models: Option<Vec<String>>,
+    models: Option<Bound<'_, PyAny>>,
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
     refine: bool,
     uncertainty: &str,
@@ -844,10 +849,21 @@ fn compare(
     folds: u64,
 ) -> PyResult<Vec<FitResult>> {
     let models: Vec<Model> = match models {
-        Some(names) => names
-            .iter()
-            .map(|m| parse("models", m))
+        Some(names) if !names.is_instance_of::<pyo3::types::PyString>() => names
+            .try_iter()
+            .map_err(|_| PyTypeError::new_err("models: give an iterable of model names"))?
+            .map(|m| {
+                let name: String = m?
+                    .extract()
+                    .map_err(|_| PyTypeError::new_err("models: give model names (strings)"))?;
+                parse("models", &name)
+            })
             .collect::<PyResult<_>>()?,
+        Some(_) => {
+            return Err(PyTypeError::new_err(
+                "models: give a list of model names, not one string",
+            ))
+        }
         None => Model::ALL.to_vec(),
     };
     let fitter = fitter(
