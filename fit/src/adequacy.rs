@@ -55,15 +55,16 @@ pub fn normal_cdf(z: f64) -> f64 {
 /// The runs test of the residuals `r` at `angles` (see the module docs):
 /// `(z, p)`, `None` with fewer than two residuals of each sign.
 pub fn runs_test(angles: &[Angles], r: &[f64]) -> Option<(f64, f64)> {
-    let key = |k: usize| {
-        let a = &angles[k];
-        (Geometry::<f64>::splat(a).ratio, a.theta_i())
-    };
-    let mut order: Vec<usize> = (0..angles.len()).filter(|&k| r[k] != 0.0).collect();
-    order.sort_by(|&x, &y| {
-        let (a, b) = (key(x), key(y));
-        a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))
-    });
+    // Each measurement's key once (a geometry costs sines and cosines).
+    let mut keyed: Vec<(f64, f64, usize)> = (0..angles.len())
+        .filter(|&k| r[k] != 0.0)
+        .map(|k| {
+            let a = &angles[k];
+            (Geometry::<f64>::splat(a).ratio, a.theta_i(), k)
+        })
+        .collect();
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let order: Vec<usize> = keyed.into_iter().map(|(_, _, k)| k).collect();
     let signs: Vec<bool> = order.iter().map(|&k| r[k] > 0.0).collect();
     let pos = signs.iter().filter(|&&s| s).count() as f64;
     let n = signs.len() as f64;

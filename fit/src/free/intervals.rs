@@ -13,7 +13,7 @@
 use super::problem::{Point, Problem};
 use super::refine::minimise;
 use crate::profile::Z_95;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// The two-sided normal quantiles of the 68.27% and 95% levels.
 pub const Z: [f64; 2] = [1.0, Z_95];
@@ -193,12 +193,22 @@ impl JacobianCovariance {
         let e = problem.residuals(&columns, &point.linear);
         let n = kept.len();
         let mut meat = DMatrix::<f64>::zeros(n, n);
+        // One measurement's scaled Jacobian row and A⁻¹ times it, reused.
+        let (mut row, mut solved) = (vec![0.0; n], vec![0.0; n]);
         for (r, (&w, &e)) in problem.weight.iter().zip(&e).enumerate() {
-            let row =
-                DVector::from_iterator(n, kept.iter().zip(&d).map(|(&i, &di)| jac[i][r] / di));
-            let leverage = w * row.dot(&(&inverse * &row));
+            for ((x, &i), &di) in row.iter_mut().zip(&kept).zip(&d) {
+                *x = jac[i][r] / di;
+            }
+            for (a, y) in solved.iter_mut().enumerate() {
+                *y = (0..n).map(|b| inverse[(a, b)] * row[b]).sum();
+            }
+            let leverage = w * row.iter().zip(&solved).map(|(x, y)| x * y).sum::<f64>();
             let f = w * e * e / (1.0 - leverage.min(1.0 - 1e-12)).powi(2);
-            meat += f * &row * row.transpose();
+            for a in 0..n {
+                for b in 0..n {
+                    meat[(a, b)] += f * row[a] * row[b];
+                }
+            }
         }
         let sandwich = &inverse * meat * &inverse;
         let mut matrix = vec![vec![None; jac.len()]; jac.len()];
