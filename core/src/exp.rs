@@ -9,20 +9,6 @@
 
 use crate::lane::{Lane, Real};
 
-/// `1/k!` for `k = 0..16`, each from the previous by one `f64` division
-/// (evaluated at compile time; rounded to the lane precision by
-/// [`Real::INV_FACTORIALS`]).
-pub(crate) const INV_FACTORIALS_F64: [f64; 16] = {
-    let mut t = [0.0f64; 16];
-    t[0] = 1.0;
-    let mut k = 1;
-    while k < 16 {
-        t[k] = t[k - 1] / k as f64;
-        k += 1;
-    }
-    t
-};
-
 /// `e^x` for every lane (see the module docs).
 ///
 /// Measured error against `libm::exp` in `f64` (test

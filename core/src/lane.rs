@@ -109,8 +109,23 @@ pub trait Lane:
     }
 }
 
+/// `1/k!` for `k = 0..16`, each from the previous by one `f64` division
+/// (evaluated at compile time; rounded to the lane precision by
+/// [`Real::INV_FACTORIALS`]).
+const INV_FACTORIALS_F64: [f64; 16] = {
+    let mut t = [0.0f64; 16];
+    t[0] = 1.0;
+    let mut k = 1;
+    while k < 16 {
+        t[k] = t[k - 1] / k as f64;
+        k += 1;
+    }
+    t
+};
+
 /// A scalar lane type (`f32` or `f64`): a [`Lane`] of width one that is its
-/// own scalar, with the constants of the generic [`exp`](crate::exp::exp).
+/// own scalar, with the constants of the generic `exp` (its polynomial degree,
+/// factorials, range and argument reduction).
 pub trait Real: Lane<Scalar = Self, Mask = bool> + PartialOrd + Default {
     /// `v` rounded to this precision.
     fn from_f64(v: f64) -> Self;
@@ -198,7 +213,7 @@ impl Real for f32 {
         let mut t = [0.0f32; 16];
         let mut k = 0;
         while k < 16 {
-            t[k] = crate::exp::INV_FACTORIALS_F64[k] as f32;
+            t[k] = INV_FACTORIALS_F64[k] as f32;
             k += 1;
         }
         t
@@ -267,7 +282,7 @@ impl Real for f64 {
         self
     }
     const EXP_DEGREE: usize = 13;
-    const INV_FACTORIALS: [f64; 16] = crate::exp::INV_FACTORIALS_F64;
+    const INV_FACTORIALS: [f64; 16] = INV_FACTORIALS_F64;
     const EXP_MIN: f64 = -708.0;
     const EXP_MAX: f64 = 709.0;
     const LN2_HI: f64 = 6.931_471_803_691_238e-1;

@@ -77,7 +77,7 @@ impl Scratch for laminar_core::small_free_fit::FreeScratch<f32> {}
 /// # Errors
 /// [`Status::NullPointer`].
 pub fn scratch<'a, T: Scratch>(
-    ptr: *mut crate::fit::LaminarFitScratch,
+    ptr: *mut crate::scratch::LaminarFitScratch,
 ) -> Result<&'a mut T, Status> {
     if ptr.is_null() {
         return Err(Status::NullPointer);

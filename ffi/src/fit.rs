@@ -3,9 +3,10 @@
 //! (`laminar_core::small_fit`, the library's `onepass-f32` search) and the
 //! free amplitude's (`laminar_core::small_free_fit`).
 
+use crate::scratch::LaminarFitScratch;
 use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
 use laminar_core::onepass::rms_of_sum;
-use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError, MAX_MEASUREMENTS};
+use laminar_core::small_fit::{self, Axes, AxisError, SmallFitError, MAX_MEASUREMENTS};
 use laminar_core::small_free_fit::{fit_free as core_fit_free, FreeAxes, FreeScratch};
 
 /// Most measurements `laminar_fit` takes: a literal, so that the header's
@@ -14,41 +15,6 @@ use laminar_core::small_free_fit::{fit_free as core_fit_free, FreeAxes, FreeScra
 pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = 64;
 
 const _: () = assert!(LAMINAR_FIT_MAX_MEASUREMENTS == MAX_MEASUREMENTS);
-
-/// 64-bit words of [`LaminarFitScratch`].
-pub const LAMINAR_FIT_SCRATCH_WORDS: usize = 640;
-
-/// Working memory of a fit (5 KB), owned by the caller: a `static` or a
-/// local. Its contents between calls do not matter.
-#[repr(C)]
-pub struct LaminarFitScratch {
-    /// Opaque.
-    pub words: [u64; LAMINAR_FIT_SCRATCH_WORDS],
-}
-
-impl LaminarFitScratch {
-    /// Zeroed scratch (`const`, so it can be a `static`).
-    pub const fn new() -> Self {
-        Self {
-            words: [0; LAMINAR_FIT_SCRATCH_WORDS],
-        }
-    }
-}
-
-impl Default for LaminarFitScratch {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-const _: () = assert!(core::mem::size_of::<Scratch>() <= 8 * LAMINAR_FIT_SCRATCH_WORDS);
-const _: () = assert!(core::mem::size_of::<FreeScratch<f32>>() <= 8 * LAMINAR_FIT_SCRATCH_WORDS);
-// `u64` words are aligned as `f64` is, on every target.
-const _: () =
-    assert!(core::mem::align_of::<Scratch>() <= core::mem::align_of::<LaminarFitScratch>());
-const _: () = assert!(
-    core::mem::align_of::<FreeScratch<f32>>() <= core::mem::align_of::<LaminarFitScratch>()
-);
 
 /// The grid: each axis's values (`f64`) and count, searched in loop order
 /// σ/T, n, a, β (ties go to the first). The paper's grid: σ/T = 0.12 +

@@ -30,16 +30,18 @@ mod buffers;
 mod fit;
 mod geometry;
 pub mod probe;
+mod scratch;
 
 pub use fit::{
-    LaminarFitResult, LaminarFitScratch, LaminarFreeFitResult, LaminarFreeGrid, LaminarGrid,
-    LAMINAR_FIT_MAX_MEASUREMENTS, LAMINAR_FIT_SCRATCH_WORDS,
+    LaminarFitResult, LaminarFreeFitResult, LaminarFreeGrid, LaminarGrid,
+    LAMINAR_FIT_MAX_MEASUREMENTS,
 };
 pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
 use laminar_core::{
     components_in, total_radiance_in, Angle, Angles, Correlation, Geometry, Input, InputError,
     Lane, LaneParams, Param, Params,
 };
+pub use scratch::{LaminarFitScratch, LAMINAR_FIT_SCRATCH_WORDS};
 
 /// What a call did. `Ok` is 0; every other value names what was wrong.
 #[repr(C)]

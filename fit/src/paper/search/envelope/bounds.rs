@@ -3,7 +3,6 @@
 //! residuals of the data, less a rounding margin. A search skips what its
 //! bound puts above the best error found so far.
 
-use super::basis::At;
 use super::SceneData;
 use crate::paper::search::sums::{dot, DataSums, SurfaceSums};
 
@@ -40,17 +39,18 @@ pub struct Projection {
 }
 
 impl Projection {
-    /// The model side of the bound of the triple `at`; `None` when `U` is
+    /// The model side of the bound of a triple with `Σ S²`, `Σ S U` and
+    /// `Σ U²` (unnormalised; [`super::basis::At`]); `None` when `U` is
     /// (nearly) a multiple of `S` or either is 0.
-    pub fn new(ss: f64, at: &At) -> Option<Self> {
-        if ss <= 0.0 || at.uu <= 0.0 {
+    pub fn new(ss: f64, su: f64, uu: f64) -> Option<Self> {
+        if ss <= 0.0 || uu <= 0.0 {
             return None;
         }
-        let su_over_ss = at.su / ss;
-        let q = at.uu - at.su * su_over_ss;
-        (q >= 1e-6 * at.uu).then(|| Self {
-            su: at.su,
-            uu: at.uu,
+        let su_over_ss = su / ss;
+        let q = uu - su * su_over_ss;
+        (q >= 1e-6 * uu).then(|| Self {
+            su,
+            uu,
             su_over_ss,
             inv_q: 1.0 / q,
         })

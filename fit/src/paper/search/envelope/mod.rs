@@ -187,7 +187,7 @@ pub fn shard<L: Lane>(
         }
         for (i_a, &a) in grid.a.values.iter().enumerate() {
             let at = basis.at(a);
-            let projection = Projection::new(surface.ss, &at);
+            let projection = Projection::new(surface.ss, at.su, at.uu);
             let mut max = None;
             for (j, (fit, data)) in fits.iter().zip(&data).enumerate() {
                 if !wanted[j] {
@@ -237,7 +237,8 @@ impl Column {
         let at = self.basis.at(a);
         let fit = SurfaceFit::new(&self.surface, scene);
         let ud = at.ud(&self.basis.data(&scene.d));
-        Projection::new(self.surface.ss, &at).map_or(f64::NEG_INFINITY, |p| p.bound(&fit, ud))
+        Projection::new(self.surface.ss, at.su, at.uu)
+            .map_or(f64::NEG_INFINITY, |p| p.bound(&fit, ud))
     }
 
     /// The smallest error over β of the triple at absorption `a` for `scene`.
@@ -279,7 +280,8 @@ pub fn promising<L: Lane>(
     for i_n in 0..grid.n.len() {
         let basis = model.basis(&surface, i_s, i_n);
         let at_zero = zero_a.map(|i_a| basis.at(grid.a.values[i_a]));
-        let projection = at_zero.and_then(|at| Projection::new(surface.ss, &at).map(|p| (at, p)));
+        let projection =
+            at_zero.and_then(|at| Projection::new(surface.ss, at.su, at.uu).map(|p| (at, p)));
         for ((slots, fit), scene) in out.iter_mut().zip(&fits).zip(scenes) {
             let data = basis.data(&scene.d);
             let span = basis
