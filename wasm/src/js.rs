@@ -15,8 +15,10 @@ use wasm_bindgen::JsCast;
 /// `undefined`, `an object`, ….
 fn describe(value: &JsValue) -> String {
     if let Some(s) = value.as_string() {
+        // Quoted by hand: `{:?}` would bring Unicode's escaping tables
+        // into the evaluation-only package (its size budget).
         let shown: String = s.chars().take(40).collect();
-        return format!("the string {shown:?}");
+        return format!("the string \"{shown}\"");
     }
     if let Some(x) = value.as_f64() {
         return format!("the number {x}");
@@ -57,23 +59,19 @@ fn number(value: &JsValue, name: &str) -> Result<f64, JsValue> {
         .ok_or_else(|| type_error(name, "a number", value))
 }
 
-/// The `RangeError` of argument `name`, whose `bytes` the module's memory
-/// (4 GiB at most, less what it already holds) cannot hold.
-fn too_large(name: &str, bytes: usize) -> JsValue {
-    js_sys::RangeError::new(&format!(
-        "{name}: {} MiB do not fit in the module's memory (4 GiB at most): give fewer values at a time",
-        bytes >> 20
-    ))
-    .into()
-}
-
-/// An empty vector with room for `len` values of argument `name`, or its
-/// `RangeError` (a failed allocation would abort the module).
+/// An empty vector with room for `len` values of argument `name`, or a
+/// `RangeError` naming it when the module's memory (4 GiB at most, less
+/// what it holds) cannot give that room: an allocation that fails would
+/// abort the module instead.
 pub(crate) fn room<T>(len: usize, name: &str) -> Result<Vec<T>, JsValue> {
-    let bytes = len.saturating_mul(core::mem::size_of::<T>());
     let mut v = Vec::new();
-    v.try_reserve_exact(len)
-        .map_err(|_| too_large(name, bytes))?;
+    if v.try_reserve_exact(len).is_err() {
+        let mib = len.saturating_mul(core::mem::size_of::<T>()) >> 20;
+        return Err(js_sys::RangeError::new(&format!(
+            "{name}: {mib} MiB do not fit in the module's memory (4 GiB at most): give fewer values at a time"
+        ))
+        .into());
+    }
     Ok(v)
 }
 
@@ -126,6 +124,7 @@ fn evaluation(
         numbers(angles, "angles")?,
         params(values)?,
     );
+    // The outputs' room, asked for and given back (the allocator keeps it).
     drop(room::<f64>(
         (angles.len() / 3).saturating_mul(outputs),
         "angles",
@@ -238,20 +237,22 @@ pub fn predict_fitted(
         })
         .collect::<Result<_, _>>()?;
     let normalisation = field(&fitted, "normalisation", "fitted")?;
-    let layered = ["surface_max", "subsurface_max", "mix_max"];
-    let given = |c: &str| -> Result<bool, JsValue> {
-        Ok(!field(&normalisation, c, "fitted.normalisation")?.is_undefined())
-    };
-    let names: &[&str] = match (given("amplitude")?, layered.iter().find(|c| given(c).unwrap_or(false))) {
-        (true, Some(other)) => {
-            return Err(js_sys::Error::new(&format!(
-                "fitted.normalisation holds both amplitude and {other}: give one normalisation's constants \
-                 (amplitude, or surface_max, subsurface_max and mix_max)"
-            ))
-            .into())
-        }
-        (true, None) => &["amplitude"],
-        (false, _) => &layered,
+    const LAYERED: [&str; 3] = ["surface_max", "subsurface_max", "mix_max"];
+    let mut layered = 0;
+    for c in LAYERED {
+        layered += usize::from(!field(&normalisation, c, "fitted.normalisation")?.is_undefined());
+    }
+    let names: &[&str] = if field(&normalisation, "amplitude", "fitted.normalisation")?
+        .is_undefined()
+    {
+        &LAYERED
+    } else if layered == 0 {
+        &["amplitude"]
+    } else {
+        return Err(js_sys::Error::new(
+                "fitted.normalisation holds amplitude and the paper objective's maxima: give one normalisation's constants",
+            )
+            .into());
     };
     let constants = names
         .iter()
