@@ -1,7 +1,7 @@
 //! Images: an 8-bit RGB PNG (the `png` crate), written whole or not at all.
 
 use crate::error::ReadError;
-use crate::fits::AtomicFile;
+use crate::staging::AtomicFile;
 use std::path::Path;
 
 /// Writes `rgb` (`width × height` pixels, row-major from the top, three

@@ -24,7 +24,9 @@ pub mod values;
 
 pub use csv_file::{read_csv, read_geometry, AngleUnit};
 pub use error::ReadError;
-pub use fits::{check_not_an_input, check_writable, write_atomic, write_atomic_bytes, AtomicFile};
+pub use staging::{
+    check_not_an_input, check_writable, write_atomic, write_atomic_bytes, AtomicFile,
+};
 
 #[cfg(test)]
 mod typescript;

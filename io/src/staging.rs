@@ -1,3 +1,6 @@
+//! Whole-or-nothing writes ([`write_atomic`], [`AtomicFile`]) and the
+//! checks before one ([`check_not_an_input`], [`check_writable`]).
+//!
 //! Hidden siblings of an output while it is written. Every partial output
 //! of a command is a sibling `.{name}.{kind}-{pid}` of its final path (a
 //! temporary file renamed into place, a staging directory), held under an
@@ -10,6 +13,7 @@
 
 use crate::error::ReadError;
 use std::fs::{File, TryLockError};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// The kinds of sibling a command leaves while it writes.
@@ -113,6 +117,144 @@ impl Drop for Claim {
     fn drop(&mut self) {
         let _ = std::fs::remove_file(&self.path);
     }
+}
+
+/// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+///
+/// # Errors
+/// [`ReadError::Io`] when the file cannot be written.
+pub fn write_atomic(path: &Path, contents: &str) -> Result<(), ReadError> {
+    write_atomic_bytes(path, contents.as_bytes())
+}
+
+/// Writes `contents` to `path` whole or not at all (temporary file, then rename).
+///
+/// # Errors
+/// [`ReadError::Io`] when the file cannot be written.
+pub fn write_atomic_bytes(path: &Path, contents: &[u8]) -> Result<(), ReadError> {
+    let mut file = AtomicFile::create(path)?;
+    file.write_all(contents)
+        .map_err(|e| ReadError::io(path, "write", e))?;
+    file.commit()
+}
+
+/// A file written whole or not at all, streamed: a temporary file beside
+/// `path` that [`AtomicFile::commit`] renames over it. Dropped without a
+/// commit (an error on the way), it removes the temporary file and leaves
+/// `path` as it was.
+pub struct AtomicFile {
+    path: PathBuf,
+    tmp: PathBuf,
+    file: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+impl AtomicFile {
+    /// Creates the temporary file for `path`.
+    ///
+    /// # Errors
+    /// [`ReadError::Io`] when it cannot be created.
+    pub fn create(path: &Path) -> Result<Self, ReadError> {
+        // Temporary files of earlier runs that were killed go first.
+        crate::staging::sweep(path);
+        let tmp = crate::staging::sibling(path, "tmp");
+        let file = std::fs::File::create(&tmp).map_err(|e| ReadError::io(path, "write", e))?;
+        // Held while this process lives ([`crate::staging`]); a file system
+        // without locks still gets the file.
+        let _ = file.try_lock();
+        Ok(Self {
+            path: path.to_path_buf(),
+            tmp,
+            file: Some(std::io::BufWriter::new(file)),
+        })
+    }
+
+    /// Flushes, syncs and renames the file into place.
+    ///
+    /// # Errors
+    /// [`ReadError::Io`] when any of those fails (the temporary file is removed).
+    pub fn commit(mut self) -> Result<(), ReadError> {
+        let file = self.file.take().expect("committed once");
+        let result = file
+            .into_inner()
+            .map_err(|e| e.into_error())
+            .and_then(|f| f.sync_all())
+            .and_then(|()| std::fs::rename(&self.tmp, &self.path));
+        result.map_err(|e| ReadError::io(&self.path, "write", e))
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.file.as_mut().expect("not committed").write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.as_mut().expect("not committed").flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        // Not committed, or the rename failed: nothing of it stays.
+        if self.file.is_some() || self.tmp.exists() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Refuses `out` when it is the same file as one of `inputs`, however the
+/// paths are spelled (`./v.csv` and `v.csv`, symbolic or hard links): the
+/// file's identity is compared, not its name. An `out` that does not exist
+/// yet is none of them.
+///
+/// ```
+/// # let dir = std::env::temp_dir().join(format!("laminar-doc-{}", std::process::id()));
+/// # std::fs::create_dir_all(&dir).unwrap();
+/// let input = dir.join("values.csv");
+/// std::fs::write(&input, "1,2\n").unwrap();
+/// let spelled = dir.join(".").join("values.csv");
+/// assert!(laminar_io::check_not_an_input(&spelled, &[&input]).is_err());
+/// assert!(laminar_io::check_not_an_input(&dir.join("out.csv"), &[&input]).is_ok());
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+///
+/// # Errors
+/// [`ReadError::OutputIsInput`] naming both paths.
+pub fn check_not_an_input<P: AsRef<Path>>(out: &Path, inputs: &[P]) -> Result<(), ReadError> {
+    match inputs
+        .iter()
+        .find(|input| same_file::is_same_file(out, input).unwrap_or(false))
+    {
+        Some(input) => Err(ReadError::OutputIsInput {
+            out: out.to_path_buf(),
+            input: input.as_ref().to_path_buf(),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Checks before any work that `path` can be written: its directory exists
+/// and accepts a new file (a probe file is created and removed; an existing
+/// `path` is left untouched).
+///
+/// # Errors
+/// [`ReadError::Io`] when `path` is a directory or its directory refuses a new file.
+pub fn check_writable(path: &Path) -> Result<(), ReadError> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if path.is_dir() {
+        return Err(ReadError::io(
+            path,
+            "write",
+            std::io::Error::other("it is a directory"),
+        ));
+    }
+    let probe = dir.join(format!(".laminar-probe-{}", std::process::id()));
+    std::fs::File::create(&probe).map_err(|e| ReadError::io(path, "write", e))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
 }
 
 #[cfg(test)]
