@@ -7,7 +7,7 @@ use crate::selection::{material, Job};
 use crate::tables::paper_tables;
 use crate::usage::UsageError;
 use crate::CliError;
-use laminar_fit::preview::{render, Scene};
+use laminar_fit::preview::{render, Stage};
 use laminar_fit::{Fit, Fitter, Model, ModelParams};
 use laminar_io::fits::csv as fit_csv;
 use laminar_io::write_atomic;
@@ -248,9 +248,9 @@ fn write_set(
             }
             if r.model == PROFILE_MODEL {
                 // A preview of the fitted material (docs/conventions.md §12).
-                let scene = Scene {
+                let scene = Stage {
                     size: PREVIEW_SIZE,
-                    ..Scene::default()
+                    ..Stage::default()
                 };
                 let image = render(&[r.estimate().fitted], &scene)?;
                 let path = out.join(format!(

@@ -7,7 +7,7 @@
 //! `direct_slopes` σ/T values) and states how far the two `f64` paths are
 //! apart there. The direct paths are timed and compared on that slice only.
 
-use laminar_fit::paper::search::{error_surface, search, Arith, Method, Path};
+use laminar_fit::paper::search::{error_surface, search, Arith, Method, SearchPath};
 use laminar_fit::{Axis, Grid, GridError, Model, Scene};
 use laminar_io::fits::markdown_table;
 use std::time::Instant;
@@ -16,7 +16,7 @@ use std::time::Instant;
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathRow {
     /// The path.
-    pub path: Path,
+    pub path: SearchPath,
     /// (parameter set, measurement) pairs per second of its searches.
     pub pairs_per_second: f64,
     /// Largest |ΔRMS| against the reference over every compared grid value.
@@ -34,7 +34,7 @@ pub struct PathRow {
 /// The report.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpeedReport {
-    /// One row per path, in [`Path::all`] order.
+    /// One row per path, in [`SearchPath::all`] order.
     pub rows: Vec<PathRow>,
     /// Largest |ΔRMS| between `direct-f64` and `onepass-f64` on the slice.
     pub reference_agreement: f64,
@@ -74,7 +74,7 @@ pub fn speed_vs_error(
         },
         ..grid.clone()
     };
-    let paths = Path::all();
+    let paths = SearchPath::all();
     let mut rows: Vec<PathRow> = paths
         .iter()
         .map(|&path| PathRow {
@@ -90,7 +90,7 @@ pub fn speed_vs_error(
     let mut seconds = vec![0.0; paths.len()];
     let mut pairs = vec![0.0; paths.len()];
     let mut reference_agreement: f64 = 0.0;
-    let whole_reference = Path::new(Method::OnePass, Arith::F64);
+    let whole_reference = SearchPath::new(Method::OnePass, Arith::F64);
     let mut mean_front = [None; 2];
     let mut pruned = [None; 2];
     for scene in scenes {
@@ -99,7 +99,7 @@ pub fn speed_vs_error(
             progress(&format!("sample {} {model}: reference", scene.sample()));
             let reference = error_surface(scene, grid, corr, whole_reference)?;
             let slice_reference = &reference[..slice.size()];
-            let direct = error_surface(scene, &slice, corr, Path::REFERENCE)?;
+            let direct = error_surface(scene, &slice, corr, SearchPath::REFERENCE)?;
             reference_agreement = direct
                 .iter()
                 .zip(slice_reference)
@@ -114,14 +114,14 @@ pub fn speed_vs_error(
                 let start = Instant::now();
                 let r = search(scene, g, corr, path, &|| {})?;
                 seconds[i] += start.elapsed().as_secs_f64();
-                if path == Path::DEFAULT {
+                if path == SearchPath::DEFAULT {
                     mean_front[i_model] = r.mean_front;
                     pruned[i_model] = r.pruned;
                 }
                 pairs[i] += g.size() as f64 * scene.len() as f64;
                 let values = if path == whole_reference {
                     reference.clone()
-                } else if path == Path::REFERENCE {
+                } else if path == SearchPath::REFERENCE {
                     direct.clone()
                 } else {
                     error_surface(scene, g, corr, path)?
@@ -159,7 +159,7 @@ impl SpeedReport {
         let reference = self
             .rows
             .iter()
-            .find(|r| r.path == Path::REFERENCE)
+            .find(|r| r.path == SearchPath::REFERENCE)
             .map(|r| r.pairs_per_second)
             .unwrap_or(f64::NAN);
         let header = [

@@ -9,7 +9,7 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use laminar_core::Correlation;
-use laminar_fit::paper::search::{search, Method, Path};
+use laminar_fit::paper::search::{search, Method, SearchPath};
 use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
@@ -42,7 +42,7 @@ fn fits(c: &mut Criterion) {
     };
     let mut group = c.benchmark_group(format!("fit_{label}"));
     group.sample_size(10);
-    for path in Path::all() {
+    for path in SearchPath::all() {
         let grid = if path.method == Method::Direct {
             &slice
         } else {

@@ -11,7 +11,7 @@ use crate::grid::Grid;
 use crate::model::Model;
 use crate::objective::Objective;
 use crate::paper::profiles::ProfileCurve;
-use crate::paper::search::Path;
+use crate::paper::search::SearchPath;
 use crate::report::Fit;
 use crate::scene::Scene;
 use crate::{choice, free, paper};
@@ -59,7 +59,7 @@ pub const MAX_THREADS: usize = 1024;
 #[derive(Clone)]
 pub struct Fitter {
     grid: Grid,
-    path: Path,
+    path: SearchPath,
     pool: Option<Arc<rayon::ThreadPool>>,
     progress: Option<Progress>,
     analysis: Analysis,
@@ -78,7 +78,7 @@ impl Fitter {
         grid.validate()?;
         Ok(Self {
             grid,
-            path: Path::DEFAULT,
+            path: SearchPath::DEFAULT,
             pool: None,
             progress: None,
             analysis: Analysis::FULL,
@@ -110,8 +110,8 @@ impl Fitter {
         self.analysis
     }
 
-    /// The search path of the layered models (default [`Path::DEFAULT`]).
-    pub fn path(mut self, path: Path) -> Self {
+    /// The search path of the layered models (default [`SearchPath::DEFAULT`]).
+    pub fn path(mut self, path: SearchPath) -> Self {
         self.path = path;
         self
     }
@@ -150,7 +150,7 @@ impl Fitter {
     }
 
     /// The search path.
-    pub fn search_path(&self) -> Path {
+    pub fn search_path(&self) -> SearchPath {
         self.path
     }
 

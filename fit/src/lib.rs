@@ -15,7 +15,7 @@
 //!   the paper frame, named channels, optional uncertainties, BRDF or
 //!   radiance), turned into a [`Scene`] per channel in one place.
 //! * [`Grid`] and [`Axis`]: the search grid (paper preset by default).
-//! * [`Fitter`]: objective, grid, [`Path`], threads, progress; [`Fitter::fit`]
+//! * [`Fitter`]: objective, grid, [`SearchPath`], threads, progress; [`Fitter::fit`]
 //!   returns a [`Fit`], [`Fitter::fit_all`] every model on every scene.
 //! * [`Settings`]: every option by name, as each front end hands it over.
 //! * [`Model`] and [`Param`]: the model descriptor every list derives from.
@@ -91,7 +91,7 @@ pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::{Model, Param};
 pub use objective::Objective;
 pub use paper::profiles::ProfileCurve;
-pub use paper::search::Path;
+pub use paper::search::SearchPath;
 pub use report::{Fit, Parameter};
 pub use scene::Scene;
 pub use settings::{SettingError, Settings};

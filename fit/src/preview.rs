@@ -18,9 +18,9 @@ use crate::error::ModelError;
 use crate::fitted::FittedModel;
 use crate::measurements::MeasurementAngles;
 
-/// The scene of a preview.
+/// The stage of a preview: the image size, the light and the environment.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Scene {
+pub struct Stage {
     /// Image width and height in pixels.
     pub size: usize,
     /// The light's direction from the camera axis (radians).
@@ -34,7 +34,7 @@ pub struct Scene {
     pub environment: f64,
 }
 
-impl Default for Scene {
+impl Default for Stage {
     /// 256 pixels, the light 60° off the axis from the upper left (so the
     /// terminator shows), `E = 1`, `L_env = 0.05`.
     fn default() -> Self {
@@ -50,7 +50,7 @@ impl Default for Scene {
 
 /// A scene option outside what a preview takes.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
-pub enum SceneError {
+pub enum StageError {
     /// The image size in pixels.
     #[error("size {0}: must lie in [16, 4096]")]
     Size(usize),
@@ -65,29 +65,29 @@ pub enum SceneError {
     Environment(f64),
 }
 
-impl Scene {
+impl Stage {
     /// A scene of `size` pixels with the light's angles in degrees and the
-    /// environment's radiance, each [`Scene::default`]'s when `None`.
+    /// environment's radiance, each [`Stage::default`]'s when `None`.
     ///
     /// # Errors
-    /// [`SceneError`] naming the first option outside its range.
+    /// [`StageError`] naming the first option outside its range.
     pub fn new(
         size: usize,
         light_polar_degrees: Option<f64>,
         light_azimuth_degrees: Option<f64>,
         environment: Option<f64>,
-    ) -> Result<Self, SceneError> {
+    ) -> Result<Self, StageError> {
         if !(16..=4096).contains(&size) {
-            return Err(SceneError::Size(size));
+            return Err(StageError::Size(size));
         }
         if let Some(p) = light_polar_degrees.filter(|p| !(0.0..=89.0).contains(p)) {
-            return Err(SceneError::LightPolar(p));
+            return Err(StageError::LightPolar(p));
         }
         if let Some(a) = light_azimuth_degrees.filter(|a| !a.is_finite()) {
-            return Err(SceneError::LightAzimuth(a));
+            return Err(StageError::LightAzimuth(a));
         }
         if let Some(e) = environment.filter(|e| !(*e >= 0.0 && e.is_finite())) {
-            return Err(SceneError::Environment(e));
+            return Err(StageError::Environment(e));
         }
         let default = Self::default();
         Ok(Self {
@@ -127,7 +127,7 @@ const ALBEDO_LAST: f64 = 89.0 * core::f64::consts::PI / 180.0;
 /// # Errors
 /// [`ModelError`] when a model cannot predict (its parameters or
 /// constants; a prediction that is not finite).
-pub fn render(models: &[FittedModel], scene: &Scene) -> Result<Image, ModelError> {
+pub fn render(models: &[FittedModel], scene: &Stage) -> Result<Image, ModelError> {
     let size = scene.size;
     let (sp, cp) = (scene.light_polar.sin(), scene.light_polar.cos());
     let light = [
@@ -291,9 +291,9 @@ mod tests {
     /// the environment alone.
     #[test]
     fn a_sphere_is_finite_non_negative_and_lit_where_the_light_is() {
-        let scene = Scene {
+        let scene = Stage {
             size: 64,
-            ..Scene::default()
+            ..Stage::default()
         };
         let image = render(&[model(0.3), model(0.6), model(0.9)], &scene).unwrap();
         assert_eq!(image.radiance.len(), 64 * 64 * 3);
@@ -317,11 +317,11 @@ mod tests {
     /// albedo at its θv, at the centre θv = 0.
     #[test]
     fn the_environment_term_is_the_albedo() {
-        let scene = Scene {
+        let scene = Stage {
             size: 33,
             light: 0.0,
             environment: 2.0,
-            ..Scene::default()
+            ..Stage::default()
         };
         let m = model(0.4);
         let image = render(&[m], &scene).unwrap();

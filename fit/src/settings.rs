@@ -28,7 +28,7 @@ use crate::fitted::param_names;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::objective::Objective;
-use crate::paper::search::Path;
+use crate::paper::search::SearchPath;
 use thiserror::Error;
 
 /// A fit's settings: `laminar fit`'s defaults unless set.
@@ -40,7 +40,7 @@ pub struct Settings {
     /// ([`Objective::default_grid`]) whatever the order they were set in.
     pub axes: Vec<(Param, Axis)>,
     /// The search path of the layered models (the paper objective's grid search).
-    pub path: Path,
+    pub path: SearchPath,
     /// Refinement and uncertainty after the search.
     pub analysis: Analysis,
     /// Worker threads (`None`: every core).
@@ -52,7 +52,7 @@ impl Default for Settings {
         Self {
             objective: Objective::Free,
             axes: Vec::new(),
-            path: Path::DEFAULT,
+            path: SearchPath::DEFAULT,
             analysis: Analysis::FULL,
             threads: None,
         }

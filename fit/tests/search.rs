@@ -3,7 +3,7 @@
 //! SIMD/scalar parity, and (with `CURET_DIR`) the paper's 13 samples.
 
 use laminar_core::{Correlation, Params};
-use laminar_fit::paper::search::{error_surface, point, search, Arith, Method, Path, Twins};
+use laminar_fit::paper::search::{error_surface, point, search, Arith, Method, SearchPath, Twins};
 use laminar_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Objective,
     Scene,
@@ -39,7 +39,7 @@ fn small_grid() -> Grid {
     }
 }
 
-fn assert_recovered(grid: &Grid, scene: &Scene, corr: Correlation, path: Path) {
+fn assert_recovered(grid: &Grid, scene: &Scene, corr: Correlation, path: SearchPath) {
     let r = search(scene, grid, corr, path, &|| {}).unwrap();
     let (s, n, a, b) = point(grid, r.best);
     assert!(
@@ -56,7 +56,7 @@ fn assert_recovered(grid: &Grid, scene: &Scene, corr: Correlation, path: Path) {
 fn noiseless_synthetic_data_is_recovered_exactly_on_every_path() {
     for corr in [Correlation::Exponential, Correlation::Gaussian] {
         let scene = synthetic::scene(corr, &truth(), 0.0, 1);
-        for path in Path::all() {
+        for path in SearchPath::all() {
             assert_recovered(&small_grid(), &scene, corr, path);
             if path.method != Method::Direct {
                 assert_recovered(&test_grid(), &scene, corr, path);
@@ -74,8 +74,8 @@ fn every_path_matches_the_f64_reference() {
     let grid = small_grid();
     for corr in [Correlation::Exponential, Correlation::Gaussian] {
         let scene = synthetic::scene(corr, &truth(), 0.01, 3);
-        let reference = error_surface(&scene, &grid, corr, Path::REFERENCE).unwrap();
-        for path in Path::all() {
+        let reference = error_surface(&scene, &grid, corr, SearchPath::REFERENCE).unwrap();
+        for path in SearchPath::all() {
             let v = error_surface(&scene, &grid, corr, path).unwrap();
             let worst = v
                 .iter()
@@ -104,7 +104,7 @@ fn slightly_noisy_data_is_recovered_within_one_grid_step() {
         &scene,
         &grid,
         Correlation::Exponential,
-        Path::DEFAULT,
+        SearchPath::DEFAULT,
         &|| {},
     )
     .unwrap();
@@ -133,7 +133,7 @@ fn search_picks_the_minimum_of_its_error_surface() {
     let good = synthetic::scene(Correlation::Exponential, &truth(), 0.01, 11);
     let poor = synthetic::scene(Correlation::Gaussian, &truth(), 0.01, 12);
     for scene in [&good, &poor] {
-        for path in Path::all() {
+        for path in SearchPath::all() {
             let grid = if path.method == Method::Direct {
                 small_grid()
             } else {
@@ -245,7 +245,7 @@ fn curet_paper_samples_fit_and_match_scalar_twin() {
                 "absorptive fit worse than its a = 0 slice"
             );
             for method in [Method::OnePass, Method::Envelope] {
-                let simd_path = Path::new(method, Arith::F32x8);
+                let simd_path = SearchPath::new(method, Arith::F32x8);
                 let twins = Twins::new(&scene, &grid, corr, method).unwrap();
                 let (same, simd) = (twins.identical(), twins.simd);
                 assert_eq!(
@@ -285,7 +285,7 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         &scene,
         &empty,
         Correlation::Exponential,
-        Path::DEFAULT,
+        SearchPath::DEFAULT,
         &|| {},
     )
     .unwrap_err();
@@ -298,7 +298,13 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         ),
         "{e}"
     );
-    let e = error_surface(&scene, &empty, Correlation::Exponential, Path::DEFAULT).unwrap_err();
+    let e = error_surface(
+        &scene,
+        &empty,
+        Correlation::Exponential,
+        SearchPath::DEFAULT,
+    )
+    .unwrap_err();
     assert!(
         matches!(
             e,
@@ -348,7 +354,7 @@ fn batch_fits_equal_single_fits_bit_for_bit() {
     for corr in [Correlation::Exponential, Correlation::Gaussian] {
         let scenes = batch_scenes(corr);
         for arith in [Arith::F32x8, Arith::F32, Arith::F64] {
-            let path = Path::new(Method::Envelope, arith);
+            let path = SearchPath::new(Method::Envelope, arith);
             for threads in [1, 3] {
                 let fitter = Fitter::new(grid.clone())
                     .unwrap()
@@ -404,7 +410,7 @@ fn batch_falls_back_to_single_fits() {
             assert_eq!(fit, &fitter.fit(scene, model));
         }
     }
-    let onepass = fitter.path(Path::new(Method::OnePass, Arith::F32x8));
+    let onepass = fitter.path(SearchPath::new(Method::OnePass, Arith::F32x8));
     let batch = onepass.fit_batch(&scenes[..2], Model::Gauss);
     assert_eq!(batch[1], onepass.fit(&scenes[1], Model::Gauss));
 }

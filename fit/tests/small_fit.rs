@@ -8,14 +8,14 @@ use laminar_core::measures::DataFault;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
 use laminar_core::{Correlation, Geometry, Param};
 use laminar_fit::paper::search::{self, Arith, Method};
-use laminar_fit::{synthetic, Grid, Path};
+use laminar_fit::{synthetic, Grid, SearchPath};
 
 #[test]
 fn small_fit_is_the_library_search() {
     let grid = Grid::paper();
     let axes = grid.axes();
     let mut scratch = Scratch::new();
-    let onepass = Path::new(Method::OnePass, Arith::F32);
+    let onepass = SearchPath::new(Method::OnePass, Arith::F32);
     let (mut checked, mut same_as_default) = (0, 0);
     for (k, seed) in [(7, 11), (32, 12), (64, 13)] {
         let angles = synthetic::spread(k);
@@ -34,7 +34,8 @@ fn small_fit_is_the_library_search() {
                 // The default path (envelope, f32x8) sums in another order,
                 // so on near-ties it may pick another point: its Δ_RMS then
                 // equals this one's to f32 rounding.
-                let default = search::search(&scene, &grid, corr, Path::DEFAULT, &|| {}).unwrap();
+                let default =
+                    search::search(&scene, &grid, corr, SearchPath::DEFAULT, &|| {}).unwrap();
                 if default.best == small.best {
                     same_as_default += 1;
                 } else {

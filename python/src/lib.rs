@@ -772,14 +772,14 @@ fn render<'py>(
     light_azimuth: Option<f64>,
     environment: Option<f64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    use laminar_fit::preview::{render as draw, Scene};
+    use laminar_fit::preview::{render as draw, Stage};
     if !(models.len() == 1 || models.len() == 3) {
         return Err(PyValueError::new_err(format!(
             "render takes one or three models (got {})",
             models.len()
         )));
     }
-    let scene = Scene::new(size, light_polar, light_azimuth, environment).map_err(value_error)?;
+    let scene = Stage::new(size, light_polar, light_azimuth, environment).map_err(value_error)?;
     let fitted: Vec<laminar_fit::FittedModel> = models.iter().map(|m| m.fitted).collect();
     let image = py.detach(|| draw(&fitted, &scene)).map_err(value_error)?;
     let srgb = image.to_srgb8();

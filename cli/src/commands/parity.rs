@@ -7,7 +7,7 @@ use super::options::{
 use clap::Args;
 use laminar_cli::CliError;
 use laminar_fit::paper::search::batch::search_batch;
-use laminar_fit::paper::search::{search, Arith, Method, Path, SearchResult, Twins};
+use laminar_fit::paper::search::{search, Arith, Method, SearchPath, SearchResult, Twins};
 use laminar_fit::{Grid, Model, Scene};
 use std::time::Instant;
 
@@ -106,7 +106,7 @@ fn batch_parity(scenes: &[Scene], models: &[Model], grid: &Grid) -> Result<bool,
                 scene,
                 &g,
                 corr,
-                Path::new(Method::Envelope, Arith::F32x8),
+                SearchPath::new(Method::Envelope, Arith::F32x8),
                 &|| {},
             )?;
             let key = |r: &SearchResult| {

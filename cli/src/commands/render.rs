@@ -5,7 +5,7 @@ use super::select::FitFileArgs;
 use clap::Args;
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::preview::{render, Scene, SceneError};
+use laminar_fit::preview::{render, Stage, StageError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -53,12 +53,12 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
     check_extension(&args.out, OutputFormat::Png)?;
     let size = usize::try_from(args.size).map_err(|_| UsageError::Size(args.size))?;
     let scene =
-        Scene::new(size, args.light_polar, args.light_azimuth, args.environment).map_err(|e| {
+        Stage::new(size, args.light_polar, args.light_azimuth, args.environment).map_err(|e| {
             match e {
-                SceneError::Size(_) => UsageError::Size(args.size),
-                SceneError::LightPolar(v) => UsageError::LightPolar(v),
-                SceneError::LightAzimuth(v) => UsageError::LightAzimuth(v),
-                SceneError::Environment(v) => UsageError::Environment(v),
+                StageError::Size(_) => UsageError::Size(args.size),
+                StageError::LightPolar(v) => UsageError::LightPolar(v),
+                StageError::LightAzimuth(v) => UsageError::LightAzimuth(v),
+                StageError::Environment(v) => UsageError::Environment(v),
             }
         })?;
     let selections: Vec<Option<String>> = match args.select.len() {

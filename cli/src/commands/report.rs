@@ -11,7 +11,7 @@ use laminar_cli::selection::synthetic_jobs;
 use laminar_cli::speed::speed_vs_error;
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::paper::search::Path as SearchPath;
+use laminar_fit::paper::search::SearchPath;
 use laminar_fit::Scene;
 use std::path::PathBuf;
 use std::time::Instant;

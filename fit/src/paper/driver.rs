@@ -1,16 +1,16 @@
 //! The paper pipeline's driver (docs/conventions.md §11): the grid search
 //! ([`super::search`]; the baselines by their own grids, §7), then the
-//! refinement and intervals ([`super::report`]), into a [`Fit`]. The free
+//! refinement and intervals ([`super::record`]), into a [`Fit`]. The free
 //! objective's driver is [`crate::free::driver`]; [`crate::Fitter`]
 //! dispatches to one or the other.
 
 use super::intervals::cutoffs;
 use super::profiles::{profile_curves, ProfileCurve};
-use super::report::{analyse, Analysed};
+use super::record::{analyse, Analysed};
 use super::search::baselines::{grid2, profile_of, sum_of_rms};
 use super::search::batch::{search_batch, share_geometry};
 use super::search::{
-    grid_profile, point, search, GridProfile, Method, Path, SearchResult, Searched,
+    grid_profile, point, search, GridProfile, Method, SearchPath, SearchResult, Searched,
 };
 use crate::analysis::Analysis;
 use crate::baseline::BaselineGeometry;
@@ -29,7 +29,7 @@ pub(crate) struct Driver<'a> {
     /// The grid (validated by [`crate::Fitter::new`]).
     pub grid: &'a Grid,
     /// The layered models' search path.
-    pub path: Path,
+    pub path: SearchPath,
     /// What follows the search.
     pub analysis: Analysis,
     /// Called once per finished search shard.

@@ -5,7 +5,7 @@
 //!    model's continuous parameters.
 //! 2. [`refine`]: Nelder–Mead from the grid's basins.
 //! 3. [`intervals`]: the Jacobian's covariance and the profile intervals.
-//! 4. [`report`]: each searched parameter's value, intervals and flags.
+//! 4. [`record`]: each searched parameter's value, intervals and flags.
 //! 5. [`profiles`]: the profile curves of a reported fit, for figures.
 //!
 //! The grid search before it is [`crate::paper::search`]; the free-amplitude
@@ -15,6 +15,6 @@ pub mod driver;
 pub mod intervals;
 pub mod objective;
 pub mod profiles;
+pub mod record;
 pub mod refine;
-pub mod report;
 pub mod search;

@@ -71,7 +71,7 @@ fn run<L: Lane + Send + Sync>(
 ) -> Vec<SearchResult> {
     let tables = Tables::<L>::new(&scenes[0], grid);
     let sines = envelope::sines(&tables.packed);
-    let model = envelope::Model {
+    let model = envelope::Shard {
         tables: &tables,
         sines: &sines,
         grid,
@@ -122,7 +122,7 @@ fn run<L: Lane + Send + Sync>(
 /// shared best. Any computed value of a grid point is a valid threshold, so
 /// the result does not change; only fewer triples are swept.
 fn seed<L: Lane + Send + Sync>(
-    model: &envelope::Model<'_, L>,
+    model: &envelope::Shard<'_, L>,
     data: &[SceneData],
     shared: &[SharedBest],
     zero_a: Option<usize>,

@@ -1,4 +1,4 @@
-//! Path 1, the direct search: every (parameter set, measurement) pair is
+//! SearchPath 1, the direct search: every (parameter set, measurement) pair is
 //! evaluated in full by [`components`], nothing hoisted, and the error is the
 //! literal two-pass form of the paper (normalise, then eq. 15). In `f64` this
 //! is the accuracy reference of every other path.

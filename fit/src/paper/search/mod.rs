@@ -3,7 +3,7 @@
 //!
 //! 1. [`Method::Direct`] ([`direct`]): every pair evaluated in full; in `f64`
 //!    the accuracy reference.
-//! 2. [`Method::OnePass`] ([`one_pass`]): hoisted terms, one pass over the
+//! 2. [`Method::OnePass`] ([`onepass`]): hoisted terms, one pass over the
 //!    measurements per parameter set.
 //! 3. [`Method::Envelope`] ([`envelope`]): hoisted terms, closed-form β sweep.
 //!
@@ -20,7 +20,7 @@ pub mod baselines;
 pub mod batch;
 pub mod direct;
 pub mod envelope;
-pub mod one_pass;
+pub mod onepass;
 pub mod packed;
 pub mod sums;
 
@@ -38,11 +38,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// How the β loop of the search is evaluated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Method {
-    /// Path 1: every (parameter set, measurement) pair evaluated in full.
+    /// SearchPath 1: every (parameter set, measurement) pair evaluated in full.
     Direct,
-    /// Path 2: hoisted terms, one pass per parameter set.
+    /// SearchPath 2: hoisted terms, one pass per parameter set.
     OnePass,
-    /// Path 3: hoisted terms, closed-form β sweep over the upper envelope.
+    /// SearchPath 3: hoisted terms, closed-form β sweep over the upper envelope.
     Envelope,
 }
 
@@ -59,18 +59,18 @@ pub enum Arith {
 
 /// A search path: a method in an arithmetic, e.g. `envelope-f32x8`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Path {
+pub struct SearchPath {
     /// The method.
     pub method: Method,
     /// The arithmetic.
     pub arith: Arith,
 }
 
-impl Path {
+impl SearchPath {
     /// The default of every command: the closed-form sweep on `f32x8`.
-    pub const DEFAULT: Path = Path::new(Method::Envelope, Arith::F32x8);
+    pub const DEFAULT: SearchPath = SearchPath::new(Method::Envelope, Arith::F32x8);
     /// The accuracy reference: direct `f64`.
-    pub const REFERENCE: Path = Path::new(Method::Direct, Arith::F64);
+    pub const REFERENCE: SearchPath = SearchPath::new(Method::Direct, Arith::F64);
 
     /// A path.
     pub const fn new(method: Method, arith: Arith) -> Self {
@@ -78,11 +78,11 @@ impl Path {
     }
 
     /// Every path, reference first.
-    pub fn all() -> Vec<Path> {
+    pub fn all() -> Vec<SearchPath> {
         let mut out = Vec::new();
         for method in [Method::Direct, Method::OnePass, Method::Envelope] {
             for arith in [Arith::F64, Arith::F32, Arith::F32x8] {
-                out.push(Path::new(method, arith));
+                out.push(SearchPath::new(method, arith));
             }
         }
         out
@@ -90,15 +90,15 @@ impl Path {
 
     /// The same method in the other f32 arithmetic (`f32x8` ↔ `f32`), the pair
     /// whose grid values must agree bit for bit.
-    pub fn twins(self) -> (Path, Path) {
+    pub fn twins(self) -> (SearchPath, SearchPath) {
         (
-            Path::new(self.method, Arith::F32x8),
-            Path::new(self.method, Arith::F32),
+            SearchPath::new(self.method, Arith::F32x8),
+            SearchPath::new(self.method, Arith::F32),
         )
     }
 }
 
-impl fmt::Display for Path {
+impl fmt::Display for SearchPath {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let method = match self.method {
             Method::Direct => "direct",
@@ -114,10 +114,10 @@ impl fmt::Display for Path {
     }
 }
 
-impl FromStr for Path {
+impl FromStr for SearchPath {
     type Err = UnknownName;
     fn from_str(s: &str) -> Result<Self, UnknownName> {
-        Path::all()
+        SearchPath::all()
             .into_iter()
             .find(|p| p.to_string() == s)
             .ok_or_else(|| UnknownName {
@@ -176,7 +176,7 @@ impl<L: Lane> Prepared<L> {
                 sines,
                 data,
             } => {
-                let model = envelope::Model {
+                let model = envelope::Shard {
                     tables,
                     sines,
                     grid,
@@ -202,9 +202,9 @@ impl<L: Lane> Prepared<L> {
                     data: sums::DataSums::new(&widened.s, &d),
                     d: &d,
                 };
-                let mut scratch = one_pass::Scratch::default();
+                let mut scratch = onepass::Scratch::default();
                 tables.for_each_subsurface(corr, slope, |i_n, i_a, u| {
-                    one_pass::sweep(
+                    onepass::sweep(
                         packed,
                         (&surface, u),
                         &wide,
@@ -442,7 +442,7 @@ pub fn search(
     scene: &Scene,
     grid: &Grid,
     corr: Correlation,
-    path: Path,
+    path: SearchPath,
     progress: &(dyn Fn() + Sync),
 ) -> Result<SearchResult, GridError> {
     grid.validate()?;
@@ -473,7 +473,7 @@ pub fn error_surface(
     scene: &Scene,
     grid: &Grid,
     corr: Correlation,
-    path: Path,
+    path: SearchPath,
 ) -> Result<Vec<f64>, GridError> {
     fn run<L: Lane + Send + Sync>(
         scene: &Scene,
@@ -535,7 +535,7 @@ pub fn grid_profile(
     scene: &Scene,
     grid: &Grid,
     corr: Correlation,
-    path: Path,
+    path: SearchPath,
     cutoff: f64,
     near: f64,
 ) -> Result<GridProfile, GridError> {
@@ -559,8 +559,8 @@ pub fn grid_profile(
                 .map(|&len| vec![(f64::INFINITY, usize::MAX); len])
                 .collect()
         };
-        type Shard = (Vec<Vec<(f64, usize)>>, Vec<(usize, f64)>);
-        let shards: Vec<Shard> = (0..grid.slope.len())
+        type ShardBests = (Vec<Vec<(f64, usize)>>, Vec<(usize, f64)>);
+        let shards: Vec<ShardBests> = (0..grid.slope.len())
             .into_par_iter()
             .map(|i_s| {
                 let (mut axes, mut points) = (empty(), Vec::new());
@@ -609,7 +609,7 @@ pub fn grid_profile(
 }
 
 /// The error surfaces of a method's `f32x8` path and its scalar `f32` twin
-/// ([`Path::twins`]), which must agree bit for bit (the parity check).
+/// ([`SearchPath::twins`]), which must agree bit for bit (the parity check).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Twins {
     /// Every grid value on the `f32x8` path, in flattened order.
@@ -629,7 +629,7 @@ impl Twins {
         corr: Correlation,
         method: Method,
     ) -> Result<Self, GridError> {
-        let (simd, scalar) = Path::new(method, Arith::F32x8).twins();
+        let (simd, scalar) = SearchPath::new(method, Arith::F32x8).twins();
         Ok(Self {
             simd: error_surface(scene, grid, corr, simd)?,
             scalar: error_surface(scene, grid, corr, scalar)?,

@@ -1,4 +1,4 @@
-//! The subsurface term of one (σ/T, n) as a quadratic in `a` ([`Basis`]),
+//! The subsurface term of one (σ/T, n) as a quadratic in `a` ([`QuadraticBasis`]),
 //! and its value at one `a` ([`At`]) (docs/conventions.md §6).
 
 use super::bounds::Span;
@@ -8,14 +8,14 @@ use crate::paper::search::sums::{dot, dot4, SurfaceSums};
 /// (module docs): `w0, w1, w2` over the measurements, the coefficients of
 /// `Σ S U` and `Σ U²` in the basis `(1 − a)^(m−j) a^j`, and the bound of
 /// every `a` at once ([`Span`]).
-pub struct Basis {
+pub struct QuadraticBasis {
     pub(super) w: [Vec<f64>; 3],
     pub(super) su: [f64; 3],
     pub(super) uu: [f64; 5],
     pub(super) span: Option<Span>,
 }
 
-impl Basis {
+impl QuadraticBasis {
     /// The basis of the widened subsurface base `base` with the widened
     /// sines `sines`, and its sums against the surface term.
     pub fn new(surface: &SurfaceSums, base: &[f64], sines: &[[f64; 2]]) -> Self {
@@ -90,11 +90,11 @@ pub struct At {
 impl At {
     /// `U_k` (unnormalised) of measurement `k` of `basis`.
     #[inline]
-    pub(super) fn value(&self, basis: &Basis, k: usize) -> f64 {
+    pub(super) fn value(&self, basis: &QuadraticBasis, k: usize) -> f64 {
         self.b[0] * basis.w[0][k] + self.b[1] * basis.w[1][k] + self.b[2] * basis.w[2][k]
     }
 
-    /// `Σ D U` (unnormalised) from a scene's [`Basis::data`].
+    /// `Σ D U` (unnormalised) from a scene's [`QuadraticBasis::data`].
     #[inline]
     pub fn ud(&self, data: &[f64; 3]) -> f64 {
         dot(&self.b, data)

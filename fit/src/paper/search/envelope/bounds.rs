@@ -116,7 +116,7 @@ impl Span {
         Some(Self { l })
     }
 
-    /// The bound for a scene with sums `fit` and [`super::Basis::data`] `data`.
+    /// The bound for a scene with sums `fit` and [`super::QuadraticBasis::data`] `data`.
     #[inline]
     pub fn bound(&self, fit: &SurfaceFit, data: &[f64; 3]) -> f64 {
         let b = [fit.sums.sd, data[0], data[1], data[2]];

@@ -1,4 +1,4 @@
-//! Path 3, the closed-form β sweep, for one scene or many on one geometry.
+//! SearchPath 3, the closed-form β sweep, for one scene or many on one geometry.
 //!
 //! **The β sweep.** For the paper normalisation (docs/conventions.md §4),
 //! with the mix `X = (1 − β) S + β U` and `M(β) = max_k X_k`,
@@ -25,7 +25,7 @@
 //! through the absorption factor (eqs. 12–14)
 //! `((1 − a) + a sin²θi)((1 − a) + a sin²θs)`, so with the subsurface base
 //! `B_k` ([`laminar_core::subsurface_base`]) `U_k(a) ∝ (1 − a)² w0_k + (1 − a) a w1_k + a² w2_k` where `w0 = B`,
-//! `w1 = B (sin²θi + sin²θs)`, `w2 = B sin²θi sin²θs` ([`Basis`]). Every sum
+//! `w1 = B (sin²θi + sin²θs)`, `w2 = B sin²θi sin²θs` ([`QuadraticBasis`]). Every sum
 //! against `U` is then a polynomial in `a` whose coefficients are sums
 //! computed once per (σ/T, n): three for `Σ S U` and for each scene's
 //! `Σ D U`, five for `Σ U²`. All coefficients and basis polynomials are
@@ -62,7 +62,7 @@ mod sweep;
 #[cfg(test)]
 mod tests;
 
-pub use basis::{At, Basis};
+pub use basis::{At, QuadraticBasis};
 pub use bounds::{Projection, Span, SurfaceFit};
 use sweep::{build_hull, Mix, Scratch};
 
@@ -101,7 +101,7 @@ pub fn sines<L: Lane>(packed: &Packed<L>) -> Vec<[f64; 2]> {
 
 /// What a shard is run on: the hoisted tables of the geometry, its sines,
 /// the grid and the correlation.
-pub struct Model<'a, L> {
+pub struct Shard<'a, L> {
     /// The hoisted tables of the shared geometry.
     pub tables: &'a Tables<L>,
     /// [`sines`] of the geometry.
@@ -112,7 +112,7 @@ pub struct Model<'a, L> {
     pub corr: Correlation,
 }
 
-impl<L: Lane> Model<'_, L> {
+impl<L: Lane> Shard<'_, L> {
     /// The surface term's sums at σ/T index `i_s`.
     fn surface(&self, i_s: usize) -> SurfaceSums {
         let slope = self.grid.slope.values[i_s];
@@ -121,13 +121,13 @@ impl<L: Lane> Model<'_, L> {
 
     /// The subsurface basis of (σ/T index `i_s`, n index `i_n`) against
     /// `surface` (the sums of the same σ/T).
-    fn basis(&self, surface: &SurfaceSums, i_s: usize, i_n: usize) -> Basis {
+    fn basis(&self, surface: &SurfaceSums, i_s: usize, i_n: usize) -> QuadraticBasis {
         let mut base = Vec::with_capacity(self.tables.packed.geom.len());
         self.tables
             .base(self.corr, self.grid.slope.values[i_s], i_n, &mut base);
         let mut wide = vec![0.0; self.tables.packed.k];
         self.tables.packed.widen(&base, &mut wide);
-        Basis::new(surface, &wide, self.sines)
+        QuadraticBasis::new(surface, &wide, self.sines)
     }
 }
 
@@ -156,7 +156,7 @@ pub trait Visitor {
 /// triples' bounds to [`Visitor::wants`] and, when wanted, its β sweep to
 /// [`Visitor::sweep`]. Counts the sweeps and skips into `stats[scene]`.
 pub fn shard<L: Lane>(
-    model: &Model<'_, L>,
+    model: &Shard<'_, L>,
     i_s: usize,
     scenes: &[SceneData],
     visitor: &mut impl Visitor,
@@ -215,14 +215,14 @@ pub fn shard<L: Lane>(
 /// (`super::batch`), computed exactly as [`shard`] computes it.
 pub struct Column {
     surface: SurfaceSums,
-    basis: Basis,
+    basis: QuadraticBasis,
     betas: Vec<f64>,
 }
 
 impl Column {
     /// The surface term of σ/T index `i_s` and the subsurface basis of n
     /// index `i_n`.
-    pub fn new<L: Lane>(model: &Model<'_, L>, i_s: usize, i_n: usize) -> Self {
+    pub fn new<L: Lane>(model: &Shard<'_, L>, i_s: usize, i_n: usize) -> Self {
         let surface = model.surface(i_s);
         let basis = model.basis(&surface, i_s, i_n);
         Self {
@@ -263,7 +263,7 @@ impl Column {
 /// `(bound, i_n)` of the smallest [`Span`] bound, and of the smallest bound
 /// of the triple at a index `zero_a`.
 pub fn promising<L: Lane>(
-    model: &Model<'_, L>,
+    model: &Shard<'_, L>,
     i_s: usize,
     scenes: &[SceneData],
     zero_a: Option<usize>,

@@ -2,7 +2,7 @@
 //! of `(S_k, U_k)` and the upper hull of its lines, and the closed-form
 //! error of every β from six sums.
 
-use super::basis::{At, Basis};
+use super::basis::{At, QuadraticBasis};
 use super::bounds::SurfaceFit;
 use crate::paper::search::sums::SurfaceSums;
 use laminar_core::mix;
@@ -22,7 +22,7 @@ pub struct Scratch {
 /// lines (into `scratch`). Returns the max.
 pub(super) fn build_hull(
     surface: &SurfaceSums,
-    basis: &Basis,
+    basis: &QuadraticBasis,
     at: &At,
     scratch: &mut Scratch,
 ) -> f64 {

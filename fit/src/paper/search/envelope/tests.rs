@@ -76,7 +76,7 @@ fn record<'g, L: Lane>(
     let scene = synthetic::scene(corr, truth, 0.01, 3);
     let tables = Tables::<L>::new(&scene, grid);
     let sines = sines(&tables.packed);
-    let model = Model {
+    let model = Shard {
         tables: &tables,
         sines: &sines,
         grid,

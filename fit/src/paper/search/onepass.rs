@@ -1,4 +1,4 @@
-//! Path 2, the hoisted one-pass β sweep: the kernel is
+//! SearchPath 2, the hoisted one-pass β sweep: the kernel is
 //! [`laminar_core::onepass::sweep`] (its docs give the algebra), shared
 //! with the on-device fit; this module gives it the packed scene and
 //! growable scratch.
