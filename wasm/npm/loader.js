@@ -31,16 +31,16 @@ export async function loadBuild(base, glue, options = {}) {
   return Object.freeze({ ...module, ...guardedFits(module), simd });
 }
 
+const GUARDED = new WeakMap(); // a build's module → its guarded fits
+
 /**
  * `fit` and `compare` of the whole package, marking their measurements as
  * in use while they run, and `Measurements.prototype.free` refusing a set
- * in use (called from `onProgress`, freeing it would leave the handle
- * unusable and the fit reading freed memory): an `Error`, after which the
- * set still works and can be freed once the fit returns. Nothing for the
- * evaluation-only package.
+ * in use (called from `onProgress`, wasm-bindgen would refuse the free
+ * only after it had already let go of the handle, leaving it unusable):
+ * an `Error`, after which the set still works and can be freed once the
+ * fit returns. Nothing for the evaluation-only package.
  */
-const GUARDED = new WeakMap(); // a build's module → its guarded fits
-
 function guardedFits(module) {
   const Measurements = module.Measurements;
   if (!Measurements) return {};
