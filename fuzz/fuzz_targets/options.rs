@@ -4,7 +4,7 @@
 #![no_main]
 
 use laminar_cli::selection::parse_samples;
-use laminar_fit::{Model, Objective, Path, Quantity, Uncertainty};
+use laminar_fit::{Model, Objective, Quantity, SearchPath, Uncertainty};
 use laminar_io::AngleUnit;
 use libfuzzer_sys::fuzz_target;
 use std::str::FromStr;
@@ -27,7 +27,7 @@ fuzz_target!(|data: &[u8]| {
     for part in text.split(',') {
         round_trip::<Model>(part);
     }
-    round_trip::<Path>(text);
+    round_trip::<SearchPath>(text);
     round_trip::<Objective>(text);
     round_trip::<Uncertainty>(text);
     round_trip::<Quantity>(text);
