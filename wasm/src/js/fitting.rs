@@ -39,6 +39,17 @@ fn bytes(value: &JsValue, name: &str) -> Result<Vec<u8>, JsValue> {
     Ok(v)
 }
 
+/// The settings and progress callback of `fit`'s and `compare`'s options
+/// (the defaults without options).
+fn settings_of(
+    options: Option<FitOptions>,
+) -> Result<(Settings, Option<js_sys::Function>), JsValue> {
+    match options {
+        Some(o) => Ok(settings_from_js(&o)?),
+        None => Ok((Settings::default(), None)),
+    }
+}
+
 /// Every model `fit` takes, from the model descriptor
 /// (`laminar_fit::Model`): its name, description, parameters in output
 /// order, and for a layered model its correlation's name (what the
@@ -167,10 +178,7 @@ pub fn fit(
     options: Option<FitOptions>,
 ) -> Result<String, JsValue> {
     let (channel, model) = (string(&channel, "channel")?, string(&model, "model")?);
-    let (settings, progress) = match options {
-        Some(o) => settings_from_js(&o)?,
-        None => (Settings::default(), None),
-    };
+    let (settings, progress) = settings_of(options)?;
     Ok(fitting::fit(
         measurements,
         &channel,
@@ -209,10 +217,7 @@ pub fn compare(
         .map(|(i, m)| string(&m, &format!("models[{i}]")))
         .collect::<Result<Vec<_>, _>>()?;
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
-    let (settings, progress) = match options {
-        Some(o) => settings_from_js(&o)?,
-        None => (Settings::default(), None),
-    };
+    let (settings, progress) = settings_of(options)?;
     Ok(fitting::compare(
         measurements,
         &channel,
