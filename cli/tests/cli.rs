@@ -1133,7 +1133,9 @@ fn hostile_inputs_are_refused_not_panicked() {
 }
 
 /// `fit-batch` on CSV and `.npy` (f64, f32) values gives, per row, the
-/// columns `fit` gives for that row alone (sample = row index).
+/// fitted-model file `fit` gives for that row alone (sample = row index),
+/// and its CSV row holds the numbers of that file: the key `set,model`,
+/// then the batch fields.
 #[test]
 fn fit_batch_equals_fit_per_row() {
     let d = tempfile::tempdir().unwrap();
@@ -1173,9 +1175,8 @@ fn fit_batch_equals_fit_per_row() {
     let values_npy = d.path().join("values.npy");
     std::fs::write(&values_npy, common::npy("<f8", 3, total.len(), f64_bytes)).unwrap();
     let grid = ["--slope", "1.32:1.64:5", "--a", "0:0.4:5"];
-    let tail = |line: &str| line.splitn(4, ',').nth(3).unwrap().to_string();
-    for values in [&values_csv, &values_npy] {
-        let out = d.path().join("batch.csv");
+    let models = ["--models", "exp,jensen"];
+    let batch_of = |values: &Path, out: &Path| {
         ok(&[
             &[
                 "fit-batch",
@@ -1183,26 +1184,23 @@ fn fit_batch_equals_fit_per_row() {
                 s(&geometry),
                 "--values",
                 s(values),
-            ][..],
-            &[
                 "--quantity",
                 "radiance",
-                "--models",
-                "exp,jensen",
                 "--out",
-                s(&out),
-            ],
+                s(out),
+            ][..],
+            &models,
             &grid,
         ]
         .concat());
-        let batch = std::fs::read_to_string(&out).unwrap();
-        let lines: Vec<&str> = batch.lines().skip(1).collect();
-        assert_eq!(lines.len(), 6, "{batch}");
+    };
+    for values in [&values_csv, &values_npy] {
+        let out = d.path().join("batch.json");
+        batch_of(values, &out);
+        let batch = json(&out);
+        let entries = batch["fits"].as_array().unwrap();
+        assert_eq!(entries.len(), 6);
         for (i, row) in rows.iter().enumerate() {
-            assert!(
-                lines[2 * i].starts_with(&format!("{i},value,exp,")),
-                "{batch}"
-            );
             let mut one = String::from("theta_i,theta_s,phi_s,value\n");
             for (line, v) in std::fs::read_to_string(&geometry)
                 .unwrap()
@@ -1213,22 +1211,76 @@ fn fit_batch_equals_fit_per_row() {
                 one += &format!("{line},{v:e}\n");
             }
             let single = write(d.path(), "one.csv", &one);
-            let alone = ok(&[
+            let alone_out = d.path().join("one.json");
+            ok(&[
                 &[
                     "fit",
                     "--measurements",
                     s(&single),
                     "--quantity",
                     "radiance",
+                    "--format",
+                    "json",
+                    "--out",
+                    s(&alone_out),
                 ][..],
-                &["--models", "exp,jensen"],
+                &models,
                 &grid,
             ]
             .concat());
-            let alone: Vec<&str> = alone.lines().skip(1).collect();
-            assert_eq!(tail(lines[2 * i]), tail(alone[0]), "row {i} exp");
-            assert_eq!(tail(lines[2 * i + 1]), tail(alone[1]), "row {i} jensen");
+            let alone = json(&alone_out);
+            for m in 0..2 {
+                let mut entry = entries[2 * i + m].clone();
+                assert_eq!(entry["sample"], i.to_string());
+                entry["sample"] = alone["fits"][m]["sample"].clone();
+                assert_eq!(entry, alone["fits"][m], "row {i} model {m}");
+            }
         }
+    }
+    // The CSV: one row per set and model, the numbers of the JSON entries.
+    let out = d.path().join("batch.csv");
+    batch_of(&values_npy, &out);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header[..3], ["set", "model", "rms"]);
+    let cell = |cells: &[&str], name: &str| -> Option<f64> {
+        let c = header.iter().position(|h| *h == name).unwrap();
+        (!cells[c].is_empty()).then(|| cells[c].parse().unwrap())
+    };
+    let entries = json(&d.path().join("batch.json"))["fits"].clone();
+    let rows_out: Vec<&str> = lines.collect();
+    assert_eq!(rows_out.len(), 6, "{text}");
+    for (r, line) in rows_out.iter().enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert_eq!(cells.len(), header.len(), "{line}");
+        let entry = &entries[r];
+        assert_eq!(cells[0], (r / 2).to_string());
+        assert_eq!(cells[1], entry["model"].as_str().unwrap());
+        assert_eq!(cell(&cells, "rms"), entry["rms"].as_f64(), "{line}");
+        assert_eq!(cell(&cells, "measurements"), entry["measurements"].as_f64());
+        let close = |a: Option<f64>, b: Option<f64>, what: &str| match (a, b) {
+            (Some(a), Some(b)) => {
+                assert!((a - b).abs() <= 1e-9 * b.abs().max(1e-9), "{what}: {a} {b}")
+            }
+            (a, b) => assert_eq!(a, b, "{what}"),
+        };
+        for (name, p) in entry["parameters"].as_object().unwrap() {
+            // A value not identified is no number in either (its flags say so).
+            close(cell(&cells, name), p["refined"].as_f64(), name);
+            for end in ["lo68", "hi68", "lo95", "hi95"] {
+                close(cell(&cells, &format!("{name}_{end}")), p[end].as_f64(), end);
+            }
+            let flags = cell(&cells, &format!("{name}_flags")).unwrap();
+            assert_eq!(
+                flags == 0.0,
+                p["flags"].as_array().unwrap().is_empty(),
+                "{line}"
+            );
+        }
+        // The other model's parameters are empty.
+        let other = if r % 2 == 0 { "sigma_a" } else { "slope" };
+        assert_eq!(cell(&cells, other), None, "{line}");
     }
     // f32 values read as f32, and shape mismatches are named.
     let f32_bytes: Vec<u8> = rows

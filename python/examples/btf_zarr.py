@@ -6,7 +6,7 @@ cluster with a progress bar, and the result written to another store.
     python examples/btf_zarr.py                         # 256 × 256, LocalCluster 2 × 1
     python examples/btf_zarr.py --size 64 --search-only
     python examples/btf_zarr.py --scheduler tcp://HOST:8786 --out /shared/fits.zarr
-    python examples/btf_zarr.py --measure --repeat 2    # docs/python.md's throughput table
+    python examples/btf_zarr.py --measure --repeat 2    # the throughput table (CHANGELOG.md)
 
 The input is stored in chunks of 3,072 sets (--rows texel rows), made
 chunk by chunk, so no process holds it whole; the fit merges consecutive

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
+from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
 from ._laminar import evaluate as _evaluate
 from ._laminar import compare
 from ._laminar import fit as _fit
@@ -42,6 +42,7 @@ __all__ = [
     "render",
     "paper_angles",
     "BATCH_DTYPE",
+    "BATCH_DTYPES",
     "FLAG_BITS",
     "MODELS",
     "GRID_AXES",
@@ -129,14 +130,18 @@ def fit_batch(
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
     phi_i, theta_v, phi_v``. Each row's result equals :func:`fit` on that row
     alone. Returns a structured array of N rows with the fields of
-    :data:`BATCH_DTYPE` (``rms, chi2_dof, slope, beta, n, a`` of the
-    estimate, refined when ``refine``; ``rh_rms, rh_slope, rh_beta, rh_n,
-    search_rms, measurements, rms_grid``, each parameter's 68% interval
-    ``slope_lo68, slope_hi68, …, a_hi68``, the ``amplitude`` and weighted
-    ``chi2_weighted`` of the free objective, and per parameter its 95%
-    interval, Jacobian sd and flags: ``slope_lo95, slope_hi95, slope_sd,
-    slope_flags, …``; NaN when not computed). A ``*_flags`` field is the sum
-    of the bits of :data:`FLAG_BITS` that apply (0: none).
+    :data:`BATCH_DTYPE`, float64 each: the batch fields that ``laminar
+    fit-batch`` writes and the Dask/xarray results hold (docs/formats.md):
+    ``rms, chi2_dof`` of the estimate (refined when ``refine``),
+    ``search_rms, rms_grid, measurements``, the free objective's
+    ``amplitude, chi2_weighted``, the adequacy ``chi2_p, runs_p,
+    lack_of_fit``, ``aicc, bic, rank, weight, cv_rms`` (NaN for one model),
+    ``cosine_rms, cube_root``, the Ragheb–Hancock best ``rh_rms, rh_slope,
+    rh_beta, rh_n``, then per parameter its value and ``*_lo68, *_hi68,
+    *_lo95, *_hi95`` (the headline intervals), ``*_sd`` (Jacobian) and
+    ``*_flags`` (the sum of the bits of :data:`FLAG_BITS` that apply, 0:
+    none); NaN when not computed. :data:`BATCH_DTYPES` gives each field's
+    own dtype (as the Dask results store it).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
     times faster. ``objective`` as in :func:`fit`."""
     geometry = np.ascontiguousarray(geometry, dtype=np.float64)

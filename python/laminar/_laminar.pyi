@@ -20,6 +20,7 @@ AxisSpec = Union[str, Sequence[float]]
 Grid = Optional[Mapping[str, AxisSpec]]
 
 BATCH_COLUMNS: list[str]
+BATCH_DTYPES: list[tuple[str, str]]
 FLAG_BITS: dict[str, int]
 MODELS: dict[Model, dict[str, object]]
 GRID_AXES: list[str]

@@ -25,8 +25,8 @@ DEFAULT_CHUNK = 4096
 
 #: What ``sets_per_task="auto"`` aims at: seconds of fits per task on one
 #: core. A task has a fixed cost besides its fits (one Zarr write and one
-#: task of the scheduler per output field and chunk: about 0.15 s for the
-#: 39 fields on the reference machine, docs/python.md), so tasks of a few
+#: task of the scheduler per output field and chunk, 1–3 ms each,
+#: docs/python.md), so tasks of a few
 #: seconds keep it to a few percent, while leaving enough tasks to share
 #: among the workers.
 TASK_SECONDS = 3.0
@@ -34,7 +34,7 @@ TASK_SECONDS = 3.0
 #: One core's seconds per set and measurement of each stage of each
 #: objective, exp model, its default grid (measured on the reference
 #: machine with ``fit_batch(threads=1)`` on a synthetic texture,
-#: docs/python.md): the grid search, the refinement, the profile intervals.
+#: CHANGELOG.md): the grid search, the refinement, the profile intervals.
 #: The Jacobian costs next to nothing.
 STAGE_SECONDS = {
     "free": {"search": 1.1e-6, "refine": 3.3e-6, "profile": 4.8e-6},
@@ -102,15 +102,20 @@ def _options(grid, quantity, refine, uncertainty, objective):
     return {"grid": grid, "quantity": quantity, "refine": refine, "uncertainty": uncertainty, "objective": objective}
 
 
+#: Each field's dtype (:data:`laminar.BATCH_DTYPES`, the library's kinds).
+DTYPES = {name: np.dtype(dtype) for name, dtype in laminar.BATCH_DTYPES}
+
+
 def _typed(name, column):
-    """Field ``name``'s column (numpy or dask) in its output dtype, with its
-    attributes: ``*_flags`` uint8 with :func:`flag_attrs`, ``measurements``
-    int32, the rest float64."""
-    if _is_flags(name):
-        return column.astype(np.uint8), flag_attrs()
-    if name == "measurements":
-        return column.astype(np.int32), {}
-    return column, {}
+    """Field ``name``'s column (numpy or dask) in its output dtype
+    (:data:`DTYPES`), with its attributes: a ``*_flags`` field has
+    :func:`flag_attrs` (the integer fields are never NaN for a layered
+    model)."""
+    dtype = DTYPES[name]
+    attrs = flag_attrs() if _is_flags(name) else {}
+    if dtype == np.float64:
+        return column, attrs
+    return column.astype(dtype), attrs
 
 
 def _dataset(variables, coords, model, objective, quantity):

@@ -6,6 +6,7 @@ import numpy.typing as npt
 from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 
 FIELDS: tuple[str, ...]
+DTYPES: dict[str, np.dtype[Any]]
 DEFAULT_CHUNK: int
 TASK_SECONDS: float
 STAGE_SECONDS: dict[str, dict[str, float]]

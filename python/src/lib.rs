@@ -13,7 +13,7 @@ use laminar_fit::{
     Quantity, Scene, SettingError, Settings,
 };
 use laminar_io::curet::{Channel, CuretDir};
-use laminar_io::fits::FitEntry;
+use laminar_io::fits::{BatchRow, FitEntry};
 use laminar_io::{fits, merl, read_csv, read_geometry, AngleUnit, ReadError};
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyTypeError, PyValueError};
@@ -881,89 +881,10 @@ fn compare(
     Ok(fits.into_iter().map(|fit| FitResult { fit }).collect())
 }
 
-/// The layered models' parameters, in the order of their batch columns.
-const BATCH_PARAMETERS: [Param; 4] = Grid::PARAMS;
-
-/// Columns per parameter after the 21 leading ones: its 95% ends, the
-/// Jacobian's sd and its flags.
-const PER_PARAMETER: usize = 4;
-
-/// Number of batch columns: the 21 leading ones, the amplitude and the
-/// weighted χ²/ν, then [`PER_PARAMETER`] per parameter.
-const BATCH_WIDTH: usize = 21 + 2 + PER_PARAMETER * BATCH_PARAMETERS.len();
-
-/// One row per set of the batch fit's results, as columns: the estimate
-/// (refined when refined), the Ragheb–Hancock best, the grid's Δ_RMS, each
-/// parameter's 68% interval (the first 21, in the order they have always
-/// had), then the amplitude and the weighted χ²/ν (free objective), then
-/// per parameter its 95% interval, sd and flags (the mask of
-/// `laminar_fit::Edge::bit`s, 0 for none). NaN where not computed.
-fn batch_columns() -> Vec<String> {
-    let name = |p: Param| p.name().to_string();
-    let mut names: Vec<String> = vec!["rms".into(), "chi2_dof".into()];
-    names.extend(BATCH_PARAMETERS.map(name));
-    names.push("rh_rms".into());
-    // The Ragheb–Hancock best's free parameters (its a is 0).
-    names.extend(
-        Model::RhExp
-            .free_params()
-            .iter()
-            .map(|&p| format!("rh_{p}")),
-    );
-    names.extend(["search_rms", "measurements", "rms_grid"].map(String::from));
-    for p in BATCH_PARAMETERS {
-        names.extend([format!("{p}_lo68"), format!("{p}_hi68")]);
-    }
-    names.extend(["amplitude".to_string(), "chi2_weighted".to_string()]);
-    for p in BATCH_PARAMETERS {
-        names.extend(["lo95", "hi95", "sd", "flags"].map(|c| format!("{p}_{c}")));
-    }
-    debug_assert_eq!(names.len(), BATCH_WIDTH);
-    names
-}
-
-fn batch_row(fit: &Fit) -> [f64; BATCH_WIDTH] {
-    let layered = |p: &ModelParams| match *p {
-        ModelParams::Layered { slope, beta, n, a } => [slope, beta, n, a],
-        _ => [f64::NAN; 4],
-    };
-    let estimate = fit.estimate();
-    let [slope, beta, n, a] = layered(&estimate.fitted.params);
-    let rh = fit.rh.as_ref();
-    let [rs, rb, rn, _] = rh.map_or([f64::NAN; 4], |e| layered(&e.fitted.params));
-    let parameter = |name: Param| fit.parameters.iter().find(|p| p.name == name);
-    let ends =
-        |i: Option<laminar_fit::profile::Interval>| i.map_or([f64::NAN; 2], |i| [i.lo, i.hi]);
-    let mut row = Vec::with_capacity(BATCH_WIDTH);
-    row.extend([
-        estimate.rms,
-        estimate.chi2.map_or(f64::NAN, |c| c.per_dof),
-        slope,
-        beta,
-        n,
-        a,
-        rh.map_or(f64::NAN, |e| e.rms),
-        rs,
-        rb,
-        rn,
-        fit.search_rms,
-        fit.measurements as f64,
-        fit.best.rms,
-    ]);
-    for name in BATCH_PARAMETERS {
-        row.extend(ends(parameter(name).and_then(|p| p.interval68)));
-    }
-    row.extend([
-        fit.amplitude.unwrap_or(f64::NAN),
-        fit.chi2_weighted.unwrap_or(f64::NAN),
-    ]);
-    for name in BATCH_PARAMETERS {
-        let p = parameter(name);
-        row.extend(ends(p.and_then(|p| p.interval95)));
-        row.push(p.and_then(|p| p.sd).unwrap_or(f64::NAN));
-        row.push(p.map_or(0.0, |p| f64::from(Edge::mask(&p.flags))));
-    }
-    row.try_into().expect("one value per batch column")
+/// The batch fields of the layered models (every layered model has the
+/// same, [`BatchRow`]): `fit_batch`'s columns.
+fn batch_row() -> BatchRow {
+    BatchRow::new(&[Model::Exp])
 }
 
 /// Fits `model` (a layered model) to every row of `values` (N × K) on one
@@ -1020,7 +941,9 @@ fn fit_batch<'py>(
     // The sets are read a block at a time from the caller's array; what
     // grows with N (the result rows) is reserved first.
     let sets = v.nrows();
-    let mut out: Vec<[f64; BATCH_WIDTH]> = reserve(sets, "the results")?;
+    let row = batch_row();
+    let width = row.width();
+    let mut out: Vec<f64> = reserve(sets.saturating_mul(width), "the results")?;
     py.detach(|| -> Result<(), String> {
         for start in (0..sets).step_by(BLOCK) {
             let scenes = (start..(start + BLOCK).min(sets))
@@ -1031,15 +954,17 @@ fn fit_batch<'py>(
                         .map_err(|e| format!("values row {r}: {e}"))
                 })
                 .collect::<Result<Vec<_>, _>>()?;
-            out.extend(fitter.fit_batch(&scenes, model).iter().map(batch_row));
+            for fit in fitter.fit_batch(&scenes, model) {
+                row.push_row(&fit, &mut out);
+            }
         }
         Ok(())
     })
     .map_err(PyValueError::new_err)?;
     let dict = PyDict::new(py);
-    for (c, name) in batch_columns().iter().enumerate() {
-        let mut column = reserve(out.len(), "an output column")?;
-        column.extend(out.iter().map(|r| r[c]));
+    for (c, name) in row.names().iter().enumerate() {
+        let mut column: Vec<f64> = reserve(sets, "an output column")?;
+        column.extend(out.iter().skip(c).step_by(width));
         dict.set_item(name, column.into_pyarray(py))?;
     }
     Ok(dict)
@@ -1072,7 +997,14 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<FitResult>()?;
     m.add_class::<FittedModel>()?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
-    m.add("BATCH_COLUMNS", batch_columns())?;
+    let row = batch_row();
+    m.add("BATCH_COLUMNS", row.names())?;
+    let kinds: Vec<(String, &str)> = row
+        .names()
+        .into_iter()
+        .zip(row.kinds().into_iter().map(|k| k.dtype()))
+        .collect();
+    m.add("BATCH_DTYPES", kinds)?;
     let flags = PyDict::new(m.py());
     for edge in Edge::ALL {
         flags.set_item(edge.to_string(), edge.bit())?;

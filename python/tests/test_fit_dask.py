@@ -240,6 +240,41 @@ def test_xarray_fit_keeps_dimensions_and_equals_fit_batch_per_texel(tmp_path):
     assert list(stored.coords["channel"].values) == ["red", "green", "blue"]
 
 
+def test_the_cli_python_and_dask_emit_one_batch_row(tmp_path):
+    """`laminar fit-batch`'s CSV, `laminar.fit_batch` and the Dask/xarray
+    fields: one list of fields (the CLI's file adds the key `set,model` in
+    front), and the same numbers."""
+    import laminar.xarray
+    from conftest import GRID, GRID_ARGS, cli, geometry, radiance
+
+    g = geometry(60)
+    values = np.stack([radiance(g, slope=s, seed=i) for i, s in enumerate([0.7, 1.3])])
+    (tmp_path / "g.csv").write_text(
+        "theta_i,phi_i,theta_v,phi_v\n" + "".join(",".join(repr(float(x)) for x in row) + "\n" for row in g)
+    )
+    (tmp_path / "v.csv").write_text("".join(",".join(repr(float(x)) for x in row) + "\n" for row in values))
+    out = tmp_path / "batch.csv"
+    cli("fit-batch", "--geometry", tmp_path / "g.csv", "--values", tmp_path / "v.csv", "--quantity", "radiance",
+        *GRID_ARGS, "--out", out)
+    header, *lines = out.read_text().splitlines()
+    header = header.split(",")
+    assert header[:2] == ["set", "model"]
+    assert header[2:] == list(laminar.BATCH_COLUMNS) == list(FIELDS)
+    assert [name for name, _ in laminar.BATCH_DTYPES] == list(laminar.BATCH_COLUMNS)
+    python = laminar.fit_batch(g, values, "exp", grid=GRID, quantity="radiance")
+    data = xr.DataArray(values, dims=("set", "measurement"),
+                        coords={n: ("measurement", g[:, i]) for i, n in enumerate(laminar.xarray.GEOMETRY)})
+    dask_fields = laminar.xarray.fit(data.chunk({"set": 1}), model="exp", grid=GRID, quantity="radiance").compute()
+    assert list(dask_fields.data_vars) == list(FIELDS)
+    for r, line in enumerate(lines):
+        cells = line.split(",")
+        assert cells[:2] == [str(r), "exp"]
+        for name, cell in zip(header[2:], cells[2:]):
+            written = float(cell) if cell else np.nan
+            assert np.array_equal(written, python[name][r], equal_nan=True), (name, cell, python[name][r])
+            assert np.array_equal(float(dask_fields[name].values[r]), python[name][r], equal_nan=True), name
+
+
 def test_bad_input_is_named():
     import laminar.xarray
 

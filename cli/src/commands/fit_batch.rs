@@ -28,10 +28,12 @@ fn io_error(file: &std::path::Path, e: std::io::Error) -> CliError {
 ///
 /// VALUES is an N × K array: N sets (rows), K measurements each in the
 /// order of GEOMETRY's rows; `.npy` (float32 or float64, little-endian,
-/// C order) or CSV (N lines of K numbers). Output: `fit`'s CSV columns (or
-/// its JSON fitted-model file, by the extension of --out), with `sample` the
-/// row index in VALUES (from 0) and `channel` `value`. Results are bit for
-/// bit those of fitting each set alone.
+/// C order) or CSV (N lines of K numbers). Output, by the extension of
+/// --out: CSV of numbers, one row per set and model: `set` (the row in
+/// VALUES, from 0), `model`, then the batch fields that Python's
+/// `laminar.fit_batch` and the Dask/xarray results hold (docs/formats.md);
+/// or JSON, `fit`'s fitted-model file (sample = the row, channel `value`).
+/// Results are bit for bit those of fitting each set alone.
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitBatchArgs {
@@ -61,7 +63,7 @@ pub struct FitBatchArgs {
     objective: ObjectiveArgs,
     #[command(flatten)]
     analysis: AnalysisArgs,
-    /// Results file: .csv (fit's columns) or .json (the fitted-model file).
+    /// Results file: .csv (the batch fields) or .json (the fitted-model file).
     #[arg(long)]
     out: PathBuf,
 }
@@ -120,7 +122,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         Records::Json(fits::JsonFits::new(file).map_err(|e| io_error(&args.out, e))?)
     } else {
         Records::Csv(Box::new(
-            fits::CsvRows::new(file, &args.models).map_err(|e| io_error(&args.out, e))?,
+            fits::BatchCsv::new(file, &args.models).map_err(|e| io_error(&args.out, e))?,
         ))
     };
     let (mut pairs, mut done) = (0.0, 0);
@@ -135,9 +137,11 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
             .map(|(i, set)| scene(done + i, set))
             .collect::<Result<Vec<_>, _>>()?;
         // Set-major, each set's models ranked (Fitter::fit_all).
-        for fit in &fitter.fit_all(&scenes, &args.models, |_, _| None)? {
+        let fits = fitter.fit_all(&scenes, &args.models, |_, _| None)?;
+        for (i, fit) in fits.iter().enumerate() {
             pairs += fit.evaluated as f64 * fit.measurements as f64;
-            out.write(fit).map_err(|e| io_error(&args.out, e))?;
+            out.write(done + i / args.models.len(), fit)
+                .map_err(|e| io_error(&args.out, e))?;
         }
         done += scenes.len();
         bar.inc(scenes.len() as u64);
@@ -157,14 +161,15 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
 /// Where `fit-batch` writes its records, one at a time.
 enum Records {
     /// Boxed: the CSV writer holds its buffers inline.
-    Csv(Box<fits::CsvRows<AtomicFile>>),
+    Csv(Box<fits::BatchCsv<AtomicFile>>),
     Json(fits::JsonFits<AtomicFile>),
 }
 
 impl Records {
-    fn write(&mut self, fit: &laminar_fit::Fit) -> std::io::Result<()> {
+    /// Writes `fit`, a fit of the `set`-th row of the values.
+    fn write(&mut self, set: usize, fit: &laminar_fit::Fit) -> std::io::Result<()> {
         match self {
-            Self::Csv(out) => out.write(fit),
+            Self::Csv(out) => out.write(set, fit),
             Self::Json(out) => out.write(fit),
         }
     }

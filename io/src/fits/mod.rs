@@ -2,7 +2,8 @@
 //! written by one module per format: CSV (`csv_rows.rs`: [`csv()`],
 //! [`CsvRows`]), the JSON fitted-model file, written and read back
 //! (`json_file.rs`: [`json()`], [`JsonFits`], [`read_fits`]), and Markdown
-//! (`markdown.rs`: [`markdown()`]); whole-or-nothing writes are
+//! (`markdown.rs`: [`markdown()`]), and the numeric row of a batch fit
+//! (`batch_row.rs`: [`BatchRow`], [`BatchCsv`]); whole-or-nothing writes are
 //! [`crate::staging`]'s.
 //!
 //! A fit's result is one typed entry ([`FitEntry`], with [`ParameterEntry`]
@@ -30,10 +31,12 @@ use laminar_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter}
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+mod batch_row;
 mod csv_rows;
 mod json_file;
 mod markdown;
 
+pub use batch_row::{BatchCsv, BatchRow, FieldKind, CSV_KEY, FIT_FIELDS, PARAMETER_FIELDS};
 pub use csv_rows::{csv, csv_header, CsvRows, CSV_HEADER, FIT_COLUMNS, PARAMETER_COLUMNS};
 pub use json_file::{json, json_entries, parse_fits, read_fits, JsonFits};
 pub use markdown::{markdown, markdown_table};
