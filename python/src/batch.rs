@@ -1,0 +1,105 @@
+//! `fit_batch`: many sets on one geometry, as the batch fields
+//! ([`BatchRow`]) that `laminar fit-batch` writes.
+
+use crate::convert::{lab_angles, layered_names, parse, reserve};
+use crate::fit_result::fitter;
+use laminar_fit::{MeasurementSet, Model, Quantity};
+use laminar_io::fits::BatchRow;
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::HashMap;
+
+/// Sets per batch search in [`fit_batch`] (as `laminar fit-batch`).
+const BLOCK: usize = 256;
+
+/// The batch fields of the layered models (every layered model has the
+/// same, [`BatchRow`]): `fit_batch`'s columns.
+pub(crate) fn batch_row() -> BatchRow {
+    BatchRow::new(&[Model::Exp])
+}
+
+/// Fits `model` (a layered model) to every row of `values` (N × K) on one
+/// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
+/// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
+#[pyfunction]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both", objective = "free"))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fit_batch<'py>(
+    py: Python<'py>,
+    geometry: PyReadonlyArray2<'py, f64>,
+    values: PyReadonlyArray2<'py, f64>,
+    model: &str,
+    grid: Option<HashMap<String, Bound<'py, PyAny>>>,
+    threads: Option<usize>,
+    quantity: &str,
+    refine: bool,
+    uncertainty: &str,
+    objective: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model: Model = parse("model", model)?;
+    if model.correlation().is_none() {
+        return Err(PyValueError::new_err(format!(
+            "model: fit_batch fits the layered models ({}), not {model}",
+            layered_names()
+        )));
+    }
+    let quantity: Quantity = parse("quantity", quantity)?;
+    let fitter = fitter(
+        grid,
+        threads,
+        refine,
+        uncertainty,
+        objective,
+        (laminar_fit::analysis::DEFAULT_RESAMPLES as u64, 0, 0),
+    )?;
+    let g = geometry.as_array();
+    if g.ncols() != 4 {
+        return Err(PyValueError::new_err(format!(
+            "geometry: shape ({}, {}); (K, 4) lab-frame angles theta_i, phi_i, theta_v, phi_v are needed",
+            g.nrows(),
+            g.ncols()
+        )));
+    }
+    let col = |c: usize| g.column(c).to_vec();
+    let angles = lab_angles(&col(0), &col(1), &col(2), &col(3))?;
+    let v = values.as_array();
+    if v.ncols() != angles.len() {
+        return Err(PyValueError::new_err(format!(
+            "values: {} values per set but the geometry has {} rows",
+            v.ncols(),
+            angles.len()
+        )));
+    }
+    // The sets are read a block at a time from the caller's array; what
+    // grows with N (the result rows) is reserved first.
+    let sets = v.nrows();
+    let row = batch_row();
+    let width = row.width();
+    let mut out: Vec<f64> = reserve(sets.saturating_mul(width), "the results")?;
+    py.detach(|| -> Result<(), String> {
+        for start in (0..sets).step_by(BLOCK) {
+            let scenes = (start..(start + BLOCK).min(sets))
+                .map(|r| {
+                    MeasurementSet::new(r.to_string(), angles.clone(), quantity)
+                        .and_then(|s| s.with_channel("value", v.row(r).to_vec(), None))
+                        .and_then(|s| s.scene("value"))
+                        .map_err(|e| format!("values row {r}: {e}"))
+                })
+                .collect::<Result<Vec<_>, _>>()?;
+            for fit in fitter.fit_batch(&scenes, model) {
+                row.push_row(&fit, &mut out);
+            }
+        }
+        Ok(())
+    })
+    .map_err(PyValueError::new_err)?;
+    let dict = PyDict::new(py);
+    for (c, name) in row.names().iter().enumerate() {
+        let mut column: Vec<f64> = reserve(sets, "an output column")?;
+        column.extend(out.iter().skip(c).step_by(width));
+        dict.set_item(name, column.into_pyarray(py))?;
+    }
+    Ok(dict)
+}
