@@ -95,6 +95,9 @@ pub mod measures;
 pub mod onepass;
 pub mod param;
 pub mod prediction;
+/// Test fixture shared with `laminar-ffi`, the firmware and the wasm probe:
+/// not part of the API.
+#[doc(hidden)]
 pub mod probe;
 pub mod radiance;
 pub mod small_fit;

@@ -29,6 +29,8 @@ extern crate std;
 mod buffers;
 mod fit;
 mod geometry;
+/// Test fixture shared with the firmware and its tests: not part of the API.
+#[doc(hidden)]
 pub mod probe;
 mod scratch;
 

@@ -61,7 +61,7 @@ impl Information {
     }
 }
 
-/// A fit's K-fold cross-validated error ([`crate::free`]'s
+/// A fit's K-fold cross-validated error (`crate::free`'s
 /// `cross_validation`): each measurement predicted by the fit to the folds
 /// that hold it out.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -48,7 +48,7 @@ impl Covariance {
         self.matrix[i][j] / (self.sd(i) * self.sd(j))
     }
 
-    /// Every pair whose correlation is at least [`TRADE_OFF`] in magnitude,
+    /// Every pair whose correlation is at least `TRADE_OFF` (0.9) in magnitude,
     /// as (parameter, parameter, correlation).
     pub fn trade_offs(&self) -> Vec<(Param, Param, f64)> {
         let mut out = Vec::new();

@@ -34,7 +34,7 @@ pub enum Edge {
     /// σs′ alone, whose ratio is all the model sees).
     NotIdentified,
     /// The sandwich (misfit-robust) standard deviation and the model-based
-    /// one differ by more than [`MISFIT_SENSITIVE`]× either way: the
+    /// one differ by more than `MISFIT_SENSITIVE`× either way: the
     /// interval depends on the model fitting the data exactly.
     MisfitSensitive,
     /// The free-amplitude objective's profile is flat to within its 68.27%

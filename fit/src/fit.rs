@@ -1,7 +1,7 @@
 //! Fitting a scene with a model: [`Fitter`] holds the settings and the
 //! worker threads, and dispatches each fit to the pipeline of its objective
-//! (docs/conventions.md §11): [`crate::free::driver`] (the default) or
-//! [`crate::paper::driver`]. Both end in a [`Fit`] ([`crate::report`]).
+//! (docs/conventions.md §11): `crate::free::driver` (the default) or
+//! `crate::paper::driver`. Both end in a [`Fit`] ([`crate::report`]).
 
 use crate::analysis::Analysis;
 use crate::error::FitError;
@@ -187,8 +187,8 @@ impl Fitter {
     }
 
     /// Fits `model` to `scene` by the fitter's objective: the free
-    /// objective's pipeline ([`crate::free::driver`]) or the paper's
-    /// ([`crate::paper::driver`]: layered models search the grid on the
+    /// objective's pipeline (`crate::free::driver`) or the paper's
+    /// (`crate::paper::driver`: layered models search the grid on the
     /// fitter's path, a fixed at 0 for the Ragheb–Hancock variants; the
     /// baselines their own grids, [`crate::model::baseline_grid`]).
     pub fn fit(&self, scene: &Scene, model: Model) -> Fit {
@@ -302,7 +302,7 @@ impl Fitter {
     /// Fits `model` to every scene of `scenes`. Under the free objective the
     /// scenes are fitted in parallel, sharing the grid stage's model side
     /// when they are on one geometry without uncertainties
-    /// ([`crate::free::driver::fit_batch`]); under the paper's: when the scenes share their
+    /// (`crate::free::driver::fit_batch`); under the paper's: when the scenes share their
     /// geometry ([`crate::paper::search::batch::share_geometry`]), the model is layered and the path is
     /// the envelope method, one batch search does the model-side work once
     /// for all of them ([`crate::paper::search::batch`]); otherwise each scene is

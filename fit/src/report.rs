@@ -2,7 +2,7 @@
 //! pipeline. A [`Fit`] holds the search's best, the refined estimate, each
 //! searched parameter ([`Parameter`]: grid and refined value, intervals,
 //! flags, box) and the Jacobian's covariance. Both objectives fill it
-//! ([`crate::paper::driver`], [`crate::free::driver`]); every writer reads it.
+//! (`crate::paper::driver`, `crate::free::driver`); every writer reads it.
 
 use crate::adequacy::Adequacy;
 use crate::choice::{CrossValidation, Information, Rank};
@@ -36,11 +36,11 @@ pub struct Fit {
     pub nonpositive: usize,
     /// Parameter sets evaluated.
     pub evaluated: usize,
-    /// The refined estimate ([`crate::paper::refine`],
-    /// [`crate::free::refine`]), when refined: never a larger Δ_RMS than `best`, the grid's.
+    /// The refined estimate (`crate::paper::refine`,
+    /// `crate::free::refine`), when refined: never a larger Δ_RMS than `best`, the grid's.
     pub refined: Option<Estimate>,
     /// Each searched parameter: grid value, refined value, intervals and
-    /// edge flags ([`crate::edges`]); empty when nothing was searched
+    /// edge flags (`crate::edges`); empty when nothing was searched
     /// ([`crate::Fitter::assess`]).
     pub parameters: Vec<Parameter>,
     /// The Jacobian's covariance and correlations at the refined optimum
@@ -119,7 +119,7 @@ pub const NOT_IDENTIFIED: &str = "not_identified";
 pub enum Source {
     /// The profile of the error surface ([`crate::profile`]).
     Profile,
-    /// The Jacobian at the refined optimum ([`crate::covariance`]).
+    /// The Jacobian at the refined optimum (`crate::covariance`).
     Jacobian,
     /// The profile's interval with its width scaled by the sandwich
     /// (misfit-robust) to model-based standard deviation ratio: it holds

@@ -202,11 +202,6 @@ impl Basis {
         }
     }
 
-    /// True without measurements.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// The interfaces at refractive index `n`, four measurements at a time
     /// (layered models only).
     pub fn interfaces(&self, n: f64) -> Vec<Interface<f64x4>> {

@@ -16,15 +16,15 @@
 //!
 //! Everything reported lies in the box that was searched.
 
-pub mod basis;
-pub mod bootstrap;
+pub(crate) mod basis;
+pub(crate) mod bootstrap;
 mod cross_validation;
-pub mod driver;
-pub mod intervals;
-pub mod layout;
-pub mod linear;
-pub mod problem;
-pub mod record;
-pub mod refine;
-pub mod search;
-pub mod sums;
+pub(crate) mod driver;
+pub(crate) mod intervals;
+pub(crate) mod layout;
+pub(crate) mod linear;
+pub(crate) mod problem;
+pub(crate) mod record;
+pub(crate) mod refine;
+pub(crate) mod search;
+pub(crate) mod sums;

@@ -1,10 +1,10 @@
 //! Many scenes on one geometry (every sample of a database, every channel,
-//! every pixel of a texture): the envelope search ([`super::envelope`]) with
+//! every pixel of a texture): the envelope search (`super::envelope`) with
 //! the model-side work done once per σ/T shard and shared by every scene.
 //!
 //! Every value a scene sees is computed by the same operations, in the same
 //! order, as in the one-scene envelope search (both run
-//! [`envelope::shard`]), so each result is bit for bit the one of searching
+//! `envelope::shard`), so each result is bit for bit the one of searching
 //! that scene alone, whatever the thread count (each scene keeps its own
 //! shared best for the skipping).
 
@@ -116,7 +116,7 @@ fn run<L: Lane + Send + Sync>(
 }
 
 /// Gives every scene a threshold close to its minimum before the search
-/// proper: per scene, the (σ/T, n) with the smallest [`envelope::Span`]
+/// proper: per scene, the (σ/T, n) with the smallest [`envelope`]'s `Span`
 /// bound and, within it, the triple with the smallest bound; and the a = 0
 /// triple with the smallest bound. Their swept minima seed the scene's
 /// shared best. Any computed value of a grid point is a valid threshold, so

@@ -1,28 +1,28 @@
 //! The paper's exhaustive grid search (docs/conventions.md §4–§6) for the absorptive
 //! model. Three methods, each written once over [`Lane`]:
 //!
-//! 1. [`Method::Direct`] ([`direct`]): every pair evaluated in full; in `f64`
+//! 1. [`Method::Direct`] (`direct`): every pair evaluated in full; in `f64`
 //!    the accuracy reference.
-//! 2. [`Method::OnePass`] ([`onepass`]): hoisted terms, one pass over the
+//! 2. [`Method::OnePass`] (`onepass`): hoisted terms, one pass over the
 //!    measurements per parameter set.
-//! 3. [`Method::Envelope`] ([`envelope`]): hoisted terms, closed-form β sweep.
+//! 3. [`Method::Envelope`] (`envelope`): hoisted terms, closed-form β sweep.
 //!
 //! Each runs in three arithmetics: `f32x8` SIMD, its scalar twin `f32` (eight
 //! streams of one measurement, lane sums reduced in the same fixed order, so
 //! every grid value is bitwise the SIMD one) and `f64`.
 //!
-//! Hoisting (methods 2 and 3, [`packed::Tables`]): geometry once per scene;
+//! Hoisting (methods 2 and 3, `packed::Tables`): geometry once per scene;
 //! refraction and Fresnel once per (scene, n); the absorption factor once per
 //! (scene, a); the normalised surface term once per σ/T; the subsurface base
 //! once per (σ/T, n); the normalised subsurface term once per (σ/T, n, a).
 
-pub mod baselines;
+pub(crate) mod baselines;
 pub mod batch;
-pub mod direct;
-pub mod envelope;
-pub mod onepass;
-pub mod packed;
-pub mod sums;
+pub(crate) mod direct;
+pub(crate) mod envelope;
+pub(crate) mod onepass;
+pub(crate) mod packed;
+pub(crate) mod sums;
 
 use crate::error::{GridError, UnknownName};
 use crate::grid::{Axis, Grid};

@@ -6,7 +6,7 @@
 use crate::grid::Grid;
 use crate::scene::Scene;
 use laminar_core::onepass::Layout;
-pub use laminar_core::onepass::{lane_max, lane_sum, max_of, normalise, WIDTH};
+pub use laminar_core::onepass::{lane_max, lane_sum, normalise, WIDTH};
 use laminar_core::{
     absorption_factor, inverse_slope_squared, subsurface_base, surface_radiance, Correlation,
     Geometry, Interface, Lane,

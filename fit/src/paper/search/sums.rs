@@ -7,7 +7,7 @@
 //! an `f32x8` path and its scalar twin get the same bits.
 
 use super::packed::Packed;
-pub use laminar_core::onepass::{dot, DataSums, DeltaSums};
+pub use laminar_core::onepass::{dot, DataSums};
 use laminar_core::Lane;
 
 /// Per-σ/T model quantities: the widened normalised surface term `S`, the

@@ -34,7 +34,7 @@
 //! each triple, and only for triples the lower bound below does not skip.
 //!
 //! **Skipping.** A search needs only the minimum, so each (σ/T, n) is first
-//! checked against a lower bound on the error of all its (a, β) ([`Span`]),
+//! checked against a lower bound on the error of all its (a, β) ([`bounds::Span`]),
 //! and each (σ/T, n, a) against a lower bound over its β ([`Projection`]);
 //! when a bound exceeds the best error found so far, none of its grid
 //! points can win and they are skipped. The bounds are exact up to a stated
@@ -62,8 +62,8 @@ mod sweep;
 #[cfg(test)]
 mod tests;
 
-pub use basis::{At, QuadraticBasis};
-pub use bounds::{Projection, Span, SurfaceFit};
+pub use basis::QuadraticBasis;
+pub use bounds::{Projection, SurfaceFit};
 use sweep::{build_hull, Mix, Scratch};
 
 use super::packed::{Packed, Tables};
@@ -140,7 +140,7 @@ fn surface_fits(surface: &SurfaceSums, scenes: &[SceneData]) -> Vec<SurfaceFit> 
 /// triple): whether to sweep it, and what to do with the swept values.
 pub trait Visitor {
     /// Whether to look at the triples `(i_n, ·)` for scene `j`, whose errors
-    /// are all at least `bound` ([`Span`]; `−∞` when there is no bound).
+    /// are all at least `bound` ([`bounds::Span`]; `−∞` when there is no bound).
     fn wants_n(&mut self, j: usize, i_n: usize, bound: f64) -> bool;
     /// Whether to sweep triple `(i_n, i_a)` for scene `j`, whose error is at
     /// least `bound` at every β (`−∞` when there is no bound).
@@ -260,7 +260,7 @@ impl Column {
 }
 
 /// Each scene's most promising (σ/T, n) pairs of one σ/T shard, by bound:
-/// `(bound, i_n)` of the smallest [`Span`] bound, and of the smallest bound
+/// `(bound, i_n)` of the smallest [`bounds::Span`] bound, and of the smallest bound
 /// of the triple at a index `zero_a`.
 pub fn promising<L: Lane>(
     model: &Shard<'_, L>,
