@@ -7,7 +7,10 @@ a PNG.
         python python/examples/mitsuba_sphere.py fits.json 49/avg/exp sphere.png
 
 Three comma-separated labels (the r, g and b fits of one sample) give an
-RGB material; one gives grey. Needs ``pip install "laminar[mitsuba]"`` and,
+RGB material; one gives grey. ``--plugin laminar_native`` draws it with the
+Dr.Jit-native BSDF in symbolic mode; ``--compare`` renders with both plugins
+in one run and prints their times (the first render, which compiles, and
+the fastest of ``--repeat`` after it). Needs ``pip install "laminar[mitsuba]"`` and,
 for the LLVM variant, Debian's libllvm19 (``--variant scalar_rgb`` runs
 without it, slowly).
 """
@@ -20,10 +23,11 @@ import time
 import numpy as np
 
 
-def scene_dict(mi, filename, select, size, spp):
-    """The scene: a unit sphere of the fitted material, a camera on +z, a
-    spherical light up and to the left, a constant environment."""
-    bsdf = {"type": "laminar", "filename": filename}
+def scene_dict(mi, filename, select, size, spp, plugin="laminar"):
+    """The scene: a unit sphere of the fitted material (BSDF ``plugin``), a
+    camera on +z, a spherical light up and to the left, a constant
+    environment."""
+    bsdf = {"type": plugin, "filename": filename}
     if select:
         bsdf["select"] = select
     return {
@@ -47,18 +51,33 @@ def scene_dict(mi, filename, select, size, spp):
     }
 
 
-def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb"):
-    """The rendered image (size × size × 3, linear) and seconds taken."""
+def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="laminar", repeat=0):
+    """The rendered image (size × size × 3, linear) and seconds taken; with
+    ``repeat``, also the fastest of that many renders after the first. The
+    native plugin renders in symbolic mode, the numpy one in wavefront mode
+    (it turns symbolic mode off when loaded)."""
+    import drjit as dr
     import mitsuba as mi
 
     mi.set_variant(variant)
     import laminar.mitsuba
 
     laminar.mitsuba.register()
-    scene = mi.load_dict(scene_dict(mi, filename, select, size, spp))
+    if not variant.startswith("scalar"):
+        dr.set_flag(dr.JitFlag.SymbolicLoops, True)
+        dr.set_flag(dr.JitFlag.SymbolicCalls, True)
+    scene = mi.load_dict(scene_dict(mi, filename, select, size, spp, plugin))
     start = time.perf_counter()
     image = np.array(mi.render(scene))
-    return image, time.perf_counter() - start
+    first = time.perf_counter() - start
+    if not repeat:
+        return image, first
+    times = []
+    for i in range(repeat):
+        start = time.perf_counter()
+        np.array(mi.render(scene, seed=i + 1))
+        times.append(time.perf_counter() - start)
+    return image, first, min(times)
 
 
 def main():
@@ -69,12 +88,29 @@ def main():
     parser.add_argument("--size", type=int, default=128)
     parser.add_argument("--spp", type=int, default=64)
     parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--plugin", default="laminar", choices=["laminar", "laminar_native"])
+    parser.add_argument("--compare", action="store_true", help="time both plugins in this run")
+    parser.add_argument("--repeat", type=int, default=2, help="renders after the first, with --compare")
     args = parser.parse_args()
-    image, seconds = render(args.fits, args.select, args.size, args.spp, args.variant)
     import mitsuba as mi
 
+    if args.compare:
+        rows = []
+        for plugin in ("laminar", "laminar_native"):
+            image, first, warm = render(
+                args.fits, args.select, args.size, args.spp, args.variant, plugin, args.repeat
+            )
+            rows.append((plugin, first, warm))
+        print(f"| plugin, {args.size}², {args.spp} spp, {args.variant} | first render (s) | fastest of {args.repeat} after (s) |")
+        print("|---|---|---|")
+        for plugin, first, warm in rows:
+            mode = "symbolic" if plugin == "laminar_native" else "wavefront"
+            print(f"| {plugin} ({mode}) | {first:.2f} | {warm:.2f} |")
+        print(f"speed-up, warm: {rows[0][2] / rows[1][2]:.1f}×; first: {rows[0][1] / rows[1][1]:.1f}×")
+    else:
+        image, seconds = render(args.fits, args.select, args.size, args.spp, args.variant, args.plugin)
+        print(f"{args.out}: {args.size} × {args.size}, {args.spp} spp, {seconds:.2f} s ({args.variant}, {args.plugin})")
     mi.util.write_bitmap(args.out, image)
-    print(f"{args.out}: {args.size} × {args.size}, {args.spp} spp, {seconds:.2f} s ({args.variant})")
 
 
 if __name__ == "__main__":

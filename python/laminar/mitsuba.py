@@ -28,8 +28,11 @@ model family are broad (the subsurface term is diffuse-like), so the
 variance stays low; a lobe-following mixture is not implemented.
 
 On the JIT variants the evaluation leaves Dr.Jit for numpy, so a scene
-must render in wavefront mode: :func:`register` turns Dr.Jit's symbolic
-loops and calls off.
+must render in wavefront mode: loading a ``"laminar"`` BSDF turns Dr.Jit's
+symbolic loops and calls off. :func:`register` also adds
+``"laminar_native"`` (:mod:`laminar.mitsuba_native`): the layered models in
+Dr.Jit itself, for symbolic mode, the CUDA variants and differentiation.
+This plugin stays as the reference the native one is tested against.
 """
 
 from __future__ import annotations
@@ -65,17 +68,14 @@ def _paper_angles(wi, wo):
 
 
 def register():
-    """Registers the ``"laminar"`` BSDF with the current Mitsuba variant
-    (call after ``mi.set_variant``)."""
+    """Registers the ``"laminar"`` and ``"laminar_native"`` BSDFs with the
+    current Mitsuba variant (call after ``mi.set_variant``)."""
     import drjit as dr
     import mitsuba as mi
 
     if mi.variant() is None:
         raise RuntimeError("set a Mitsuba variant (mi.set_variant) before laminar.mitsuba.register()")
     scalar = mi.variant().startswith("scalar")
-    if not scalar:
-        dr.set_flag(dr.JitFlag.SymbolicLoops, False)
-        dr.set_flag(dr.JitFlag.SymbolicCalls, False)
 
     class LaminarBSDF(mi.BSDF):
         """A laminar fitted model (one or three channels)."""
@@ -97,6 +97,10 @@ def register():
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
+            if not scalar:
+                # numpy inside: the scene renders in wavefront mode.
+                dr.set_flag(dr.JitFlag.SymbolicLoops, False)
+                dr.set_flag(dr.JitFlag.SymbolicCalls, False)
 
         def _radiance(self, si, wo):
             ti, ts, ps, above = _paper_angles(si.wi, wo)
@@ -141,3 +145,6 @@ def register():
             return f"LaminarBSDF[{labels}]"
 
     mi.register_bsdf(PLUGIN, lambda props: LaminarBSDF(props))
+    from laminar.mitsuba_native import register_native
+
+    register_native()

@@ -3,11 +3,12 @@
 use crate::convert::{parse, read_error, reserve, value_error, vec1};
 use crate::fit_result::FitResult;
 use laminar_core::Angles;
-use laminar_fit::{Model, ModelParams};
+use laminar_fit::{Model, ModelParams, Param};
 use laminar_io::fits;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -116,6 +117,32 @@ impl FittedModel {
     #[getter]
     fn data_scale(&self) -> f64 {
         self.fitted.data_scale
+    }
+
+    /// A layered model in the form of eq. 8's raw mix, for renderers that
+    /// evaluate it themselves (`laminar.mitsuba`'s native BSDF): a dict of
+    /// `correlation` (`exp` or `gauss`), `slope`, `n`, `a`, `beta_eq8` (β′)
+    /// and `scale`, with radiance in the input's units
+    /// `scale · (β′ L^sb + (1 − β′) L^sf)` (eqs. 1–14). None for a baseline,
+    /// or when both terms were zero at every fitted measurement.
+    #[getter]
+    fn eq8<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let f = &self.fitted;
+        let (Some(correlation), Some(beta), Some(scale)) =
+            (f.model.correlation(), f.beta_eq8, f.eq8_scale)
+        else {
+            return Ok(None);
+        };
+        let out = PyDict::new(py);
+        out.set_item("correlation", correlation.name())?;
+        for (p, v) in f.params.pairs() {
+            if p != Param::Beta {
+                out.set_item(p.name(), v)?;
+            }
+        }
+        out.set_item("beta_eq8", beta)?;
+        out.set_item("scale", scale * f.data_scale)?;
+        Ok(Some(out))
     }
 
     /// The prediction in the input's units, `f · cos θi` (the fitted

@@ -1,0 +1,216 @@
+"""A laminar fitted model as a Dr.Jit-native Mitsuba 3 BSDF: the plugin type
+``"laminar_native"`` (registered by :func:`laminar.mitsuba.register`).
+
+Eqs. 1–14 and eq. 8 are written here in Dr.Jit operations, so the BSDF runs
+inside Mitsuba's kernels: in symbolic (megakernel) mode on the JIT variants,
+on ``scalar_rgb``, and with automatic differentiation through every
+parameter. The model's parameters are ``mi.Color3f`` members (one value per
+channel: grey, or the r, g and b fits of a sample), exposed by ``traverse``
+as differentiable and opaque, so changing one does not recompile a kernel.
+
+The formulas follow the Rust core (``core/src/surface.rs``,
+``subsurface.rs``, ``fresnel.rs``, ``absorption.rs``; docs/conventions.md
+§1–§3) written on directions rather than angles. In Mitsuba's local frame
+the light is along ``wo`` and the viewer along ``si.wi``, so with
+``h = wi + wo`` (unnormalised):
+
+- cos θi = ``wo.z``, cos θs = ``wi.z``, v_xy² = ``h.x² + h.y²`` and
+  v_z = −(cos θi + cos θs) (the paper's eq. 2 with its sign corrected,
+  conventions §1), each exact up to the directions' own rounding;
+- ``L^sf = cos θi / v_z² · shape(v_xy² / (v_z² (σ/T)²))`` with
+  ``shape(x) = exp(−x/4)`` (Gaussian, eq. 1) or ``(1 + x)^(−3/2)``
+  (exponential, eq. 2);
+- ``L^sb`` the same at the refracted cosines ``sqrt(n² − 1 + cos²)/n`` and
+  ``v_xy² / n²`` (eqs. 3, 4), times the Fresnel transmittances in and out
+  (eqs. 6, 7), the solid angle ``cos θi / (n² cos θi′)`` (eq. 5) and the
+  absorption ``(1 − a cos² θi)(1 − a cos² θs)`` (eqs. 10–13);
+- radiance ``f · cos θ_light = scale · (β L^sb + (1 − β) L^sf)`` (eq. 8),
+  ``β`` and ``scale`` the fitted model's eq. 8 form
+  (:attr:`laminar.FittedModel.eq8`: the free objective's β and amplitude
+  times the data's scale).
+
+Properties: ``filename`` and ``select`` as the ``"laminar"`` plugin (a
+fitted-model file, one label or three), or ``model`` (``exp``, ``gauss``,
+``rh-exp``, ``rh-gauss``) with ``slope``, ``beta``, ``n``, ``a`` and
+``amplitude``. Parameters (``mi.traverse``): ``slope``, ``beta``, ``n``,
+``a``, ``scale``. The baselines (Jensen, Oren–Nayar) are drawn by the
+``"laminar"`` plugin only.
+"""
+
+from __future__ import annotations
+
+import laminar
+
+#: The plugin type name.
+PLUGIN = "laminar_native"
+
+#: The parameters ``traverse`` exposes, in order.
+PARAMETERS = ("slope", "beta", "n", "a", "scale")
+
+
+def eq8_forms(models):
+    """The eq. 8 forms (:attr:`laminar.FittedModel.eq8`) of ``models`` (one
+    or three), all of one correlation; ValueError naming the model
+    otherwise."""
+    forms = []
+    for m in models:
+        form = m.eq8
+        if form is None:
+            raise ValueError(
+                f"{m.label}: the native BSDF draws the layered models (exp, gauss and their rh- variants); "
+                f"{m.model} is drawn by the 'laminar' plugin"
+            )
+        forms.append(form)
+    if len({f["correlation"] for f in forms}) != 1:
+        raise ValueError("select: the channels' fits use different correlations; the native BSDF needs one")
+    if len(forms) == 1:
+        forms *= 3
+    return forms
+
+
+def _shape(x, gaussian):
+    """The correlation's falloff: ``exp(−x/4)`` (eq. 1) or ``(1 + x)^(−3/2)``
+    (eq. 2)."""
+    import drjit as dr
+
+    if gaussian:
+        return dr.exp(-0.25 * x)
+    y = dr.rcp(1.0 + x)
+    return y * dr.sqrt(y)
+
+
+def _lobe(cos_i, cos_s, vxy2, inv_slope2, gaussian):
+    """``cos θi / v_z² · shape(v_xy² (T/σ)² / v_z²)`` (eqs. 1, 2), 0 where
+    v_z = 0."""
+    import drjit as dr
+
+    sz = cos_i + cos_s
+    vz2 = sz * sz
+    lit = vz2 > 0
+    safe = dr.select(lit, vz2, 1.0)
+    value = cos_i / safe * _shape(vxy2 / safe * inv_slope2, gaussian)
+    return dr.select(lit, value, 0.0)
+
+
+def _transmittance(cos_i, cos_t, r):
+    """Unpolarised Fresnel transmittance (eqs. 6, 7) from the cosines of the
+    incident and refracted angles, as ``laminar_core::fresnel_pair``: the
+    smaller of reflectance and transmittance computed directly, the other
+    as its complement."""
+    import drjit as dr
+
+    s_den = cos_i + r * cos_t
+    p_den = r * cos_i + cos_t
+    s2, p2 = s_den * s_den, p_den * p_den
+    r2 = r * r
+    r2m1 = (r - 1.0) * (r + 1.0)
+    rs = r2m1 / s2
+    rp = r2m1 * ((r2 + 1.0) * (cos_i * cos_i) - 1.0) / (r2 * p2)
+    normal = (r - 1.0) / (r + 1.0)
+    f = dr.select(cos_i == 1.0, normal * normal, 0.5 * (rs * rs + rp * rp))
+    t = 2.0 * r * cos_i * cos_t * (dr.rcp(s2) + dr.rcp(p2))
+    t = dr.minimum(dr.select(f <= t, 1.0 - f, t), 1.0)
+    return dr.select(cos_i > 0, t, 0.0)
+
+
+def radiance(wi, wo, slope, beta, n, a, scale, gaussian):
+    """The fitted radiance ``f · cos θ_light`` (eq. 8) at viewer ``wi`` and
+    light ``wo`` (local frame), per channel of the parameters; 0 unless both
+    are above the surface."""
+    import drjit as dr
+
+    cos_i, cos_s = wo.z, wi.z
+    up = (cos_i > 0) & (cos_s > 0)
+    cos_i, cos_s = dr.maximum(cos_i, 0.0), dr.maximum(cos_s, 0.0)
+    hx, hy = wi.x + wo.x, wi.y + wo.y
+    vxy2 = hx * hx + hy * hy
+    inv_slope2 = dr.rcp(slope * slope)
+    surface = _lobe(cos_i, cos_s, vxy2, inv_slope2, gaussian)
+    n2 = n * n
+    # Refraction into the layer (eq. 7): cos θ′ = sqrt(n² − 1 + cos² θ)/n.
+    cos_it = dr.sqrt((n - 1.0) * (n + 1.0) + cos_i * cos_i) / n
+    cos_st = dr.sqrt((n - 1.0) * (n + 1.0) + cos_s * cos_s) / n
+    base = _lobe(cos_it, cos_st, vxy2 / n2, inv_slope2, gaussian)
+    solid_angle = cos_i / (n2 * cos_it)
+    sin2_i = dr.clip(wo.x * wo.x + wo.y * wo.y, 0.0, 1.0)
+    sin2_s = dr.clip(wi.x * wi.x + wi.y * wi.y, 0.0, 1.0)
+    absorption = ((1.0 - a) + a * sin2_i) * ((1.0 - a) + a * sin2_s)
+    subsurface = base * _transmittance(cos_i, cos_it, n) * _transmittance(cos_s, cos_st, n) * solid_angle * absorption
+    value = scale * (beta * subsurface + (1.0 - beta) * surface)
+    return dr.select(up, value, 0.0)
+
+
+def register_native():
+    """Registers ``"laminar_native"`` with the current Mitsuba variant (call
+    after ``mi.set_variant``; :func:`laminar.mitsuba.register` calls it)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    from laminar.mitsuba import _models
+
+    class LaminarNativeBSDF(mi.BSDF):
+        """A layered fitted model (one or three channels), in Dr.Jit."""
+
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            if "filename" in props:
+                select = str(props["select"]) if "select" in props else None
+                self.models = _models(str(props["filename"]), select)
+            elif "model" in props:
+                model = str(props["model"])
+                amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
+                params = {k: float(props[k]) for k in props.keys() if k not in ("model", "amplitude")}
+                self.models = [laminar.FittedModel.from_params(model, params, amplitude)]
+            else:
+                raise ValueError(
+                    "the laminar_native BSDF needs `filename` (a fitted-model file) or `model` and its parameters"
+                )
+            forms = eq8_forms(self.models)
+            self.gaussian = forms[0]["correlation"] == "gauss"
+            key = {"slope": "slope", "beta": "beta_eq8", "n": "n", "a": "a", "scale": "scale"}
+            for name in PARAMETERS:
+                setattr(self, name, mi.Color3f(*(f[key[name]] for f in forms)))
+            self.parameters_changed([])
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        def _radiance(self, si, wo):
+            return radiance(si.wi, wo, self.slope, self.beta, self.n, self.a, self.scale, self.gaussian)
+
+        def eval(self, ctx, si, wo, active=True):
+            return dr.select(active, self._radiance(si, wo), 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):
+            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
+            return dr.select(active & up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            bs = mi.BSDFSample3f()
+            bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
+            bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(bs.wo)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (bs.pdf > 0)
+            weight = self._radiance(si, bs.wo) / dr.maximum(bs.pdf, 1e-30)
+            return bs, dr.select(up, weight, 0.0)
+
+        def traverse(self, callback):
+            for name in PARAMETERS:
+                callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
+
+        def parameters_changed(self, keys):
+            # Opaque: a kernel reads the values from memory, so a new value
+            # runs the kernel already compiled.
+            for name in PARAMETERS:
+                dr.make_opaque(getattr(self, name))
+
+        def to_string(self):
+            labels = ", ".join(m.label for m in self.models)
+            return f"LaminarNativeBSDF[{labels}]"
+
+    mi.register_bsdf(PLUGIN, lambda props: LaminarNativeBSDF(props))
