@@ -134,7 +134,8 @@ def fit_batch(
     fit-batch`` writes and the Dask/xarray results hold (docs/formats.md):
     ``rms, chi2_dof`` of the estimate (refined when ``refine``),
     ``search_rms, rms_grid, measurements``, the free objective's
-    ``amplitude, chi2_weighted``, the adequacy ``chi2_p, runs_p,
+    ``amplitude`` (of the data divided by ``data_scale``) and
+    ``chi2_weighted``, the adequacy ``chi2_p, runs_p,
     lack_of_fit``, ``aicc, bic, rank, weight, cv_rms`` (NaN for one model),
     ``cosine_rms, cube_root``, the Ragheb–Hancock best ``rh_rms, rh_slope,
     rh_beta, rh_n``, then per parameter its value and ``*_lo68, *_hi68,

@@ -29,6 +29,16 @@ the light is along ``wo`` and the viewer along ``si.wi``, so with
   (:attr:`laminar.FittedModel.eq8`: the free objective's β and amplitude
   times the data's scale).
 
+Sampling follows the fitted lobe: a table of the radiance over (cos θ of the
+light, the relative azimuth) for 32 viewer angles, sampled by
+``mi.MarginalContinuous2D1`` (linear interpolation in the table and the
+viewer's angle), mixed with the cosine lobe (:data:`LOBE_SHARE` of the
+samples from the table), so the pdf is exact, never zero where f > 0, and
+close to f where the table resolves the lobe. The table is rebuilt when a
+parameter changes, from the values without their gradients. Property
+``sampling``: ``"lobe"`` (the default) or ``"cosine"`` (the cosine lobe
+alone).
+
 Properties: ``filename`` and ``select`` as the ``"laminar"`` plugin (a
 fitted-model file, one label or three), or ``model`` (``exp``, ``gauss``,
 ``rh-exp``, ``rh-gauss``) with ``slope``, ``beta``, ``n``, ``a`` and
@@ -46,6 +56,17 @@ PLUGIN = "laminar_native"
 
 #: The parameters ``traverse`` exposes, in order.
 PARAMETERS = ("slope", "beta", "n", "a", "scale")
+
+#: The share of samples drawn from the lobe's table (the rest from the
+#: cosine lobe).
+LOBE_SHARE = 0.8
+
+#: The table's resolution: viewer angles (cos θ from :data:`VIEW_MIN` to 1),
+#: light cos θ (0 to 1), relative azimuth (−π to π).
+TABLE = (32, 64, 128)
+
+#: The smallest viewer cos θ of the table (the sampling clamps to it).
+VIEW_MIN = 0.01
 
 
 def eq8_forms(models):
@@ -140,11 +161,107 @@ def radiance(wi, wo, slope, beta, n, a, scale, gaussian):
     return dr.select(up, value, 0.0)
 
 
+def _light(u, cos_view, phi_view):
+    """The light direction of table coordinates ``u`` (x: the paper's φs
+    over [−π, π], y: the light's cos θ) for a viewer at azimuth
+    ``phi_view``: φ_light = φ_view − φs − π (conventions §1)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    phi_s = (2.0 * u.x - 1.0) * dr.pi
+    cos_t = u.y
+    sin_t = dr.safe_sqrt(1.0 - cos_t * cos_t)
+    s, c = dr.sincos(phi_view - phi_s - dr.pi)
+    return mi.Vector3f(sin_t * c, sin_t * s, cos_t)
+
+
+def _table_coordinates(wi, wo):
+    """The table coordinates (φs over [−π, π] to [0, 1], cos θ) of light
+    ``wo`` for viewer ``wi``."""
+    import drjit as dr
+    import mitsuba as mi
+
+    phi = dr.atan2(wi.y, wi.x) - dr.atan2(wo.y, wo.x) - dr.pi
+    phi = phi - dr.two_pi * dr.floor((phi + dr.pi) / dr.two_pi)
+    return mi.Point2f(dr.clip((phi + dr.pi) / dr.two_pi, 0.0, 1.0), dr.clip(wo.z, 0.0, 1.0))
+
+
+def lobe_table(values, gaussian):
+    """The radiance (channel mean) on the :data:`TABLE` grid, computed by
+    the library from the parameters ``values`` (``name → three floats``), as
+    float32 ``(views, cos θ, φs)``, each view's row floored at 10⁻⁴ of its
+    mean so that every row is a distribution; and the views' cos θ."""
+    import numpy as np
+
+    views, rows, cols = TABLE
+    cos_view = np.linspace(VIEW_MIN, 1.0, views)
+    v, y, x = np.meshgrid(cos_view, np.linspace(0.0, 1.0, rows), np.linspace(0.0, 1.0, cols), indexing="ij")
+    theta_i, theta_s = np.arccos(np.ravel(y)), np.arccos(np.ravel(v))
+    phi_s = (2.0 * np.ravel(x) - 1.0) * np.pi
+    model = "gauss" if gaussian else "exp"
+    total = np.zeros(theta_i.size)
+    for c in range(3):
+        params = {p: values[p][c] for p in ("slope", "beta", "n", "a")}
+        fitted = laminar.FittedModel.from_params(model, params, amplitude=values["scale"][c])
+        total += fitted.radiance(theta_i, theta_s, phi_s)
+    table = total.reshape(views, rows, cols) / 3.0
+    floor = 1e-4 * table.mean(axis=(1, 2), keepdims=True) + 1e-30
+    return np.maximum(table, floor).astype(np.float32), cos_view
+
+
+def textured(fits, nearest=True):
+    """The ``"laminar_native"`` BSDF dict of a fitted texture: ``fits`` is
+    :func:`laminar.xarray.fit`'s Dataset (free objective, a layered model)
+    with dimensions ``y``, ``x`` and optionally ``channel`` (three: r, g,
+    b), and every parameter becomes a bitmap texture over the surface's UV:
+    ``slope``, ``beta``, ``n``, ``a`` and ``scale = amplitude ·
+    data_scale``. Texel ``(y, x)`` is at ``uv = ((x + ½)/W, (y + ½)/H)``. A
+    value that is not a number (a fit that did not determine it) takes its
+    map's median. Call after ``mi.set_variant``."""
+    import mitsuba as mi
+    import numpy as np
+
+    model = fits.attrs.get("model")
+    if fits.attrs.get("objective") != "free":
+        raise ValueError(f"fits: objective {fits.attrs.get('objective')!r}; the maps need the free objective's β")
+    correlation = laminar.MODELS.get(model, {}).get("correlation")
+    if correlation is None:
+        raise ValueError(f"fits: model {model!r}; the native BSDF draws the layered models")
+    dims = ("y", "x", "channel") if "channel" in fits.dims else ("y", "x")
+    if set(fits["slope"].dims) != set(dims):
+        raise ValueError(f"fits: dimensions {fits['slope'].dims}; (y, x) or (y, x, channel) are needed")
+
+    def texture(values):
+        values = np.asarray(values, dtype=np.float64)
+        if values.ndim == 2:
+            values = np.repeat(values[..., None], 3, axis=2)
+        if values.shape[2] != 3:
+            raise ValueError(f"fits: {values.shape[2]} channels; one or three are needed")
+        for c in range(3):
+            bad = ~np.isfinite(values[..., c])
+            if bad.all():
+                raise ValueError("fits: a map with no finite value")
+            values[..., c][bad] = np.median(values[..., c][~bad])
+        bitmap = mi.Bitmap(np.ascontiguousarray(values, dtype=np.float32))
+        return {
+            "type": "bitmap",
+            "bitmap": bitmap,
+            "raw": True,
+            "filter_type": "nearest" if nearest else "bilinear",
+            "wrap_mode": "clamp",
+        }
+
+    maps = {name: fits[name].transpose(*dims).values for name in ("slope", "beta", "n", "a")}
+    maps["scale"] = (fits["amplitude"] * fits["data_scale"]).transpose(*dims).values
+    return {"type": PLUGIN, "correlation": correlation, **{name: texture(v) for name, v in maps.items()}}
+
+
 def register_native():
     """Registers ``"laminar_native"`` with the current Mitsuba variant (call
     after ``mi.set_variant``; :func:`laminar.mitsuba.register` calls it)."""
     import drjit as dr
     import mitsuba as mi
+    import numpy as np
 
     from laminar.mitsuba import _models
 
@@ -153,50 +270,91 @@ def register_native():
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
-            if "filename" in props:
-                select = str(props["select"]) if "select" in props else None
-                self.models = _models(str(props["filename"]), select)
-            elif "model" in props:
-                model = str(props["model"])
-                amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
-                params = {k: float(props[k]) for k in props.keys() if k not in ("model", "amplitude")}
-                self.models = [laminar.FittedModel.from_params(model, params, amplitude)]
+            self.sampling = str(props["sampling"]) if "sampling" in props else "lobe"
+            if self.sampling not in ("lobe", "cosine"):
+                raise ValueError(f"sampling: {self.sampling!r}; 'lobe' or 'cosine'")
+            if "correlation" in props:
+                # Maps: each parameter a float or a texture (textured()).
+                correlation = str(props["correlation"])
+                if correlation not in ("exp", "gauss"):
+                    raise ValueError(f"correlation: {correlation!r}; 'exp' or 'gauss'")
+                self.gaussian = correlation == "gauss"
+                self.models = []
+                for name in PARAMETERS:
+                    if name not in props:
+                        raise ValueError(f"the laminar_native BSDF with a correlation needs `{name}`")
+                    value = props[name]
+                    setattr(self, name, value if isinstance(value, mi.Texture) else mi.Color3f(float(value)))
             else:
-                raise ValueError(
-                    "the laminar_native BSDF needs `filename` (a fitted-model file) or `model` and its parameters"
-                )
-            forms = eq8_forms(self.models)
-            self.gaussian = forms[0]["correlation"] == "gauss"
-            key = {"slope": "slope", "beta": "beta_eq8", "n": "n", "a": "a", "scale": "scale"}
-            for name in PARAMETERS:
-                setattr(self, name, mi.Color3f(*(f[key[name]] for f in forms)))
+                if "filename" in props:
+                    select = str(props["select"]) if "select" in props else None
+                    self.models = _models(str(props["filename"]), select)
+                elif "model" in props:
+                    model = str(props["model"])
+                    amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
+                    skip = ("model", "amplitude", "sampling")
+                    params = {k: float(props[k]) for k in props.keys() if k not in skip}
+                    self.models = [laminar.FittedModel.from_params(model, params, amplitude)]
+                else:
+                    raise ValueError(
+                        "the laminar_native BSDF needs `filename` (a fitted-model file), `model` and its "
+                        "parameters, or `correlation` and parameter maps"
+                    )
+                forms = eq8_forms(self.models)
+                self.gaussian = forms[0]["correlation"] == "gauss"
+                key = {"slope": "slope", "beta": "beta_eq8", "n": "n", "a": "a", "scale": "scale"}
+                for name in PARAMETERS:
+                    setattr(self, name, mi.Color3f(*(f[key[name]] for f in forms)))
             self.parameters_changed([])
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
 
+        def _values(self, si):
+            """Each parameter at ``si``: its value, or its texture's there."""
+            out = []
+            for name in PARAMETERS:
+                value = getattr(self, name)
+                out.append(value.eval(si) if isinstance(value, mi.Texture) else value)
+            return out
+
         def _radiance(self, si, wo):
-            return radiance(si.wi, wo, self.slope, self.beta, self.n, self.a, self.scale, self.gaussian)
+            return radiance(si.wi, wo, *self._values(si), self.gaussian)
 
         def eval(self, ctx, si, wo, active=True):
             return dr.select(active, self._radiance(si, wo), 0.0)
 
+        def _pdf(self, si, wo):
+            """The mixture's pdf of light ``wo`` (solid angle) for ``si.wi``."""
+            cosine = mi.warp.square_to_cosine_hemisphere_pdf(wo)
+            if self.sampling == "cosine":
+                return cosine
+            cos_view = dr.maximum(mi.Frame3f.cos_theta(si.wi), VIEW_MIN)
+            table = self.table.eval(_table_coordinates(si.wi, wo), [cos_view]) / dr.two_pi
+            return LOBE_SHARE * table + (1.0 - LOBE_SHARE) * cosine
+
         def pdf(self, ctx, si, wo, active=True):
             up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
-            return dr.select(active & up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+            return dr.select(active & up, self._pdf(si, wo), 0.0)
 
         def eval_pdf(self, ctx, si, wo, active=True):
             return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
-            bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
-            bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(bs.wo)
+            wo = mi.warp.square_to_cosine_hemisphere(sample2)
+            if self.sampling == "lobe":
+                cos_view = dr.maximum(mi.Frame3f.cos_theta(si.wi), VIEW_MIN)
+                u, _ = self.table.sample(sample2, [cos_view])
+                from_table = _light(u, cos_view, dr.atan2(si.wi.y, si.wi.x))
+                wo = dr.select(sample1 < LOBE_SHARE, from_table, wo)
+            bs.wo = wo
+            bs.pdf = self._pdf(si, wo)
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (bs.pdf > 0)
-            weight = self._radiance(si, bs.wo) / dr.maximum(bs.pdf, 1e-30)
+            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & (bs.pdf > 0)
+            weight = self._radiance(si, wo) / dr.maximum(bs.pdf, 1e-30)
             return bs, dr.select(up, weight, 0.0)
 
         def traverse(self, callback):
@@ -206,11 +364,21 @@ def register_native():
         def parameters_changed(self, keys):
             # Opaque: a kernel reads the values from memory, so a new value
             # runs the kernel already compiled.
-            for name in PARAMETERS:
-                dr.make_opaque(getattr(self, name))
+            def host(value):
+                # A texture's mean stands for it in the table (any table
+                # gives an exact pdf; the mean one follows the lobe).
+                if isinstance(value, mi.Texture):
+                    return np.full(3, float(np.array(dr.detach(value.mean())).ravel()[0]))
+                dr.make_opaque(value)
+                return np.array(dr.detach(value), dtype=np.float64).ravel()
+
+            values = {p: host(getattr(self, p)) for p in PARAMETERS}
+            if self.sampling == "lobe":
+                table, views = lobe_table(values, self.gaussian)
+                self.table = mi.MarginalContinuous2D1(table, [views.tolist()])
 
         def to_string(self):
-            labels = ", ".join(m.label for m in self.models)
+            labels = ", ".join(m.label for m in self.models) or "maps"
             return f"LaminarNativeBSDF[{labels}]"
 
     mi.register_bsdf(PLUGIN, lambda props: LaminarNativeBSDF(props))

@@ -6,6 +6,8 @@ changes, and a render in symbolic mode equal to the numpy plugin's in
 wavefront mode. Needs Mitsuba 3's LLVM variant (SKIPPED without it, a
 failure under ``LAMINAR_REQUIRE_MITSUBA=1``)."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -130,15 +132,18 @@ def test_no_kernel_is_recompiled_when_a_parameter_changes(fits):  # noqa: F811
     mi.render(scene, seed=0)  # compiles
     dr.kernel_history()
     compiled = 0
+    # Values never used before (Dr.Jit also keeps kernels on disk, so a
+    # literal value seen in an earlier run would be found there).
+    fresh = np.random.default_rng().uniform(0.4, 1.6, 11)
     for i in range(10):
-        params[key] = mi.Color3f(0.5 + 0.1 * i)
+        params[key] = mi.Color3f(float(fresh[i]))
         params.update()
         dr.eval(mi.render(scene, seed=i))
         history = dr.kernel_history()
         compiled += sum(1 for k in history if k.get("type") == dr.KernelType.JIT and not k.get("cache_hit"))
     assert compiled == 0, f"{compiled} kernels compiled across 10 renders that changed σ/T"
     # The count sees a recompilation: a value set as a literal (not opaque) is one.
-    scene.shapes()[0].bsdf().slope = mi.Color3f(0.77)
+    scene.shapes()[0].bsdf().slope = mi.Color3f(float(fresh[10]))
     dr.eval(mi.render(scene, seed=11))
     history = dr.kernel_history()
     dr.set_flag(dr.JitFlag.KernelHistory, False)
@@ -167,15 +172,17 @@ def sphere_scene(mi, bsdf, size, spp):
 
 
 def test_symbolic_render_equals_the_numpy_plugins(fits):  # noqa: F811
-    """The same sphere, the same seed: the native BSDF in symbolic mode and
-    the numpy plugin in wavefront mode give one image up to f32 rounding."""
+    """The same sphere, the same seed, the same (cosine) sampling: the
+    native BSDF in symbolic mode and the numpy plugin in wavefront mode give
+    one image up to f32 rounding."""
     mi = mitsuba_variant("llvm_ad_rgb")
     import drjit as dr
 
     path = str(fits["gauss"][1])
     dr.set_flag(dr.JitFlag.SymbolicLoops, True)
     dr.set_flag(dr.JitFlag.SymbolicCalls, True)
-    native = np.array(mi.render(sphere_scene(mi, {"type": "laminar_native", "filename": path}, 32, 16), seed=1))
+    bsdf = {"type": "laminar_native", "filename": path, "sampling": "cosine"}
+    native = np.array(mi.render(sphere_scene(mi, bsdf, 32, 16), seed=1))
     reference = np.array(mi.render(sphere_scene(mi, {"type": "laminar", "filename": path}, 32, 16), seed=1))
     assert not dr.flag(dr.JitFlag.SymbolicCalls)  # the numpy plugin turned it off
     assert native.shape == reference.shape == (32, 32, 3)
@@ -188,3 +195,138 @@ def test_a_baseline_is_refused_by_name():
     mi = mitsuba_variant("scalar_rgb")
     with pytest.raises(Exception, match="drawn by the 'laminar' plugin"):
         mi.load_dict({"type": "laminar_native", "model": "jensen", "sigma_a": 0.1, "sigma_s": 0.5})
+
+
+#: A sharp fit: a narrow surface lobe (small σ/T), little subsurface.
+SHARP = {"model": "gauss", "slope": 0.15, "beta": 0.1, "n": 1.5, "a": 0.0}
+
+
+def test_native_lobe_sampling_passes_its_chi2_test(fits):  # noqa: F811
+    mi = mitsuba_variant("llvm_ad_rgb")
+    from mitsuba.chi2 import BSDFAdapter, ChiSquareTest, SphericalDomain
+
+    sharp = "".join(
+        f'<string name="model" value="{v}"/>' if k == "model" else f'<float name="{k}" value="{v}"/>'
+        for k, v in SHARP.items()
+    )
+    cases = [(m, f'<string name="filename" value="{fits[m][1]}"/>') for m in ("exp", "gauss")] + [("sharp", sharp)]
+    p_values = []
+    for name, xml in cases:
+        for theta in (0.2, 0.7, 1.2):
+            wi = mi.Vector3f(float(np.sin(theta)), 0.0, float(np.cos(theta)))
+            sample, pdf = BSDFAdapter("laminar_native", xml, wi=wi)
+            test = ChiSquareTest(domain=SphericalDomain(), sample_func=sample, pdf_func=pdf, sample_dim=3)
+            ok = test.run()
+            p_values.append((name, theta, test.p_value))
+            assert ok, f"{name} at θ = {theta}: {test.messages}"
+    print("native chi2 p-values:", p_values)
+
+
+def furnace(mi, bsdf, spp):
+    """A plane tilted 50° from the camera under a constant emitter of
+    radiance 1, one bounce: every pixel an independent estimate of the
+    albedo at 50°."""
+    return mi.render(
+        mi.load_dict(
+            {
+                "type": "scene",
+                "integrator": {"type": "path", "max_depth": 2},
+                "emitter": {"type": "constant", "radiance": {"type": "rgb", "value": 1.0}},
+                "plane": {
+                    "type": "rectangle",
+                    "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], 50),
+                    "bsdf": bsdf,
+                },
+                "sensor": {
+                    "type": "orthographic",
+                    "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0])
+                    @ mi.ScalarTransform4f().scale([0.3, 0.3, 1]),
+                    "film": {"type": "hdrfilm", "width": 32, "height": 32, "rfilter": {"type": "box"}},
+                    "sampler": {"type": "independent", "sample_count": spp},
+                },
+            }
+        ),
+        seed=3,
+    )
+
+
+def test_lobe_sampling_lowers_the_variance_of_a_sharp_fit():
+    """At equal samples, the sharp fit's furnace image has a lower variance
+    with the lobe's sampling than with the cosine lobe's, and the same mean
+    within their errors."""
+    mi = mitsuba_variant("llvm_ad_rgb")
+    stats = {}
+    for sampling in ("cosine", "lobe"):
+        image = np.array(furnace(mi, {"type": "laminar_native", "sampling": sampling, **SHARP}, spp=16))[..., 0]
+        stats[sampling] = (image.mean(), image.var(ddof=1), image.size)
+    print("furnace (mean, variance, pixels):", stats)
+    (m_cos, v_cos, k), (m_lobe, v_lobe, _) = stats["cosine"], stats["lobe"]
+    assert v_lobe < v_cos, stats
+    assert abs(m_lobe - m_cos) < 4 * np.sqrt(v_cos / k + v_lobe / k), stats
+
+
+def test_a_fitted_texture_is_a_textured_material():
+    """laminar.xarray.fit's parameter maps as the native BSDF's textures:
+    at each texel's UV the BSDF is the fitted model of that texel and
+    channel (FittedModel.from_params at its σ/T, β, n, a, amplitude and
+    data scale)."""
+    xr = pytest.importorskip("xarray") if not os.environ.get("LAMINAR_REQUIRE_DASK") else __import__("xarray")
+    mi = mitsuba_variant("llvm_ad_rgb")
+    import sys
+    from pathlib import Path
+
+    import laminar.xarray
+    from laminar.mitsuba_native import textured
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+    from btf_cube import cube
+
+    ny, nx = 4, 6
+    g, values = cube(ny, nx, k=198, channels=3)
+    data = xr.DataArray(
+        values.reshape(3, ny, nx, 198).transpose(1, 2, 0, 3),
+        dims=("y", "x", "channel", "measurement"),
+        coords={name: ("measurement", g[:, i]) for i, name in enumerate(laminar.xarray.GEOMETRY)},
+    )
+    fits = laminar.xarray.fit(data, model="exp", quantity="radiance", uncertainty="off")
+    bsdf = mi.load_dict(textured(fits))
+    wi, wo = pairs(ny * nx, 5)
+    keep = slice(None)
+    iy, ix = np.divmod(np.arange(ny * nx), nx)
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(wi[:, keep])
+    si.uv = mi.Point2f(((ix + 0.5) / nx).astype(np.float32), ((iy + 0.5) / ny).astype(np.float32))
+    got = np.array(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(wo[:, keep])))
+    got = got.reshape(3, -1) if got.shape[0] == 3 else got.T
+    for c in range(3):
+        for k in range(ny * nx):
+            texel = fits.isel(y=iy[k], x=ix[k], channel=c)
+            params = {p: float(texel[p]) for p in ("slope", "beta", "n", "a")}
+            model = laminar.FittedModel.from_params(
+                "exp", params, amplitude=float(texel["amplitude"]), data_scale=float(texel["data_scale"])
+            )
+            want = library(model, wi[:, k : k + 1], wo[:, k : k + 1])[0]
+            assert got[c, k] == pytest.approx(want, rel=1e-5, abs=1e-30), (c, iy[k], ix[k])
+    # A textured material renders (lobe sampling from the maps' means).
+    image = np.array(mi.render(sphere_scene(mi, textured(fits), size=24, spp=4)))
+    assert np.all(np.isfinite(image)) and image.max() > 0
+
+
+def test_inverse_rendering_recovers_the_parameters():
+    """python/examples/mitsuba_inverse.py: from a perturbed guess, Adam on
+    the sphere's image recovers σ/T to 2%, β to 0.02, and n and a (which
+    trade off) to 0.12 and 0.07."""
+    mitsuba_variant("llvm_ad_rgb")
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
+    from mitsuba_inverse import GUESS, TRUTH, recover
+
+    found, losses, seconds = recover()
+    print(f"inverse rendering: {found} from {GUESS}, truth {TRUTH}; loss {losses[0]:.2e} → {losses[-1]:.2e}, {seconds:.1f} s")
+    assert losses[-1] < 1e-4 * losses[0]
+    assert abs(found["slope"] - TRUTH["slope"]) <= 0.02 * TRUTH["slope"]
+    assert abs(found["beta"] - TRUTH["beta"]) <= 0.02
+    assert abs(found["n"] - TRUTH["n"]) <= 0.12
+    assert abs(found["a"] - TRUTH["a"]) <= 0.07

@@ -39,18 +39,21 @@ impl FieldKind {
 
 /// The fields about the whole fit, in order, with their kinds: the
 /// estimate's Δ_RMS (eq. 15) and χ²/ν (eq. 16), the search's and the grid
-/// best's Δ_RMS, the kept measurements, the free objective's amplitude and
-/// weighted χ²/ν, the adequacy (χ² and runs-test p-values, lack of fit),
+/// best's Δ_RMS, the kept measurements, the free objective's amplitude (of
+/// the data divided by `data_scale`, the max they were divided by: radiance
+/// in the input's units is `amplitude · data_scale · mix`) and weighted
+/// χ²/ν, the adequacy (χ² and runs-test p-values, lack of fit),
 /// AICc and BIC, the rank and Akaike weight among the models compared, the
 /// cross-validated error, and the graphics metrics. `lack_of_fit` is 1 or
 /// 0 and `rank` a whole number, both reals: NaN when not computed.
-pub const FIT_FIELDS: [(&str, FieldKind); 17] = [
+pub const FIT_FIELDS: [(&str, FieldKind); 18] = [
     ("rms", FieldKind::Real),
     ("chi2_dof", FieldKind::Real),
     ("search_rms", FieldKind::Real),
     ("rms_grid", FieldKind::Real),
     ("measurements", FieldKind::Count),
     ("amplitude", FieldKind::Real),
+    ("data_scale", FieldKind::Real),
     ("chi2_weighted", FieldKind::Real),
     ("chi2_p", FieldKind::Real),
     ("runs_p", FieldKind::Real),
@@ -157,6 +160,7 @@ impl BatchRow {
             fit.best.rms,
             fit.measurements as f64,
             fit.amplitude.unwrap_or(nan),
+            estimate.fitted.data_scale,
             fit.chi2_weighted.unwrap_or(nan),
             adequacy.and_then(|a| a.chi2_p).unwrap_or(nan),
             adequacy.and_then(|a| a.runs_p).unwrap_or(nan),
