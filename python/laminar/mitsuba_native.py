@@ -42,9 +42,12 @@ alone).
 Properties: ``filename`` and ``select`` as the ``"laminar"`` plugin (a
 fitted-model file, one label or three), or ``model`` (``exp``, ``gauss``,
 ``rh-exp``, ``rh-gauss``) with ``slope``, ``beta``, ``n``, ``a`` and
-``amplitude``. Parameters (``mi.traverse``): ``slope``, ``beta``, ``n``,
-``a``, ``scale``. The baselines (Jensen, Oren–Nayar) are drawn by the
-``"laminar"`` plugin only.
+``amplitude``, or ``correlation`` (``exp``, ``gauss``) with ``slope``,
+``beta`` (eq. 8's), ``n``, ``a`` and ``scale``, each a float or a texture
+(:func:`textured` makes them from a fitted texture's maps; the lobe table
+then follows the maps' means). Parameters (``mi.traverse``): ``slope``,
+``beta``, ``n``, ``a``, ``scale``. The baselines (Jensen, Oren–Nayar) are
+drawn by the ``"laminar"`` plugin only.
 """
 
 from __future__ import annotations

@@ -140,7 +140,10 @@ impl BatchRow {
 
     /// Number of fields.
     pub fn width(&self) -> usize {
-        FIT_FIELDS.len() + 1 + self.rh_params.len() + self.params.len() * 7
+        FIT_FIELDS.len()
+            + 1
+            + self.rh_params.len()
+            + self.params.len() * (1 + PARAMETER_FIELDS.len())
     }
 
     /// The row of `fit`, appended to `out` (its [`BatchRow::width`] numbers):
