@@ -2,8 +2,9 @@
 of ``btf_zarr.py`` (SIZE × SIZE texels × 198 directions × 3 channels, the
 exp model at smoothly varying parameters plus noise) fitted texel by texel
 by ``laminar.xarray.fit``, its parameter maps made the textures of the
-Dr.Jit-native BSDF (``laminar.mitsuba_native.textured``), on a tilted plane
-and a sphere under a small area light, path traced, written as a PNG.
+Dr.Jit-native BSDF (``laminar.mitsuba_native.textured``), on a square of
+ground and a sphere resting on it, lit from behind, path traced, written as
+a PNG.
 
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so \\
         python python/examples/mitsuba_texture.py texture.png
@@ -49,30 +50,37 @@ def fitted_texture(size, refine=True):
 
 
 def scene_dict(mi, bsdf, size, spp):
-    """A plane tilted towards the camera and a sphere above it, both of
-    ``bsdf``, a spherical light up and to the left, a dim environment."""
+    """A square of ``bsdf`` on the ground and a sphere resting on it, lit
+    from behind and above so that the ground's highlight shows how the lobe
+    narrows and widens over the texture (σ/T grows from left to right), a
+    dim environment."""
     return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 3},
-        "plane": {
+        "ground": {
             "type": "rectangle",
-            "to_world": mi.ScalarTransform4f().translate([0, -0.6, 0])
-            @ mi.ScalarTransform4f().rotate([1, 0, 0], -70)
-            @ mi.ScalarTransform4f().scale(1.6),
+            "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90) @ mi.ScalarTransform4f().scale(1.5),
             "bsdf": bsdf,
         },
-        "sphere": {"type": "sphere", "center": [0.0, 0.35, -0.3], "radius": 0.55, "bsdf": bsdf},
+        "sphere": {
+            "type": "sphere",
+            # The UV seam turned away from the camera.
+            "to_world": mi.ScalarTransform4f().translate([0.75, 0.4, -0.7])
+            @ mi.ScalarTransform4f().rotate([0, 1, 0], 90)
+            @ mi.ScalarTransform4f().scale(0.4),
+            "bsdf": bsdf,
+        },
         "light": {
             "type": "sphere",
-            "center": [-3.0, 4.0, 3.0],
-            "radius": 0.5,
-            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": 12.0}},
+            "center": [0.0, 2.2, -4.0],
+            "radius": 0.6,
+            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": 6.0}},
         },
-        "environment": {"type": "constant", "radiance": {"type": "rgb", "value": 0.02}},
+        "environment": {"type": "constant", "radiance": {"type": "rgb", "value": 0.03}},
         "sensor": {
             "type": "perspective",
             "fov": 40,
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 1.2, 4.2], target=[0, -0.1, 0], up=[0, 1, 0]),
+            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 2.0, 3.6], target=[0, 0.1, -0.2], up=[0, 1, 0]),
             "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "gaussian"}},
             "sampler": {"type": "independent", "sample_count": spp},
         },
