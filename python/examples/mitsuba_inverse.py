@@ -18,9 +18,14 @@ the same sphere): at a loss 10⁻⁴ of the start, n is within 0.1 and a within
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mitsuba_sphere import sensor  # noqa: E402
 
 #: The parameters recovered, with the range each is kept in.
 RANGES = {"slope": (0.05, 5.0), "beta": (0.0, 1.0), "n": (1.05, 2.5), "a": (0.0, 1.0)}
@@ -41,13 +46,7 @@ def scene(mi, params, size=48, spp=4):
             "key": {"type": "point", "position": [-3.0, 3.0, 4.0], "intensity": {"type": "rgb", "value": 40.0}},
             "rim": {"type": "point", "position": [4.0, 1.0, -2.0], "intensity": {"type": "rgb", "value": 25.0}},
             "low": {"type": "point", "position": [0.5, -4.0, 1.0], "intensity": {"type": "rgb", "value": 25.0}},
-            "sensor": {
-                "type": "perspective",
-                "fov": 30,
-                "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 5], target=[0, 0, 0], up=[0, 1, 0]),
-                "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "box"}},
-                "sampler": {"type": "independent", "sample_count": spp},
-            },
+            "sensor": sensor(mi, [0, 0, 5], [0, 0, 0], size, spp, rfilter="box"),
         }
     )
 

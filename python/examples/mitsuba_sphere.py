@@ -23,13 +23,21 @@ import time
 import numpy as np
 
 
-def scene_dict(mi, filename, select, size, spp, plugin="laminar"):
-    """The scene: a unit sphere of the fitted material (BSDF ``plugin``), a
-    camera on +z, a spherical light up and to the left, a constant
-    environment."""
-    bsdf = {"type": plugin, "filename": filename}
-    if select:
-        bsdf["select"] = select
+def sensor(mi, origin, target, size, spp, fov=30, rfilter="gaussian"):
+    """A perspective camera at ``origin`` looking at ``target`` (y up), a
+    size × size film, ``spp`` independent samples per pixel."""
+    return {
+        "type": "perspective",
+        "fov": fov,
+        "to_world": mi.ScalarTransform4f().look_at(origin=origin, target=target, up=[0, 1, 0]),
+        "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": rfilter}},
+        "sampler": {"type": "independent", "sample_count": spp},
+    }
+
+
+def scene_dict(mi, bsdf, size, spp):
+    """The scene: a unit sphere of ``bsdf`` (a BSDF dict), a camera on +z, a
+    spherical light up and to the left, a constant environment."""
     return {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 3},
@@ -41,14 +49,16 @@ def scene_dict(mi, filename, select, size, spp, plugin="laminar"):
             "emitter": {"type": "area", "radiance": {"type": "rgb", "value": 300.0}},
         },
         "environment": {"type": "constant", "radiance": {"type": "rgb", "value": 0.15}},
-        "sensor": {
-            "type": "perspective",
-            "fov": 30,
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 4.5], target=[0, 0, 0], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "gaussian"}},
-            "sampler": {"type": "independent", "sample_count": spp},
-        },
+        "sensor": sensor(mi, [0, 0, 4.5], [0, 0, 0], size, spp),
     }
+
+
+def fitted_bsdf(filename, select, plugin="laminar"):
+    """The BSDF dict of the fit(s) ``select`` of the fitted-model file."""
+    bsdf = {"type": plugin, "filename": filename}
+    if select:
+        bsdf["select"] = select
+    return bsdf
 
 
 def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="laminar", repeat=0):
@@ -66,7 +76,7 @@ def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="la
     if not variant.startswith("scalar"):
         dr.set_flag(dr.JitFlag.SymbolicLoops, True)
         dr.set_flag(dr.JitFlag.SymbolicCalls, True)
-    scene = mi.load_dict(scene_dict(mi, filename, select, size, spp, plugin))
+    scene = mi.load_dict(scene_dict(mi, fitted_bsdf(filename, select, plugin), size, spp))
     start = time.perf_counter()
     image = np.array(mi.render(scene))
     first = time.perf_counter() - start

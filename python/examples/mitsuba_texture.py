@@ -9,8 +9,10 @@ a PNG.
     DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM-19.so \\
         python python/examples/mitsuba_texture.py texture.png
 
-The fit of the 196,608 texels takes about a minute on two cores with
-refinement (``--search-only``: the grid's values, a few seconds).
+With ``--fits FILE --sphere LABEL …`` the spheres are fitted models of a
+fitted-model file instead (the README's picture: CUReT samples on the
+fitted texture). The fit of the 196,608 texels takes a few minutes on two
+cores with refinement (``--search-only``: the grid's values, seconds).
 """
 
 from __future__ import annotations
@@ -24,6 +26,9 @@ import numpy as np
 
 import laminar
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from mitsuba_sphere import sensor  # noqa: E402
+
 
 def fitted_texture(size, refine=True):
     """laminar.xarray.fit of the synthetic size × size texture (y, x,
@@ -32,7 +37,6 @@ def fitted_texture(size, refine=True):
 
     import laminar.xarray
 
-    sys.path.insert(0, str(Path(__file__).resolve().parent))
     from btf_cube import cube
 
     g, values = cube(size, size, k=198, channels=3)
@@ -49,25 +53,20 @@ def fitted_texture(size, refine=True):
     return fits, time.perf_counter() - start
 
 
-def scene_dict(mi, bsdf, size, spp):
-    """A square of ``bsdf`` on the ground and a sphere resting on it, lit
-    from behind and above so that the ground's highlight shows how the lobe
-    narrows and widens over the texture (σ/T grows from left to right), a
-    dim environment."""
-    return {
+def scene_dict(mi, bsdf, size, spp, spheres=()):
+    """A square of ``bsdf`` on the ground, lit from behind and above so that
+    its highlight shows how the lobe narrows and widens over the texture
+    (σ/T grows from left to right), a key light at the front left, a dim
+    environment; and resting on the ground a
+    sphere of ``bsdf``, or one sphere per BSDF dict of ``spheres``."""
+    materials = list(spheres) or [bsdf]
+    spacing = 1.1 if len(materials) > 1 else 0.0
+    out = {
         "type": "scene",
         "integrator": {"type": "path", "max_depth": 3},
         "ground": {
             "type": "rectangle",
-            "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90) @ mi.ScalarTransform4f().scale(1.5),
-            "bsdf": bsdf,
-        },
-        "sphere": {
-            "type": "sphere",
-            # The UV seam turned away from the camera.
-            "to_world": mi.ScalarTransform4f().translate([0.75, 0.4, -0.7])
-            @ mi.ScalarTransform4f().rotate([0, 1, 0], 90)
-            @ mi.ScalarTransform4f().scale(0.4),
+            "to_world": mi.ScalarTransform4f().rotate([1, 0, 0], -90) @ mi.ScalarTransform4f().scale(1.8),
             "bsdf": bsdf,
         },
         "light": {
@@ -76,15 +75,26 @@ def scene_dict(mi, bsdf, size, spp):
             "radius": 0.6,
             "emitter": {"type": "area", "radiance": {"type": "rgb", "value": 6.0}},
         },
-        "environment": {"type": "constant", "radiance": {"type": "rgb", "value": 0.03}},
-        "sensor": {
-            "type": "perspective",
-            "fov": 40,
-            "to_world": mi.ScalarTransform4f().look_at(origin=[0, 2.0, 3.6], target=[0, 0.1, -0.2], up=[0, 1, 0]),
-            "film": {"type": "hdrfilm", "width": size, "height": size, "rfilter": {"type": "gaussian"}},
-            "sampler": {"type": "independent", "sample_count": spp},
+        "key": {
+            "type": "sphere",
+            "center": [-3.0, 3.0, 3.0],
+            "radius": 0.4,
+            "emitter": {"type": "area", "radiance": {"type": "rgb", "value": 40.0}},
         },
+        "environment": {"type": "constant", "radiance": {"type": "rgb", "value": 0.03}},
+        "sensor": sensor(mi, [0, 2.0, 3.6], [0, 0.1, -0.2], size, spp, fov=40),
     }
+    for i, material in enumerate(materials):
+        x = (i - (len(materials) - 1) / 2) * spacing if spacing else 0.75
+        out[f"sphere{i}"] = {
+            "type": "sphere",
+            # The UV seam turned away from the camera.
+            "to_world": mi.ScalarTransform4f().translate([x, 0.4, -0.7])
+            @ mi.ScalarTransform4f().rotate([0, 1, 0], 90)
+            @ mi.ScalarTransform4f().scale(0.4),
+            "bsdf": material,
+        }
+    return out
 
 
 def main():
@@ -95,6 +105,8 @@ def main():
     parser.add_argument("--spp", type=int, default=128)
     parser.add_argument("--search-only", action="store_true", help="the grid's values, not refined")
     parser.add_argument("--variant", default="llvm_ad_rgb")
+    parser.add_argument("--fits", help="a fitted-model file whose fits --sphere draws")
+    parser.add_argument("--sphere", action="append", default=[], help="a label of --fits: one sphere each")
     args = parser.parse_args()
     fits, fit_seconds = fitted_texture(args.texels, refine=not args.search_only)
     print(f"fitted {args.texels}² × 3 texels in {fit_seconds:.1f} s")
@@ -106,7 +118,8 @@ def main():
     from laminar.mitsuba_native import textured
 
     laminar.mitsuba.register()
-    scene = mi.load_dict(scene_dict(mi, textured(fits, nearest=False), args.size, args.spp))
+    spheres = [{"type": "laminar_native", "filename": args.fits, "select": label} for label in args.sphere]
+    scene = mi.load_dict(scene_dict(mi, textured(fits, nearest=False), args.size, args.spp, spheres))
     start = time.perf_counter()
     image = mi.render(scene)
     mi.util.write_bitmap(args.out, image)

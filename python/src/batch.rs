@@ -3,6 +3,7 @@
 
 use crate::convert::{lab_angles, layered_names, parse, reserve};
 use crate::fit_result::fitter;
+use laminar_fit::analysis::DEFAULT_RESAMPLES;
 use laminar_fit::{MeasurementSet, Model, Quantity};
 use laminar_io::fits::BatchRow;
 use numpy::{IntoPyArray, PyReadonlyArray2};
@@ -46,14 +47,8 @@ pub(crate) fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let fitter = fitter(
-        grid,
-        threads,
-        refine,
-        uncertainty,
-        objective,
-        (laminar_fit::analysis::DEFAULT_RESAMPLES as u64, 0, 0),
-    )?;
+    let resampling = (DEFAULT_RESAMPLES as u64, 0, 0);
+    let fitter = fitter(grid, threads, refine, uncertainty, objective, resampling)?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

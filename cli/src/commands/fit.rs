@@ -1,9 +1,8 @@
 //! `laminar fit`: fit models to measurements by exhaustive grid search.
 
 use super::options::{
-    any_model, check_extension, check_out, emit, fitter, jobs, progress, report_time, AnalysisArgs,
-    ChannelArgs, CuretArgs, FileArgs, GridArgs, ObjectiveArgs, OutputFormat, PathArgs, ThreadArgs,
-    PAIRS,
+    any_model, check_extension, check_out, emit, jobs, progress, report_time, ChannelArgs,
+    CuretArgs, FileArgs, FitterArgs, OutputFormat, PAIRS,
 };
 use clap::{Args, ValueEnum};
 use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
@@ -84,15 +83,7 @@ pub struct FitArgs {
     #[arg(long, value_delimiter = ',', value_parser = any_model())]
     models: Option<Vec<Model>>,
     #[command(flatten)]
-    path: PathArgs,
-    #[command(flatten)]
-    threads: ThreadArgs,
-    #[command(flatten)]
-    grid: GridArgs,
-    #[command(flatten)]
-    objective: ObjectiveArgs,
-    #[command(flatten)]
-    analysis: AnalysisArgs,
+    fitting: FitterArgs,
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -132,13 +123,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
     if args.albedo && !matches!(args.format, Format::Json) {
         return Err(UsageError::AlbedoWithoutJson.into());
     }
-    let fitter = fitter(
-        &args.grid,
-        &args.threads,
-        args.path.path,
-        &args.analysis,
-        args.objective.objective,
-    )?;
+    let fitter = args.fitting.fitter()?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     let models = args.models.clone().unwrap_or_else(|| Model::ALL.to_vec());
     let bar = progress(fit_jobs_shards(&fitter, &jobs, &models), "fit");

@@ -1,9 +1,6 @@
 //! `laminar fit-batch`: many measurement sets on one geometry.
 
-use super::options::{
-    any_model, check_out, counter, fitter, progress, report_time, AnalysisArgs, GridArgs,
-    ObjectiveArgs, PathArgs, ThreadArgs, PAIRS,
-};
+use super::options::{any_model, check_out, counter, progress, report_time, FitterArgs, PAIRS};
 use clap::Args;
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
@@ -54,15 +51,7 @@ pub struct FitBatchArgs {
     #[arg(long, value_delimiter = ',', default_value = "exp", value_parser = any_model())]
     models: Vec<Model>,
     #[command(flatten)]
-    path: PathArgs,
-    #[command(flatten)]
-    threads: ThreadArgs,
-    #[command(flatten)]
-    grid: GridArgs,
-    #[command(flatten)]
-    objective: ObjectiveArgs,
-    #[command(flatten)]
-    analysis: AnalysisArgs,
+    fitting: FitterArgs,
     /// Results file: .csv (the batch fields) or .json (the fitted-model file).
     #[arg(long)]
     out: PathBuf,
@@ -80,13 +69,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
         Some(&args.out),
         &[args.values.clone(), args.geometry.clone()],
     )?;
-    let fitter = fitter(
-        &args.grid,
-        &args.threads,
-        args.path.path,
-        &args.analysis,
-        args.objective.objective,
-    )?;
+    let fitter = args.fitting.fitter()?;
     let geometry = read_geometry(&args.geometry, args.angles)?;
     let mut values = ValueRows::open(&args.values)?;
     if values.cols() != geometry.len() {

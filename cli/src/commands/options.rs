@@ -301,6 +301,35 @@ impl AnalysisArgs {
     }
 }
 
+/// The options every fitting command takes: the search path, the threads,
+/// the grid, the objective and the analysis (`fit`, `fit-batch`).
+#[derive(Args, Debug)]
+pub struct FitterArgs {
+    #[command(flatten)]
+    path: PathArgs,
+    #[command(flatten)]
+    threads: ThreadArgs,
+    #[command(flatten)]
+    grid: GridArgs,
+    #[command(flatten)]
+    objective: ObjectiveArgs,
+    #[command(flatten)]
+    analysis: AnalysisArgs,
+}
+
+impl FitterArgs {
+    /// The fitter these options describe ([`fitter`]).
+    pub fn fitter(&self) -> Result<Fitter, CliError> {
+        fitter(
+            &self.grid,
+            &self.threads,
+            self.path.path,
+            &self.analysis,
+            self.objective.objective,
+        )
+    }
+}
+
 /// A fitter of `objective` on the grid with the threads, path and analysis given.
 pub fn fitter(
     grid: &GridArgs,

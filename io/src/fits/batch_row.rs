@@ -37,7 +37,7 @@ impl FieldKind {
     }
 }
 
-/// The fields about the whole fit, in order, with their kinds: the
+/// The fields about the whole fit, in order: the
 /// estimate's Δ_RMS (eq. 15) and χ²/ν (eq. 16), the search's and the grid
 /// best's Δ_RMS, the kept measurements, the free objective's amplitude (of
 /// the data divided by `data_scale`, the max they were divided by: radiance
@@ -46,37 +46,41 @@ impl FieldKind {
 /// AICc and BIC, the rank and Akaike weight among the models compared, the
 /// cross-validated error, and the graphics metrics. `lack_of_fit` is 1 or
 /// 0 and `rank` a whole number, both reals: NaN when not computed.
-pub const FIT_FIELDS: [(&str, FieldKind); 18] = [
-    ("rms", FieldKind::Real),
-    ("chi2_dof", FieldKind::Real),
-    ("search_rms", FieldKind::Real),
-    ("rms_grid", FieldKind::Real),
-    ("measurements", FieldKind::Count),
-    ("amplitude", FieldKind::Real),
-    ("data_scale", FieldKind::Real),
-    ("chi2_weighted", FieldKind::Real),
-    ("chi2_p", FieldKind::Real),
-    ("runs_p", FieldKind::Real),
-    ("lack_of_fit", FieldKind::Real),
-    ("aicc", FieldKind::Real),
-    ("bic", FieldKind::Real),
-    ("rank", FieldKind::Real),
-    ("weight", FieldKind::Real),
-    ("cv_rms", FieldKind::Real),
-    ("cosine_rms", FieldKind::Real),
-    ("cube_root", FieldKind::Real),
+pub const FIT_FIELDS: [&str; 18] = [
+    "rms",
+    "chi2_dof",
+    "search_rms",
+    "rms_grid",
+    "measurements",
+    "amplitude",
+    "data_scale",
+    "chi2_weighted",
+    "chi2_p",
+    "runs_p",
+    "lack_of_fit",
+    "aicc",
+    "bic",
+    "rank",
+    "weight",
+    "cv_rms",
+    "cosine_rms",
+    "cube_root",
 ];
 
 /// The fields each parameter `p` gets after its value `p`, as `{p}_{field}`:
 /// the headline 68% and 95% intervals, the Jacobian's sd, the flags.
-pub const PARAMETER_FIELDS: [(&str, FieldKind); 6] = [
-    ("lo68", FieldKind::Real),
-    ("hi68", FieldKind::Real),
-    ("lo95", FieldKind::Real),
-    ("hi95", FieldKind::Real),
-    ("sd", FieldKind::Real),
-    ("flags", FieldKind::Flags),
-];
+pub const PARAMETER_FIELDS: [&str; 6] = ["lo68", "hi68", "lo95", "hi95", "sd", "flags"];
+
+/// The kind of field `name` (a name of [`FIT_FIELDS`] or
+/// [`PARAMETER_FIELDS`]): `measurements` is a count, `flags` flags, the
+/// rest reals.
+fn kind(name: &str) -> FieldKind {
+    match name {
+        "measurements" => FieldKind::Count,
+        "flags" => FieldKind::Flags,
+        _ => FieldKind::Real,
+    }
+}
 
 /// The key columns the CSV file puts before the fields.
 pub const CSV_KEY: [&str; 2] = ["set", "model"];
@@ -116,24 +120,24 @@ impl BatchRow {
 
     /// The field names, in order.
     pub fn names(&self) -> Vec<String> {
-        let mut names: Vec<String> = FIT_FIELDS.iter().map(|(n, _)| n.to_string()).collect();
+        let mut names: Vec<String> = FIT_FIELDS.iter().map(|n| n.to_string()).collect();
         names.push("rh_rms".into());
         names.extend(self.rh_params.iter().map(|p| format!("rh_{p}")));
         for p in &self.params {
             names.push(p.to_string());
-            names.extend(PARAMETER_FIELDS.iter().map(|(f, _)| format!("{p}_{f}")));
+            names.extend(PARAMETER_FIELDS.iter().map(|f| format!("{p}_{f}")));
         }
         names
     }
 
     /// The fields' kinds, in the order of [`BatchRow::names`].
     pub fn kinds(&self) -> Vec<FieldKind> {
-        let mut kinds: Vec<FieldKind> = FIT_FIELDS.iter().map(|&(_, k)| k).collect();
+        let mut kinds: Vec<FieldKind> = FIT_FIELDS.into_iter().map(kind).collect();
         kinds.push(FieldKind::Real);
         kinds.extend(self.rh_params.iter().map(|_| FieldKind::Real));
         for _ in &self.params {
             kinds.push(FieldKind::Real);
-            kinds.extend(PARAMETER_FIELDS.iter().map(|&(_, k)| k));
+            kinds.extend(PARAMETER_FIELDS.into_iter().map(kind));
         }
         kinds
     }
