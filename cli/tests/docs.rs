@@ -60,6 +60,16 @@ const RUN_ELSEWHERE: &[(&str, &str, &str)] = &[
         "python/tests/test_render.py",
         "from mitsuba_sphere import render",
     ),
+    (
+        "python python/examples/mitsuba_texture.py",
+        "python/tests/test_render_native.py",
+        "from mitsuba_texture import fitted_texture, scene_dict",
+    ),
+    (
+        "python python/examples/mitsuba_inverse.py",
+        "python/tests/test_render_native.py",
+        "from mitsuba_inverse import GUESS, TRUTH, recover",
+    ),
 ];
 
 /// The prefix that runs the CLI from the source tree, as the README's
