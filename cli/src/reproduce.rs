@@ -8,7 +8,7 @@ use crate::tables::paper_tables;
 use crate::usage::UsageError;
 use crate::CliError;
 use laminar_fit::preview::{render, Stage};
-use laminar_fit::{Fit, Fitter, Model, ModelParams};
+use laminar_fit::{Baseline, Fit, Fitter, Model, ModelParams};
 use laminar_io::fits::csv as fit_csv;
 use laminar_io::write_atomic;
 use std::path::{Path, PathBuf};
@@ -114,10 +114,9 @@ pub fn fit_jobs(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> Result<Vec<F
 /// set's own Oren–Nayar parameters.
 fn given(job: &Job, model: Model) -> Option<ModelParams> {
     match (model, job.oren_nayar) {
-        (Model::OrenNayar, Some(g)) => Some(ModelParams::OrenNayar {
-            sigma: g.sigma,
-            rho: g.rho,
-        }),
+        (Model::OrenNayar, Some(g)) => {
+            Some(ModelParams::baseline(Baseline::OrenNayar, [g.sigma, g.rho]))
+        }
         _ => None,
     }
 }

@@ -86,10 +86,10 @@ pub const MOST_NODES: usize = 1024;
 ///
 /// ```
 /// use laminar_fit::albedo::{directional_albedo, Tolerance};
-/// use laminar_fit::{FittedModel, Model, ModelParams};
+/// use laminar_fit::{Baseline, FittedModel, Model, ModelParams};
 /// // Oren–Nayar at σ = 0 is Lambertian, ρ/π · cos θi: its albedo is ρ
 /// // (here times the amplitude 1.5 and the data's scale 2).
-/// let params = ModelParams::OrenNayar { sigma: 0.0, rho: 0.8 };
+/// let params = ModelParams::baseline(Baseline::OrenNayar, [0.0, 0.8]);
 /// let lambert = FittedModel::with_amplitude(Model::OrenNayar, params, 1.5, 2.0);
 /// let a = directional_albedo(&lambert, 0.7, Tolerance::new(1e-10)?)?;
 /// assert!((a.albedo - 2.4).abs() < 1e-12 && a.error < 1e-10);
@@ -172,7 +172,7 @@ pub fn albedo_table(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Model, ModelParams};
+    use crate::{Baseline, Model, ModelParams};
 
     /// Against an independent rule: a midpoint sum in (θi, φs) of the
     /// solid angle (`sin θi dθi dφs`), fine enough for 1e-4, on the
@@ -186,17 +186,11 @@ mod tests {
             (Model::Exp, layered(0.25, 0.2, 1.5, 0.0)),
             (
                 Model::Jensen,
-                ModelParams::Jensen {
-                    sigma_a: 0.3,
-                    sigma_s: 2.0,
-                },
+                ModelParams::baseline(Baseline::Jensen, [0.3, 2.0]),
             ),
             (
                 Model::OrenNayar,
-                ModelParams::OrenNayar {
-                    sigma: 0.4,
-                    rho: 0.7,
-                },
+                ModelParams::baseline(Baseline::OrenNayar, [0.4, 0.7]),
             ),
         ];
         for (model, params) in cases {
@@ -234,10 +228,7 @@ mod tests {
 
     #[test]
     fn a_view_angle_out_of_range_is_an_error() {
-        let params = ModelParams::OrenNayar {
-            sigma: 0.0,
-            rho: 0.5,
-        };
+        let params = ModelParams::baseline(Baseline::OrenNayar, [0.0, 0.5]);
         let fitted = FittedModel::with_amplitude(Model::OrenNayar, params, 1.0, 1.0);
         assert!(directional_albedo(&fitted, 2.0, Tolerance::new(1e-6).unwrap()).is_err());
         assert!(directional_albedo(&fitted, f64::NAN, Tolerance::new(1e-6).unwrap()).is_err());

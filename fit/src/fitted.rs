@@ -22,9 +22,13 @@ use laminar_core::{components, mix, Angles, Geometry, Params, Scaling};
 use serde::{Deserialize, Serialize};
 
 /// The parameters of a model, named as in every output.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
-#[serde(untagged)]
+///
+/// Serialised as an object of the model's parameters by name
+/// ([`Param::name`], in [`Model::params`]' order); read back as the
+/// layered models' when all four of theirs are present, else as the first
+/// baseline ([`Baseline::ALL`]) whose parameters all are. A baseline is one
+/// variant for all of them, so a new one adds no code here.
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ModelParams {
     /// The layered models: RMS slope σ/T, balance β, refractive index n, absorption a.
     Layered {
@@ -37,20 +41,101 @@ pub enum ModelParams {
         /// a (0 for Ragheb–Hancock).
         a: f64,
     },
-    /// Jensen: absorption σa and reduced scattering σs′ coefficients.
-    Jensen {
-        /// σa.
-        sigma_a: f64,
-        /// σs′.
-        sigma_s: f64,
+    /// A baseline's two parameters, in [`Baseline::params`]' order.
+    Baseline {
+        /// The baseline.
+        baseline: Baseline,
+        /// Its parameters' values.
+        values: [f64; 2],
     },
-    /// Oren–Nayar: roughness σ (radians) and albedo ρ.
-    OrenNayar {
-        /// σ.
-        sigma: f64,
-        /// ρ.
-        rho: f64,
-    },
+}
+
+impl Serialize for ModelParams {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let pairs = self.pairs();
+        let mut map = s.serialize_map(Some(pairs.len()))?;
+        for (p, v) in pairs {
+            map.serialize_entry(p.name(), &v)?;
+        }
+        map.end()
+    }
+}
+
+impl<'de> Deserialize<'de> for ModelParams {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        // Every value by its name; names no model has are ignored, as
+        // before the parameters were read by name.
+        #[derive(Deserialize)]
+        #[serde(untagged)]
+        enum Entry {
+            Number(f64),
+            Other(serde::de::IgnoredAny),
+        }
+        let given = std::collections::BTreeMap::<String, Entry>::deserialize(d)?;
+        let number = |p: Param| match given.get(p.name()) {
+            Some(Entry::Number(v)) => Some(*v),
+            Some(Entry::Other(_)) | None => None,
+        };
+        let all = |params: &[Param]| params.iter().all(|&p| number(p).is_some());
+        let layered = Model::Exp.params();
+        if all(layered) {
+            return Ok(Self::from_values(Model::Exp, |p| {
+                number(p).unwrap_or(f64::NAN)
+            }));
+        }
+        if let Some(b) = Baseline::ALL.into_iter().find(|b| all(b.params())) {
+            return Ok(Self::baseline(
+                b,
+                b.params().map(|p| number(p).unwrap_or(f64::NAN)),
+            ));
+        }
+        let sets: Vec<String> = std::iter::once(layered)
+            .chain(Baseline::ALL.iter().map(|b| &b.params()[..]))
+            .map(|params| format!("{{{}}}", param_names(params)))
+            .collect();
+        Err(serde::de::Error::custom(format!(
+            "params must hold numbers named as one model's parameters: {}",
+            sets.join(" or ")
+        )))
+    }
+}
+
+#[cfg(feature = "typescript")]
+impl ts_rs::TS for ModelParams {
+    type WithoutGenerics = Self;
+    type OptionInnerType = Self;
+
+    fn docs() -> Option<String> {
+        Some("/**\n * The parameters of a model, named as in every output.\n */\n".into())
+    }
+
+    fn name(_: &ts_rs::Config) -> String {
+        "ModelParams".into()
+    }
+
+    fn decl(cfg: &ts_rs::Config) -> String {
+        format!("type ModelParams = {};", Self::inline(cfg))
+    }
+
+    fn decl_concrete(cfg: &ts_rs::Config) -> String {
+        Self::decl(cfg)
+    }
+
+    /// One object type per model family, from the descriptor.
+    fn inline(_: &ts_rs::Config) -> String {
+        let object = |params: &[Param]| {
+            let fields: Vec<String> = params
+                .iter()
+                .map(|p| format!("\n/**\n * {}.\n */\n{}: number, ", p.symbol(), p.name()))
+                .collect();
+            format!("{{ {}}}", fields.concat())
+        };
+        std::iter::once(object(Model::Exp.params()))
+            .chain(Baseline::ALL.iter().map(|b| object(&b.params()[..])))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    }
 }
 
 impl ModelParams {
@@ -71,14 +156,8 @@ impl ModelParams {
     }
 
     /// The parameters of `baseline` at `values` ([`Baseline::params`]' order).
-    pub fn baseline(baseline: Baseline, [x, y]: [f64; 2]) -> Self {
-        match baseline {
-            Baseline::Jensen => Self::Jensen {
-                sigma_a: x,
-                sigma_s: y,
-            },
-            Baseline::OrenNayar => Self::OrenNayar { sigma: x, rho: y },
-        }
+    pub fn baseline(baseline: Baseline, values: [f64; 2]) -> Self {
+        Self::Baseline { baseline, values }
     }
 
     /// A baseline's parameters and their values ([`Baseline::params`]'
@@ -86,8 +165,7 @@ impl ModelParams {
     pub fn baseline_values(&self) -> Option<(Baseline, [f64; 2])> {
         match *self {
             Self::Layered { .. } => None,
-            Self::Jensen { sigma_a, sigma_s } => Some((Baseline::Jensen, [sigma_a, sigma_s])),
-            Self::OrenNayar { sigma, rho } => Some((Baseline::OrenNayar, [sigma, rho])),
+            Self::Baseline { baseline, values } => Some((baseline, values)),
         }
     }
 
@@ -118,10 +196,11 @@ impl ModelParams {
                     .position(|&q| q == p)
                     .map(|i| values[i])
             }
-            Self::Jensen { .. } | Self::OrenNayar { .. } => {
-                let (b, values) = self.baseline_values()?;
-                b.params().iter().position(|&q| q == p).map(|i| values[i])
-            }
+            Self::Baseline { baseline, values } => baseline
+                .params()
+                .iter()
+                .position(|&q| q == p)
+                .map(|i| values[i]),
         }
     }
 
@@ -162,7 +241,7 @@ impl ModelParams {
             Self::Layered { slope, beta, n, a } => {
                 Params::new(slope, beta, n, a).map_err(ModelError::OutOfDomain)
             }
-            Self::Jensen { .. } | Self::OrenNayar { .. } => Err(ModelError::WrongParameters {
+            Self::Baseline { .. } => Err(ModelError::WrongParameters {
                 model: Model::layered()
                     .map(Model::name)
                     .collect::<Vec<_>>()
@@ -451,7 +530,7 @@ impl FittedModel {
     ) -> Self {
         let (beta_eq8, eq8_scale) = match params {
             ModelParams::Layered { beta, .. } => (Some(beta), Some(amplitude)),
-            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => (None, None),
+            ModelParams::Baseline { .. } => (None, None),
         };
         Self {
             model,
@@ -500,7 +579,7 @@ impl FittedModel {
                     scale,
                 )
             }
-            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => (
+            ModelParams::Baseline { .. } => (
                 NormalisationConstants::Baseline {
                     radiance_max: positive_max(raw.iter().map(|r| r[0])),
                 },
@@ -551,7 +630,7 @@ impl FittedModel {
         // β of a layered model's parameters; `None` for a baseline's.
         let beta = match self.params {
             ModelParams::Layered { beta, .. } => Some(beta),
-            ModelParams::Jensen { .. } | ModelParams::OrenNayar { .. } => None,
+            ModelParams::Baseline { .. } => None,
         };
         Ok(match (self.normalisation, beta) {
             (
@@ -629,5 +708,40 @@ impl FittedModel {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every model's parameters are written by name and read back as
+    /// themselves, whichever family; a set no model has is refused with the
+    /// sets that would do.
+    #[test]
+    fn every_models_parameters_round_trip_by_name() {
+        for model in Model::ALL {
+            let params = ModelParams::from_values(model, |p| 0.25 + p as usize as f64);
+            let json = serde_json::to_string(&params).unwrap();
+            for p in model.params() {
+                assert!(json.contains(&format!("\"{}\":", p.name())), "{json}");
+            }
+            let back: ModelParams = serde_json::from_str(&json).unwrap();
+            assert_eq!(back, params, "{model}");
+        }
+        // Names no model has are ignored, as before; a non-number is not a value.
+        let extra: ModelParams =
+            serde_json::from_str(r#"{"sigma": 0.3, "rho": 0.6, "note": "x"}"#).unwrap();
+        assert_eq!(
+            extra,
+            ModelParams::baseline(Baseline::OrenNayar, [0.3, 0.6])
+        );
+        let err = serde_json::from_str::<ModelParams>(r#"{"sigma": 0.3, "rho": "0.6"}"#)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("{sigma, rho}") && err.contains("{slope, beta, n, a}"),
+            "{err}"
+        );
     }
 }

@@ -89,7 +89,7 @@ pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
 pub use grid::{Axis, Grid};
 pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
-pub use model::{Model, Param};
+pub use model::{Baseline, Model, Param};
 pub use objective::Objective;
 pub use paper::profiles::ProfileCurve;
 pub use paper::search::SearchPath;

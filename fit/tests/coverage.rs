@@ -12,7 +12,7 @@
 
 use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel, SETTINGS};
 use laminar_fit::synthetic::Noise;
-use laminar_fit::{Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
+use laminar_fit::{Baseline, Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
@@ -144,10 +144,7 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
     // Jacobian reports the trade-off, and σa's 95% interval runs along the
     // valley to the box's lower face (the upper end is where σs′ meets its
     // own face and can no longer keep the ratio).
-    let truth = ModelParams::Jensen {
-        sigma_a: 0.3,
-        sigma_s: 0.6,
-    };
+    let truth = ModelParams::baseline(Baseline::Jensen, [0.3, 0.6]);
     let fit = free_fit(Model::Jensen, truth, NoiseModel::Every(0.01), &mut rng);
     // The estimate slides along the valley, often to a face of the box
     // (then the Jacobian has no covariance for that parameter).
@@ -161,10 +158,7 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
     // Oren–Nayar's ρ, with the amplitude free, enters only through the
     // small interreflection term (ρ² beside ρ): it is barely identified, and
     // its 95% interval says so, covering most of the box.
-    let truth = ModelParams::OrenNayar {
-        sigma: 0.5,
-        rho: 0.5,
-    };
+    let truth = ModelParams::baseline(Baseline::OrenNayar, [0.5, 0.5]);
     let fit = free_fit(Model::OrenNayar, truth, NoiseModel::Every(0.01), &mut rng);
     let p = &fit.parameters[1];
     let (lo, hi) = p.bounds.unwrap();

@@ -154,7 +154,7 @@ export type ModelParams = {
  */
 slope: number, 
 /**
- * β (paper normalisation).
+ * β.
  */
 beta: number, 
 /**
@@ -162,7 +162,7 @@ beta: number,
  */
 n: number, 
 /**
- * a (0 for Ragheb–Hancock).
+ * a.
  */
 a: number, } | { 
 /**
