@@ -10,9 +10,14 @@
 //! per set on one thread: the pairs bootstrap (B = 200, on top of the
 //! defaults) and the comparison of the six models (each fitted with the
 //! defaults and 5-fold cross-validated, then ranked).
-//! Run: `cargo bench --bench free`.
+//! The `free_large_k` group is a bidirectional texture's size: 151 light
+//! by 151 view directions (K = 22,801, as one UBO2014 material), 48 exp
+//! sets on that geometry, fitted with the defaults and by the search alone
+//! (elements = sets).
+//! Run: `cargo bench --bench free` (one group: `cargo bench --bench free -- free_large_k`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use laminar_core::Angles;
 use laminar_fit::coverage::{noisy_sets, NoiseModel};
 use laminar_fit::synthetic;
 use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
@@ -111,5 +116,60 @@ fn analyses(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, free, analyses);
+/// `count` directions on the hemisphere up to 75° from the normal, a
+/// Fibonacci spiral (about equal solid angle each): `(θ, φ)`.
+fn hemisphere(count: usize) -> Vec<(f64, f64)> {
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let cos_max = 75f64.to_radians().cos();
+    (0..count)
+        .map(|i| {
+            let cos = 1.0 - (1.0 - cos_max) * (i as f64 + 0.5) / count as f64;
+            (cos.acos(), golden * i as f64)
+        })
+        .collect()
+}
+
+/// Every pair of 151 light and 151 view directions (K = 22,801) in the
+/// paper's frame: θi, θs and the azimuth between them.
+fn texture_geometry() -> Vec<Angles> {
+    let directions = hemisphere(151);
+    directions
+        .iter()
+        .flat_map(|&(theta_i, phi_i)| {
+            directions.iter().map(move |&(theta_s, phi_s)| {
+                Angles::new(theta_i, theta_s, phi_s - phi_i).expect("inside the hemisphere")
+            })
+        })
+        .collect()
+}
+
+fn large_k(c: &mut Criterion) {
+    let angles = texture_geometry();
+    let count = 48;
+    let batch = noisy_sets(
+        &angles,
+        Model::Exp,
+        Objective::Free,
+        NoiseModel::Every(0.01),
+        count,
+        5,
+    );
+    let mut group = c.benchmark_group(format!("free_large_k_{}", angles.len()));
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(count as u64));
+    for (label, analysis) in [
+        ("defaults", Analysis::FULL),
+        ("search_only", Analysis::NONE),
+    ] {
+        let fitter = Fitter::new(Grid::user())
+            .expect("the default box is valid")
+            .analysis(analysis);
+        group.bench_function(format!("exp_{count}_sets_{label}"), |b| {
+            b.iter(|| black_box(fitter.fit_batch(&batch, Model::Exp)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, free, analyses, large_k);
 criterion_main!(benches);
