@@ -736,6 +736,11 @@ mod tests {
             extra,
             ModelParams::baseline(Baseline::OrenNayar, [0.3, 0.6])
         );
+        let integers: ModelParams = serde_json::from_str(r#"{"sigma": 0, "rho": 1}"#).unwrap();
+        assert_eq!(
+            integers,
+            ModelParams::baseline(Baseline::OrenNayar, [0.0, 1.0])
+        );
         let err = serde_json::from_str::<ModelParams>(r#"{"sigma": 0.3, "rho": "0.6"}"#)
             .unwrap_err()
             .to_string();
