@@ -187,21 +187,12 @@ impl ModelParams {
 
     /// The value of parameter `p` (`None` when these are another model's).
     pub fn value(&self, p: Param) -> Option<f64> {
-        match *self {
-            Self::Layered { slope, beta, n, a } => {
-                let values = [slope, beta, n, a];
-                Model::Exp
-                    .params()
-                    .iter()
-                    .position(|&q| q == p)
-                    .map(|i| values[i])
-            }
-            Self::Baseline { baseline, values } => baseline
-                .params()
-                .iter()
-                .position(|&q| q == p)
-                .map(|i| values[i]),
-        }
+        // The position in [`ModelParams::params`], whichever family.
+        let i = self.params().iter().position(|&q| q == p)?;
+        Some(match *self {
+            Self::Layered { slope, beta, n, a } => [slope, beta, n, a][i],
+            Self::Baseline { values, .. } => values[i],
+        })
     }
 
     /// The value of a parameter by its name ([`Param::name`]).
