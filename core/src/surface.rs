@@ -69,6 +69,23 @@ impl Correlation {
     }
 }
 
+impl Correlation {
+    /// `scale · shape(x)` ([`Correlation::shape`]), the Exponential one as
+    /// `(scale · y) · sqrt(y)`: `y · sqrt(y)` alone can fall below the
+    /// normal range (losing bits) while the product is still normal.
+    #[inline]
+    #[must_use]
+    pub fn scaled_shape<L: Lane>(self, scale: L, x: L) -> L {
+        match self {
+            Self::Gaussian => scale * self.shape(x),
+            Self::Exponential => {
+                let y = L::c(1.0) / (L::c(1.0) + x);
+                (scale * y) * y.sqrt()
+            }
+        }
+    }
+}
+
 /// `(T/σ)²` for an RMS slope `σ/T`; a search computes it once per slope.
 #[inline]
 #[must_use]
@@ -84,16 +101,7 @@ pub fn inverse_slope_squared<L: Lane>(slope: L) -> L {
 #[inline]
 #[must_use]
 pub fn surface_radiance<L: Lane>(g: &Geometry<L>, corr: Correlation, inv_slope2: L) -> L {
-    let x = g.ratio * inv_slope2;
-    match corr {
-        Correlation::Gaussian => g.lead * corr.shape(x),
-        // `(lead · y) · sqrt(y)`: `y · sqrt(y)` alone can fall below the
-        // normal range (losing bits) while the product is still normal.
-        Correlation::Exponential => {
-            let y = L::c(1.0) / (L::c(1.0) + x);
-            (g.lead * y) * y.sqrt()
-        }
-    }
+    corr.scaled_shape(g.lead, g.ratio * inv_slope2)
 }
 
 #[cfg(test)]

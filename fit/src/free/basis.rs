@@ -12,13 +12,11 @@
 //! * Baselines (§7): one column, the raw radiance `L_k` (Jensen's at
 //!   (σa, σs′), Oren–Nayar's at (σ, ρ)).
 
+use super::boundary::{boundary, BoundaryGroup};
 use crate::baseline::BaselineGeometry;
 use crate::model::{Family, Model};
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
-use laminar_core::{
-    f64x4, inverse_slope_squared, subsurface_base, surface_radiance, Angles, Correlation, Geometry,
-    Interface,
-};
+use laminar_core::{f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry};
 
 /// The columns of a model at one point: `s` always, `u` for the layered
 /// models (empty for a baseline).
@@ -69,18 +67,18 @@ pub struct Evaluated {
 }
 
 /// What a minimisation keeps while some parameters are held
-/// ([`Basis::held`]): the interfaces (eqs. 5–7) at a held n, which the
-/// columns at every σ/T and a reuse.
+/// ([`Basis::held`]): the boundary (eqs. 5–7, [`super::boundary`]) at a
+/// held n, which the columns at every σ/T and a reuse.
 #[derive(Debug, Clone, Default)]
 pub struct Held {
-    interfaces: Option<(f64, Vec<Interface<f64x4>>)>,
+    boundary: Option<(f64, Vec<BoundaryGroup>)>,
 }
 
 impl Held {
-    /// The held interfaces, when they are those at `n`.
-    fn at(&self, n: f64) -> Option<&[Interface<f64x4>]> {
-        match &self.interfaces {
-            Some((at, interfaces)) if *at == n => Some(interfaces),
+    /// The held boundary, when it is the one at `n`.
+    fn at(&self, n: f64) -> Option<&[BoundaryGroup]> {
+        match &self.boundary {
+            Some((at, groups)) if *at == n => Some(groups),
             _ => None,
         }
     }
@@ -202,14 +200,11 @@ impl Basis {
         }
     }
 
-    /// The interfaces at refractive index `n`, four measurements at a time
-    /// (layered models only).
-    pub fn interfaces(&self, n: f64) -> Vec<Interface<f64x4>> {
+    /// The boundary at refractive index `n` ([`super::boundary`]), four
+    /// measurements at a time (layered models only).
+    pub fn boundary(&self, n: f64) -> Vec<BoundaryGroup> {
         match self {
-            Self::Layered { packed, .. } => {
-                let n = f64x4::splat(n);
-                packed.iter().map(|g| Interface::new(g, n)).collect()
-            }
+            Self::Layered { packed, .. } => boundary(packed, n),
             Self::Baseline(_) => Vec::new(),
         }
     }
@@ -226,13 +221,13 @@ impl Basis {
         }
     }
 
-    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on `interfaces`
-    /// ([`Basis::interfaces`]).
-    pub fn base(&self, slope: f64, interfaces: &[Interface<f64x4>]) -> Vec<f64> {
+    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on the boundary at
+    /// one n ([`Basis::boundary`]).
+    pub fn base(&self, slope: f64, boundary: &[BoundaryGroup]) -> Vec<f64> {
         match self {
             Self::Layered { corr, .. } => {
                 let t = f64x4::splat(inverse_slope_squared(slope));
-                let groups = interfaces.iter().map(|i| subsurface_base(i, *corr, t));
+                let groups = boundary.iter().map(|b| b.base(*corr, t));
                 unpack(groups, self.len())
             }
             Self::Baseline(_) => Vec::new(),
@@ -255,8 +250,8 @@ impl Basis {
     }
 
     /// The surface term and the rest of [`LayeredTerms`] at (σ/T, n).
-    /// One pass over the measurements, each interface built (or taken
-    /// from `held`) and used at once.
+    /// One pass over the measurements, each group's boundary built (or
+    /// taken from `held`) and used at once.
     fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> (Vec<f64>, LayeredTerms) {
         let Self::Layered { corr, packed, .. } = self else {
             unreachable!("layered models only")
@@ -269,19 +264,21 @@ impl Basis {
             x_refracted: Vec::with_capacity(len + 3),
             refracted_cos: Vec::with_capacity(len + 3),
         };
-        let mut take = |i: &Interface<f64x4>| {
-            let base = subsurface_base(i, *corr, t4).to_array();
-            let x = (i.refracted.ratio * t4).to_array();
-            let (ci, cs) = (i.refracted.cos_i.to_array(), i.refracted.cos_s.to_array());
+        let mut take = |b: &BoundaryGroup| {
+            let base = b.base(*corr, t4).to_array();
+            let x = (b.ratio * t4).to_array();
+            let (ci, cs) = (b.cos_i.to_array(), b.cos_s.to_array());
             terms.base.extend_from_slice(&base);
             terms.x_refracted.extend_from_slice(&x);
             terms.refracted_cos.extend((0..4).map(|k| (ci[k], cs[k])));
         };
         match held.at(n) {
-            Some(interfaces) => interfaces.iter().for_each(take),
+            Some(groups) => groups.iter().for_each(take),
             None => {
-                let n = f64x4::splat(n);
-                packed.iter().for_each(|g| take(&Interface::new(g, n)));
+                let inv_n = 1.0 / n;
+                packed
+                    .iter()
+                    .for_each(|g| take(&BoundaryGroup::new(g, n, inv_n)));
             }
         }
         terms.base.truncate(len);
@@ -310,13 +307,13 @@ impl Basis {
     }
 
     /// What stays fixed while the parameters marked `free` move from
-    /// `theta`: the interfaces when n is held (a profile of n).
+    /// `theta`: the boundary when n is held (a profile of n).
     pub fn held(&self, theta: &[f64], free: &[bool]) -> Held {
-        let interfaces = match self {
-            Self::Layered { .. } if !free[1] => Some((theta[1], self.interfaces(theta[1]))),
+        let boundary = match self {
+            Self::Layered { .. } if !free[1] => Some((theta[1], self.boundary(theta[1]))),
             _ => None,
         };
-        Held { interfaces }
+        Held { boundary }
     }
 
     /// [`Basis::evaluate`], reusing what `held` keeps when it applies.

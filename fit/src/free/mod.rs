@@ -2,7 +2,8 @@
 //! a one-way pipeline, each module knowing only those before it:
 //!
 //! 1. [`basis`]: the model's columns at given nonlinear parameters
-//!    ([`sums`]: the inner products every step uses);
+//!    ([`boundary`]: the upper boundary's terms at one n; [`sums`]: the
+//!    inner products every step uses);
 //! 2. [`linear`]: β and the amplitude in closed form (variable projection);
 //! 3. [`problem`]: the weighted objective of one (scene, model, box);
 //! 4. [`search`]: the objective on a grid of the nonlinear parameters, and
@@ -18,6 +19,7 @@
 
 pub(crate) mod basis;
 pub(crate) mod bootstrap;
+pub(crate) mod boundary;
 mod cross_validation;
 pub(crate) mod driver;
 pub(crate) mod intervals;

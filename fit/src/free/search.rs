@@ -100,7 +100,7 @@ impl ModelSide {
         let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
         let ones = vec![1.0; k];
-        let interfaces: Vec<_> = axes.axes[1].iter().map(|&n| basis.interfaces(n)).collect();
+        let boundaries: Vec<_> = axes.axes[1].iter().map(|&n| basis.boundary(n)).collect();
         let w = &problem.weight;
         let rows = axes.axes[0]
             .par_iter()
@@ -108,10 +108,10 @@ impl ModelSide {
                 let s = basis.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
-                let columns = interfaces
+                let columns = boundaries
                     .iter()
-                    .map(|iface| {
-                        let base = basis.base(slope, iface);
+                    .map(|boundary| {
+                        let base = basis.base(slope, boundary);
                         let wbb: Vec<f64> = (0..k).map(|i| w[i] * base[i] * base[i]).collect();
                         let wsb: Vec<f64> = (0..k).map(|i| ws[i] * base[i]).collect();
                         let [b00, b01, b02, b11, b12, b22] =

@@ -1,0 +1,182 @@
+//! The upper boundary at one refractive index n, as the free objective
+//! uses it (docs/conventions.md §3, §4b): per measurement, the factor of
+//! the Ragheb–Hancock base `B` (eqs. 3–7) that depends on n only, the
+//! argument of the shape below the boundary and the refracted cosines.
+//!
+//! `B = L^sf(θi′, θs′) · (1 − f(θi, n)) · (1 − f(θs′, 1/n)) · dω′` with
+//! `L^sf′ = cos θi′/v_z′² · shape(x′)` (eqs. 1–2) and `dω′ = cos θi/(n² cos θi′)`
+//! (eq. 5), so `B = P · shape(x′)` with
+//!
+//! `P = cos θi · t_i · t_s / (n² v_z′²)`, `x′ = (T/σ)² v_xy² / (n² v_z′²)`,
+//!
+//! and each transmission (eq. 7) `t = 2 n c c′ (s² + p²)/(s² p²)`,
+//! `s = c + n c′`, `p = n c + c′` (a product of positive terms: no
+//! cancellation). The core's [`laminar_core::Interface`] forms the same
+//! terms one by one (18 divisions per measurement, and `1 − f` for the
+//! larger of `f` and `t`, which the paper objective keeps bit for bit);
+//! here n's reciprocal is taken once and each measurement costs two square
+//! roots and two divisions. The two agree to a few ulps (tested below).
+
+use laminar_core::{f64x4, Correlation, Geometry, Lane};
+
+/// One group of four measurements at one n.
+#[derive(Debug, Clone, Copy)]
+pub struct BoundaryGroup {
+    /// `P`: `B = P · shape(x′)`.
+    pub factor: f64x4,
+    /// `v_xy² / (n² v_z′²)`: `x′ = ratio · (T/σ)²`; +∞ where `v_z′ = 0`.
+    pub ratio: f64x4,
+    /// `cos θi′`.
+    pub cos_i: f64x4,
+    /// `cos θs′`.
+    pub cos_s: f64x4,
+}
+
+impl BoundaryGroup {
+    /// The boundary of the measurements `g` at index `n ≥ 1` (`inv_n` its
+    /// reciprocal).
+    pub fn new(g: &Geometry<f64x4>, n: f64, inv_n: f64) -> Self {
+        if n == 1.0 {
+            // No boundary: the layer's terms are the surface's own, bit for
+            // bit (`U ≡ S` at a = 0, as in the core, so that β's tie there
+            // is broken the same way every time).
+            return Self {
+                factor: g.lead,
+                ratio: g.ratio,
+                cos_i: g.cos_i,
+                cos_s: g.cos_s,
+            };
+        }
+        let (n, inv_n) = (f64x4::splat(n), f64x4::splat(inv_n));
+        let (zero, one) = (f64x4::c(0.0), f64x4::c(1.0));
+        let n2m1 = (n - one) * (n + one);
+        // Snell: `cos θ′ = √(n² − 1 + cos²θ)/n` (no total internal
+        // reflection from air into the layer; the max guards n < 1).
+        let refract = |c: f64x4| (n2m1 + c * c).max(zero).sqrt() * inv_n;
+        let (ci, cs) = (refract(g.cos_i), refract(g.cos_s));
+        // `t · s² p² / (2 n c c′) = s² + p²` and `s² p²` of one direction.
+        let parts = |c: f64x4, c2: f64x4| {
+            let (s, p) = (c + n * c2, n * c + c2);
+            let (s2, p2) = (s * s, p * p);
+            (s2 + p2, s2 * p2)
+        };
+        let (sum_i, prod_i) = parts(g.cos_i, ci);
+        let (sum_s, prod_s) = parts(g.cos_s, cs);
+        let vz = ci + cs;
+        let vz2 = vz * vz;
+        // Both vanish only with a grazing direction at n = 1, where the
+        // numerator has the factor `cos θ′ = 0` too: no light, as in the core.
+        let lit = zero.lt(vz2);
+        let den = prod_i * prod_s;
+        let passes = zero.lt(den) & lit;
+        let safe = |v: f64x4, ok| f64x4::select(ok, v, one);
+        let inv_vz2 = one / safe(vz2, lit);
+        // `cos θi · t_i t_s / n²` with `t_i t_s = 4 n² ci ci′ cs cs′ Σi Σs/(Πi Πs)`.
+        let numerator = f64x4::c(4.0) * g.cos_i * g.cos_i * ci * g.cos_s * cs * sum_i * sum_s;
+        let factor = f64x4::select(passes, numerator / safe(den, passes) * inv_vz2, zero);
+        let ratio = f64x4::select(
+            lit,
+            g.vxy2 * (inv_n * inv_n) * inv_vz2,
+            f64x4::c(f64::INFINITY),
+        );
+        Self {
+            factor,
+            ratio,
+            cos_i: ci,
+            cos_s: cs,
+        }
+    }
+
+    /// `B` at `(T/σ)² = t` (eqs. 3–4).
+    #[inline]
+    pub fn base(&self, corr: Correlation, t: f64x4) -> f64x4 {
+        corr.scaled_shape(self.factor, self.ratio * t)
+    }
+}
+
+/// The boundary of every measurement at one n, four at a time
+/// ([`super::basis`]'s packing).
+pub fn boundary(packed: &[Geometry<f64x4>], n: f64) -> Vec<BoundaryGroup> {
+    let inv_n = 1.0 / n;
+    packed
+        .iter()
+        .map(|g| BoundaryGroup::new(g, n, inv_n))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synthetic;
+    use laminar_core::{inverse_slope_squared, subsurface_base, Angles, Interface};
+
+    /// `P · shape(x′)` is the core's `B` (the paper objective's terms one by
+    /// one) to a few ulps, across n from 1 to the domain's top, grazing
+    /// directions included; the refracted cosines and `x′` likewise.
+    #[test]
+    fn the_base_is_the_cores_to_a_few_ulps() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let mut angles = synthetic::geometries();
+        // Grazing (θ = π/2), normal, and the mirror direction.
+        for (ti, ts, phi) in [
+            (FRAC_PI_2, 0.3, 0.5),
+            (0.0, FRAC_PI_2, 2.0),
+            (FRAC_PI_2, FRAC_PI_2, 0.0),
+            (0.0, 0.0, 0.0),
+            (1.2, 1.2, PI),
+        ] {
+            angles.push(Angles::new(ti, ts, phi).unwrap());
+        }
+        // The largest difference where x′ ≤ 1 (outside the Gaussian tail).
+        let mut worst: f64 = 0.0;
+        for corr in [Correlation::Exponential, Correlation::Gaussian] {
+            for n in [1.0, 1.0 + 1e-9, 1.001, 1.33, 1.5, 2.5, 10.0] {
+                for slope in [0.02, 0.3, 2.0, 20.0] {
+                    let t = inverse_slope_squared(slope);
+                    for a in &angles {
+                        let g = Geometry::<f64>::splat(a);
+                        let want = subsurface_base(&Interface::new(&g, n), corr, t);
+                        let group = BoundaryGroup::new(&Geometry::<f64x4>::splat(a), n, 1.0 / n);
+                        let here = group.base(corr, f64x4::splat(t)).to_array()[0];
+                        let refracted = g.refracted(n);
+                        for (mine, core) in [
+                            (group.cos_i, refracted.cos_i),
+                            (group.cos_s, refracted.cos_s),
+                            (group.ratio, refracted.ratio),
+                        ] {
+                            let mine = mine.to_array()[0];
+                            assert!(
+                                mine == core || (mine - core).abs() <= 4.0 * f64::EPSILON * core,
+                                "n {n} {a:?}: {mine} against {core}"
+                            );
+                        }
+                        if want == 0.0 {
+                            assert_eq!(here, 0.0, "{corr:?} n {n} {a:?}");
+                            continue;
+                        }
+                        let ulps = ((here - want) / want).abs() / f64::EPSILON;
+                        // The Gaussian tail's `exp(−x′/4)` turns x′'s
+                        // rounding (up to 4 ulps apart on the two paths)
+                        // into up to `x′` ulps of B.
+                        let x = g.refracted(n).ratio * t;
+                        let allowed = 8.0
+                            + if matches!(corr, Correlation::Gaussian) {
+                                x
+                            } else {
+                                0.0
+                            };
+                        assert!(
+                            ulps <= allowed,
+                            "{corr:?} n {n} slope {slope} {a:?}: {ulps} ulps at x′ = {x}"
+                        );
+                        if x <= 1.0 {
+                            worst = worst.max(ulps);
+                        }
+                    }
+                }
+            }
+        }
+        eprintln!("largest difference from the core's B (x′ ≤ 1): {worst:.1} ulps");
+        assert!(worst > 0.0, "the two paths round differently somewhere");
+    }
+}
