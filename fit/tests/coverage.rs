@@ -174,10 +174,11 @@ fn baselines_under_the_free_amplitude_say_what_the_data_do_not_determine() {
 fn batches_equal_fits_alone_with_and_without_uncertainties() {
     // On one geometry without uncertainties the sets share the grid
     // stage's model side; with them each computes its own. Either way each
-    // fit is bit for bit the fit of that set alone.
+    // fit is bit for bit the fit of that set alone. Eleven sets: more than
+    // one pass of the shared model side (eight sets each), the last partial.
     let mut rng = Noise::new(12);
     for noise in SETTINGS {
-        let scenes: Vec<_> = (0..3)
+        let scenes: Vec<_> = (0..11)
             .map(|_| {
                 let truth = laminar_fit::coverage::draw(Model::Exp, Objective::Free, &mut rng);
                 noisy_scene(Model::Exp, Objective::Free, truth, noise, &mut rng)

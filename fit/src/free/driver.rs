@@ -13,7 +13,9 @@ use super::layout::{domain_of, estimate, params_of, raw_terms, Layout};
 use super::problem::{Point, Problem};
 use super::record::{correlations, parameters};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
-use super::search::{grid_starts, grid_values, grid_values_with, GridValues, ModelSide};
+use super::search::{
+    grid_starts, grid_values, grid_values_many, GridValues, ModelSide, SETS_PER_PASS,
+};
 use crate::adequacy::Adequacy;
 use crate::analysis::{Analysis, Uncertainty};
 use crate::choice::Information;
@@ -212,8 +214,8 @@ fn problem_of(scene: &Scene, model: Model, layout: &Layout, basis: Option<Arc<Ba
 
 /// [`fit`] of every scene of `scenes` (in order, in parallel), calling
 /// `progress` after each. Scenes on one geometry without uncertainties
-/// share the model side of the grid stage ([`ModelSide`]); every fit is bit
-/// for bit [`fit`]'s.
+/// share the model side of the grid stage ([`ModelSide`]), which one pass
+/// serves [`SETS_PER_PASS`] of them; every fit is bit for bit [`fit`]'s.
 pub fn fit_batch(
     scenes: &[Scene],
     model: Model,
@@ -232,17 +234,35 @@ pub fn fit_batch(
     let first = problem_of(first, model, &layout, basis.clone());
     let shared = (one_geometry && scenes.iter().all(|s| ModelSide::shareable(&first, s)))
         .then(|| ModelSide::new(&first, &layout.axes));
+    // [`SETS_PER_PASS`] sets at a time: their grid stage in one pass over
+    // the shared model side, then each set's fit.
     scenes
-        .par_iter()
-        .map(|scene| {
-            let problem = problem_of(scene, model, &layout, basis.clone());
+        .par_chunks(SETS_PER_PASS)
+        .flat_map(|chunk| {
+            let problems: Vec<Problem> = chunk
+                .iter()
+                .map(|scene| problem_of(scene, model, &layout, basis.clone()))
+                .collect();
             let values = match &shared {
-                Some(side) => grid_values_with(&problem, &layout.axes, side),
-                None => grid_values(&problem, &layout.axes),
+                Some(side) => {
+                    let refs: Vec<&Problem> = problems.iter().collect();
+                    grid_values_many(&refs, &layout.axes, side)
+                }
+                None => problems
+                    .iter()
+                    .map(|p| grid_values(p, &layout.axes))
+                    .collect(),
             };
-            let fit = fit_from(scene, model, &layout, problem, values, analysis);
-            progress();
-            fit
+            problems
+                .into_par_iter()
+                .zip(values)
+                .zip(chunk)
+                .map(|((problem, values), scene)| {
+                    let fit = fit_from(scene, model, &layout, problem, values, analysis);
+                    progress();
+                    fit
+                })
+                .collect::<Vec<Fit>>()
         })
         .collect()
 }

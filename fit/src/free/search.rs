@@ -11,7 +11,7 @@
 
 use super::linear::Quadratic;
 use super::problem::Problem;
-use super::sums::dots;
+use super::sums::{dots, total};
 use crate::scene::Scene;
 use laminar_core::{f64x4, Lane};
 use rayon::prelude::*;
@@ -163,38 +163,118 @@ pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
     }
 }
 
+/// Measurements per block of the data's sums ([`data_sums`]): a block of
+/// `B` and of its factors (6 KB) stays in the first-level cache while each
+/// set of a pass runs over it.
+const BLOCK: usize = 256;
+
+/// Sets whose data's sums one pass over the model side forms
+/// ([`grid_values_many`]): the model side (K × 440 values with the default
+/// grid, 80 MB at K = 22,801) is read from memory once per this many sets.
+pub const SETS_PER_PASS: usize = 8;
+
+/// `[Σ w D B, Σ w D B g1, Σ w D B g2]` of each set's weighted data `wds`
+/// against one column `B` with the factors `g` of B1 and B2, in blocks of
+/// [`BLOCK`] measurements. Per set, four partial sums per product over
+/// groups of four in measurement order, combined as [`super::sums::dots`]
+/// does: the same bits whatever the number of sets.
+fn data_sums(base: &[f64], [g1, g2]: [&[f64]; 2], wds: &[&[f64]]) -> Vec<[f64; 3]> {
+    let len = base.len();
+    let body = len - len % 4;
+    let mut acc = vec![[f64x4::ZERO; 3]; wds.len()];
+    fn fours(v: &[f64], start: usize, end: usize) -> &[[f64; 4]] {
+        v[start..end].as_chunks::<4>().0
+    }
+    for start in (0..body).step_by(BLOCK) {
+        let end = (start + BLOCK).min(body);
+        let (b, x1, x2) = (
+            fours(base, start, end),
+            fours(g1, start, end),
+            fours(g2, start, end),
+        );
+        for (acc, wd) in acc.iter_mut().zip(wds) {
+            for (((&b, &w), &x1), &x2) in b.iter().zip(fours(wd, start, end)).zip(x1).zip(x2) {
+                let t = f64x4::from(b) * f64x4::from(w);
+                acc[0] += t;
+                acc[1] += t * f64x4::from(x1);
+                acc[2] += t * f64x4::from(x2);
+            }
+        }
+    }
+    acc.iter()
+        .zip(wds)
+        .map(|(acc, wd)| {
+            let mut out = acc.map(total);
+            for k in body..len {
+                let t = base[k] * wd[k];
+                out[0] += t;
+                out[1] += t * g1[k];
+                out[2] += t * g2[k];
+            }
+            out
+        })
+        .collect()
+}
+
 /// [`grid_values`] of a layered model from its model side (computed for
 /// `problem`, or shared: [`ModelSide::shareable`]); per grid point only the
 /// data's sums remain, then each a is a closed-form solve.
 pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -> GridValues {
+    let mut values = grid_values_many(&[problem], axes, model);
+    values.pop().expect("one set, one grid")
+}
+
+/// [`grid_values_with`] of several sets on the model side they share, in
+/// one pass over it (each set's values bit for bit its own pass's).
+pub fn grid_values_many(
+    problems: &[&Problem],
+    axes: &GridAxes,
+    model: &ModelSide,
+) -> Vec<GridValues> {
     let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
-    let beta = problem.beta;
-    let [g1, g2] = &model.g;
     let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
-    // `w D` times the factors of B1 and B2: `Σ w D B_i` is then one pass
-    // over B per (σ/T, n).
-    let (wd, dd) = (&problem.weighted_data, problem.dd);
-    let wdg1: Vec<f64> = wd.iter().zip(g1).map(|(a, b)| a * b).collect();
-    let wdg2: Vec<f64> = wd.iter().zip(g2).map(|(a, b)| a * b).collect();
+    let g = [&model.g[0][..], &model.g[1][..]];
+    let wds: Vec<&[f64]> = problems.iter().map(|p| &p.weighted_data[..]).collect();
     let row_len = lens[1] * a_axis.len();
-    let mut sse = vec![0.0; lens[0] * row_len];
-    sse.par_chunks_mut(row_len)
-        .zip(&model.rows)
-        .for_each(|(out, row)| {
-            let [ds] = dots(&row.s, [wd]);
-            for (c, out) in row.columns.iter().zip(out.chunks_mut(a_axis.len())) {
-                let q = Quadratic {
-                    dd,
-                    ds,
-                    ss: row.ss,
-                    db: dots(&c.base, [wd, &wdg1, &wdg2]),
-                    sb: c.sb,
-                    bb: c.bb,
-                };
-                objectives(&q, &a_axis, beta, out);
+    // Per σ/T row, each set's objectives along (n, a).
+    let rows: Vec<Vec<Vec<f64>>> = model
+        .rows
+        .par_iter()
+        .map(|row| {
+            let ds: Vec<f64> = wds.iter().map(|wd| dots(&row.s, [wd])[0]).collect();
+            let mut out = vec![vec![0.0; row_len]; problems.len()];
+            for (n, c) in row.columns.iter().enumerate() {
+                let sums = data_sums(&c.base, g, &wds);
+                for (set, problem) in problems.iter().enumerate() {
+                    let q = Quadratic {
+                        dd: problem.dd,
+                        ds: ds[set],
+                        ss: row.ss,
+                        db: sums[set],
+                        sb: c.sb,
+                        bb: c.bb,
+                    };
+                    let at = n * a_axis.len();
+                    objectives(
+                        &q,
+                        &a_axis,
+                        problem.beta,
+                        &mut out[set][at..at + a_axis.len()],
+                    );
+                }
             }
-        });
-    GridValues { lens, sse }
+            out
+        })
+        .collect();
+    (0..problems.len())
+        .map(|set| GridValues {
+            lens: lens.clone(),
+            sse: rows
+                .iter()
+                .flat_map(|row| row[set].iter().copied())
+                .collect(),
+        })
+        .collect()
 }
 
 /// The best point of each of the grid's basins (no axis neighbour lower;
@@ -238,4 +318,60 @@ pub fn grid_starts(values: &GridValues, most: usize) -> Vec<(Vec<usize>, f64)> {
         .into_iter()
         .map(|(flat, e)| (values.indices(flat), e))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coverage::{noisy_sets, NoiseModel};
+    use crate::model::Model;
+    use crate::objective::Objective;
+    use crate::synthetic;
+
+    /// Several sets' grids from one pass over the model side are, bit for
+    /// bit, each set's grid alone, over several blocks of measurements and a
+    /// tail shorter than four.
+    #[test]
+    fn one_pass_over_several_sets_gives_each_sets_own_grid() {
+        let mut angles = synthetic::geometries();
+        angles.extend(synthetic::geometries());
+        angles.pop();
+        assert!(angles.len() > BLOCK && angles.len() % 4 != 0);
+        let scenes = noisy_sets(
+            &angles,
+            Model::Exp,
+            Objective::Free,
+            NoiseModel::Every(0.01),
+            3,
+            1,
+        );
+        let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
+        let problems: Vec<Problem> = scenes
+            .iter()
+            .map(|scene| {
+                Problem::new(
+                    scene,
+                    (Model::Exp, None),
+                    (bounds.clone(), bounds.clone()),
+                    vec![(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
+                    (0.0, 1.0),
+                )
+            })
+            .collect();
+        let axes = GridAxes {
+            axes: vec![
+                vec![0.05, 0.4, 3.0],
+                vec![1.0, 1.5, 2.5],
+                vec![0.0, 0.3, 1.0],
+            ],
+        };
+        let side = ModelSide::new(&problems[0], &axes);
+        let refs: Vec<&Problem> = problems.iter().collect();
+        let together = grid_values_many(&refs, &axes, &side);
+        for (problem, values) in problems.iter().zip(&together) {
+            assert_eq!(values, &grid_values(problem, &axes));
+            assert!(values.sse.iter().all(|e| e.is_finite()));
+        }
+        assert_ne!(together[0], together[1]);
+    }
 }
