@@ -178,42 +178,41 @@ pub const SETS_PER_PASS: usize = 8;
 /// [`BLOCK`] measurements. Per set, four partial sums per product over
 /// groups of four in measurement order, combined as [`super::sums::dots`]
 /// does: the same bits whatever the number of sets.
-fn data_sums(base: &[f64], [g1, g2]: [&[f64]; 2], wds: &[&[f64]]) -> Vec<[f64; 3]> {
+fn data_sums(
+    base: &[f64],
+    [g1, g2]: [&[f64]; 2],
+    wds: &[&[f64]],
+    acc: &mut [[f64x4; 3]],
+    out: &mut [[f64; 3]],
+) {
     let len = base.len();
-    let body = len - len % 4;
-    let mut acc = vec![[f64x4::ZERO; 3]; wds.len()];
-    fn fours(v: &[f64], start: usize, end: usize) -> &[[f64; 4]] {
-        v[start..end].as_chunks::<4>().0
-    }
-    for start in (0..body).step_by(BLOCK) {
-        let end = (start + BLOCK).min(body);
-        let (b, x1, x2) = (
-            fours(base, start, end),
-            fours(g1, start, end),
-            fours(g2, start, end),
-        );
+    let (b4, _) = base.as_chunks::<4>();
+    let (x1, _) = g1[..len].as_chunks::<4>();
+    let (x2, _) = g2[..len].as_chunks::<4>();
+    acc.fill([f64x4::ZERO; 3]);
+    for start in (0..b4.len()).step_by(BLOCK / 4) {
+        let end = (start + BLOCK / 4).min(b4.len());
+        let (b, x1, x2) = (&b4[start..end], &x1[start..end], &x2[start..end]);
         for (acc, wd) in acc.iter_mut().zip(wds) {
-            for (((&b, &w), &x1), &x2) in b.iter().zip(fours(wd, start, end)).zip(x1).zip(x2) {
-                let t = f64x4::from(b) * f64x4::from(w);
+            let w = &wd[..len].as_chunks::<4>().0[start..end];
+            for i in 0..b.len() {
+                let t = f64x4::from(b[i]) * f64x4::from(w[i]);
                 acc[0] += t;
-                acc[1] += t * f64x4::from(x1);
-                acc[2] += t * f64x4::from(x2);
+                acc[1] += t * f64x4::from(x1[i]);
+                acc[2] += t * f64x4::from(x2[i]);
             }
         }
     }
-    acc.iter()
-        .zip(wds)
-        .map(|(acc, wd)| {
-            let mut out = acc.map(total);
-            for k in body..len {
-                let t = base[k] * wd[k];
-                out[0] += t;
-                out[1] += t * g1[k];
-                out[2] += t * g2[k];
-            }
-            out
-        })
-        .collect()
+    let body = 4 * b4.len();
+    for ((out, acc), wd) in out.iter_mut().zip(acc.iter()).zip(wds) {
+        *out = acc.map(total);
+        for k in body..len {
+            let t = base[k] * wd[k];
+            out[0] += t;
+            out[1] += t * g1[k];
+            out[2] += t * g2[k];
+        }
+    }
 }
 
 /// [`grid_values`] of a layered model from its model side (computed for
@@ -236,15 +235,23 @@ pub fn grid_values_many(
     let g = [&model.g[0][..], &model.g[1][..]];
     let wds: Vec<&[f64]> = problems.iter().map(|p| &p.weighted_data[..]).collect();
     let row_len = lens[1] * a_axis.len();
+    let mut sse = vec![vec![0.0; lens[0] * row_len]; problems.len()];
     // Per σ/T row, each set's objectives along (n, a).
-    let rows: Vec<Vec<Vec<f64>>> = model
-        .rows
-        .par_iter()
-        .map(|row| {
+    let mut rows: Vec<Vec<&mut [f64]>> = model.rows.iter().map(|_| Vec::new()).collect();
+    for set in &mut sse {
+        for (row, out) in rows.iter_mut().zip(set.chunks_mut(row_len)) {
+            row.push(out);
+        }
+    }
+    rows.into_par_iter()
+        .zip(&model.rows)
+        .for_each(|(mut out, row)| {
             let ds: Vec<f64> = wds.iter().map(|wd| dots(&row.s, [wd])[0]).collect();
-            let mut out = vec![vec![0.0; row_len]; problems.len()];
+            let mut acc = vec![[f64x4::ZERO; 3]; problems.len()];
+            let mut sums = vec![[0.0; 3]; problems.len()];
             for (n, c) in row.columns.iter().enumerate() {
-                let sums = data_sums(&c.base, g, &wds);
+                data_sums(&c.base, g, &wds, &mut acc, &mut sums);
+                let at = n * a_axis.len();
                 for (set, problem) in problems.iter().enumerate() {
                     let q = Quadratic {
                         dd: problem.dd,
@@ -254,7 +261,6 @@ pub fn grid_values_many(
                         sb: c.sb,
                         bb: c.bb,
                     };
-                    let at = n * a_axis.len();
                     objectives(
                         &q,
                         &a_axis,
@@ -263,16 +269,11 @@ pub fn grid_values_many(
                     );
                 }
             }
-            out
-        })
-        .collect();
-    (0..problems.len())
-        .map(|set| GridValues {
+        });
+    sse.into_iter()
+        .map(|sse| GridValues {
             lens: lens.clone(),
-            sse: rows
-                .iter()
-                .flat_map(|row| row[set].iter().copied())
-                .collect(),
+            sse,
         })
         .collect()
 }
@@ -336,7 +337,7 @@ mod tests {
         let mut angles = synthetic::geometries();
         angles.extend(synthetic::geometries());
         angles.pop();
-        assert!(angles.len() > BLOCK && angles.len() % 4 != 0);
+        assert!(angles.len() > BLOCK && !angles.len().is_multiple_of(4));
         let scenes = noisy_sets(
             &angles,
             Model::Exp,
