@@ -100,6 +100,15 @@ impl Coordinate {
     }
 }
 
+/// The smallest pivot of the unit-diagonal `JᵀWJ`'s Cholesky factorisation
+/// (`l_ii²`, at most its smallest eigenvalue times the parameter count)
+/// with which a covariance is formed. Below it some combination of the
+/// parameters is determined to no better than rounding (Jensen's σa and
+/// σs′ enter only through their ratio): whether the factorisation even
+/// succeeds is then a matter of the last bits, and the inverse is rounding
+/// amplified by 10¹² or more, so there is no covariance.
+pub const SINGULAR_PIVOT: f64 = 1e-12;
+
 /// The Jacobian covariance of the reported parameters (nonlinear ones in
 /// reported units, then β for the layered models, then the amplitude): the
 /// model-based one, and the sandwich (Huber–White) one that holds when the
@@ -119,7 +128,7 @@ pub struct JacobianCovariance {
 
 impl JacobianCovariance {
     /// The covariance at the minimum `point`, with the noise variance `s2`;
-    /// `None` when `JᵀJ` is singular.
+    /// `None` when `JᵀJ` is singular (to [`SINGULAR_PIVOT`]).
     pub fn new(
         problem: &Problem,
         point: &Point,
@@ -186,7 +195,16 @@ impl JacobianCovariance {
         let scaled = DMatrix::from_fn(kept.len(), kept.len(), |i, j| {
             normal[(i, j)] / (d[i] * d[j])
         });
-        let inverse = scaled.cholesky()?.inverse();
+        let cholesky = scaled.cholesky()?;
+        if cholesky
+            .l_dirty()
+            .diagonal()
+            .iter()
+            .any(|l| l * l < SINGULAR_PIVOT)
+        {
+            return None;
+        }
+        let inverse = cholesky.inverse();
         // The meat: Σ_k w_k² r_k² J_k J_kᵀ / (1 − h_k)², from the weighted
         // residuals e_k = √w_k r_k and the leverages
         // h_k = w_k J_kᵀ A⁻¹ J_k (HC3), in the same scaled coordinates.

@@ -267,47 +267,69 @@ impl Problem {
             _ => unreachable!("at most two columns"),
         };
         let basis = orthonormal(&free);
+        let k = residuals.len();
         // `√w r`, against which `(∂F)ᵀ r = Σ √w (ws ∂S + wu ∂U) r` is formed.
         let weighted_residuals: Vec<f64> = residuals
             .iter()
             .zip(&self.root_weight)
             .map(|(r, w)| r * w)
             .collect();
+        // Up to two basis vectors and two free columns, zeros for those
+        // there are not. The basis vectors times √w give their products
+        // with a column `−√w (p ∂S + q ∂U)` from ∂S and ∂U, in the same
+        // pass as the products with `√w r`.
+        let zeros = vec![0.0; k];
+        fn two<'a>(v: &'a [Vec<f64>], zeros: &'a [f64]) -> [&'a [f64]; 2] {
+            [0, 1].map(|i| v.get(i).map_or(zeros, |x| &x[..zeros.len()]))
+        }
+        let rooted: Vec<Vec<f64>> = basis
+            .iter()
+            .map(|e| {
+                e.iter()
+                    .zip(&self.root_weight)
+                    .map(|(e, w)| e * w)
+                    .collect()
+            })
+            .collect();
+        let [r0, r1] = two(&rooted, &zeros);
+        let against = [r0, r1, &weighted_residuals[..]];
+        let ([e0, e1], [f0, f1]) = (two(&basis, &zeros), two(&free, &zeros));
+        let w = &self.root_weight[..k];
         let jac = derivatives
             .iter()
             .map(|d| {
                 let Some(d) = d else {
                     return Vec::new();
                 };
-                let (ds, du) = (&d.s[..], &d.u[..]);
-                // −√w (∂Φ c), the derivative at the fixed coefficients.
-                let mut col = self.weighted_mix(ds, du, (-p, -q));
-                // Kaufman's part: −P⊥ (∂Φ c), projected off the orthonormal
+                let ds = &d.s[..k];
+                let du = if has_u { &d.u[..k] } else { &zeros[..k] };
+                let sums_s = dots(ds, against);
+                let sums_u = if has_u { dots(du, against) } else { [0.0; 3] };
+                // Kaufman's part: −P⊥ (∂Φ c) of the derivative at the fixed
+                // coefficients `−√w (∂Φ c)`, projected off the orthonormal
                 // basis of the free columns.
-                let along: Vec<f64> = basis.iter().map(|e| dot(e, &col)).collect();
+                let along = [0, 1].map(|i| -(p * sums_s[i] + q * sums_u[i]));
                 // Golub–Pereyra's second part: −F (FᵀF)⁻¹ (∂F)ᵀ r, which the
                 // large residuals of a misfitting model make matter.
-                let back: Vec<f64> = match &gram_inverse {
+                let back = match &gram_inverse {
                     Some(inverse) => {
-                        let sr = dot(ds, &weighted_residuals);
-                        let ur = if has_u {
-                            dot(du, &weighted_residuals)
-                        } else {
-                            0.0
-                        };
-                        let v: Vec<f64> = mixes.iter().map(|&(ws, wu)| ws * sr + wu * ur).collect();
-                        (0..free.len())
-                            .map(|i| (0..v.len()).map(|l| inverse[i][l] * v[l]).sum())
-                            .collect()
+                        let v: Vec<f64> = mixes
+                            .iter()
+                            .map(|&(ws, wu)| ws * sums_s[2] + wu * sums_u[2])
+                            .collect();
+                        [0, 1].map(|i| (0..v.len()).map(|l| inverse[i][l] * v[l]).sum())
                     }
-                    None => Vec::new(),
+                    None => [0.0; 2],
                 };
-                for (e, c) in basis.iter().zip(&along).chain(free.iter().zip(&back)) {
-                    for (x, y) in col.iter_mut().zip(e) {
-                        *x -= c * y;
-                    }
-                }
-                col
+                (0..k)
+                    .map(|i| {
+                        w[i] * (-p * ds[i] - q * du[i])
+                            - along[0] * e0[i]
+                            - along[1] * e1[i]
+                            - back[0] * f0[i]
+                            - back[1] * f1[i]
+                    })
+                    .collect()
             })
             .collect();
         (point, residuals, jac)
