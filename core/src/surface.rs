@@ -67,9 +67,7 @@ impl Correlation {
             }
         }
     }
-}
 
-impl Correlation {
     /// `scale · shape(x)` ([`Correlation::shape`]), the Exponential one as
     /// `(scale · y) · sqrt(y)`: `y · sqrt(y)` alone can fall below the
     /// normal range (losing bits) while the product is still normal.
