@@ -1,7 +1,9 @@
 //! Which model fits a measurement set best, allowing for the parameters
 //! each spends (docs/estimation.md, "Choosing a model"): information
 //! criteria on the free objective's weighted residuals, and a ranking of
-//! the models fitted to one set.
+//! the models fitted to one set. Logarithms and exponentials are `libm`'s,
+//! not the platform's, so that the criteria and weights have the same bits
+//! on every target (the web page's comparison is byte for byte the CLI's).
 //!
 //! With σ given, `−2 ln L = χ² = Σ w r²` up to a constant, and k = p;
 //! without, the noise variance is estimated too: `−2 ln L = K ln(Σ r²/K)`
@@ -41,7 +43,7 @@ impl Information {
         let (deviance, k) = if weighted {
             (sse, p as f64)
         } else {
-            (n * (sse / n).ln(), p as f64 + 1.0)
+            (n * libm::log(sse / n), p as f64 + 1.0)
         };
         if !deviance.is_finite() || k_measurements == 0 {
             return None;
@@ -51,7 +53,7 @@ impl Information {
         Some(Self {
             aic,
             aicc,
-            bic: deviance + k * n.ln(),
+            bic: deviance + k * libm::log(n),
         })
     }
 
@@ -101,7 +103,7 @@ pub fn rank(criteria: &[Option<Information>]) -> Vec<Option<Rank>> {
     let total: f64 = scores
         .iter()
         .flatten()
-        .map(|s| (-(s - best) / 2.0).exp())
+        .map(|s| libm::exp(-(s - best) / 2.0))
         .sum();
     scores
         .iter()
@@ -111,7 +113,7 @@ pub fn rank(criteria: &[Option<Information>]) -> Vec<Option<Rank>> {
             Some(Rank {
                 rank,
                 delta: s - best,
-                weight: (-(s - best) / 2.0).exp() / total,
+                weight: libm::exp(-(s - best) / 2.0) / total,
             })
         })
         .collect()

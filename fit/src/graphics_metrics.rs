@@ -40,7 +40,7 @@ impl GraphicsMetrics {
         for (&d, &p) in data.iter().zip(prediction) {
             let (d, p) = (d * scale, p * scale);
             squares += (d - p) * (d - p);
-            let r = d.cbrt() - p.cbrt();
+            let r = libm::cbrt(d) - libm::cbrt(p);
             roots += r * r;
         }
         let metrics = Self {
