@@ -140,7 +140,9 @@ impl ModelSide {
 /// the absorptive models, a; baselines: their two parameters).
 pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
     if problem.basis.has_balance() {
-        grid_values_with(problem, axes, &ModelSide::new(problem, axes))
+        let side = ModelSide::new(problem, axes);
+        let mut values = grid_values_many(&[problem], axes, &side);
+        values.pop().expect("one set, one grid")
     } else {
         let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
         let (outer, inner) = (&axes.axes[0], &axes.axes[1]);
@@ -215,16 +217,11 @@ fn data_sums(
     }
 }
 
-/// [`grid_values`] of a layered model from its model side (computed for
-/// `problem`, or shared: [`ModelSide::shareable`]); per grid point only the
-/// data's sums remain, then each a is a closed-form solve.
-pub fn grid_values_with(problem: &Problem, axes: &GridAxes, model: &ModelSide) -> GridValues {
-    let mut values = grid_values_many(&[problem], axes, model);
-    values.pop().expect("one set, one grid")
-}
-
-/// [`grid_values_with`] of several sets on the model side they share, in
-/// one pass over it (each set's values bit for bit its own pass's).
+/// [`grid_values`] of a layered model for each of `problems` from the
+/// model side they share (computed for one set, or shared:
+/// [`ModelSide::shareable`]), in one pass over it; per grid point only the
+/// data's sums remain, then each a is a closed-form solve. Each set's
+/// values are bit for bit those of its own pass.
 pub fn grid_values_many(
     problems: &[&Problem],
     axes: &GridAxes,
