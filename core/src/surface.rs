@@ -59,13 +59,8 @@ impl Correlation {
     #[inline]
     #[must_use]
     pub fn shape<L: Lane>(self, x: L) -> L {
-        match self {
-            Self::Gaussian => exp(x * L::c(-0.25)),
-            Self::Exponential => {
-                let y = L::c(1.0) / (L::c(1.0) + x);
-                y * y.sqrt()
-            }
-        }
+        // Times 1, exactly: the same bits as the unscaled formulas.
+        self.scaled_shape(L::c(1.0), x)
     }
 
     /// `scale · shape(x)` ([`Correlation::shape`]), the Exponential one as
@@ -75,7 +70,7 @@ impl Correlation {
     #[must_use]
     pub fn scaled_shape<L: Lane>(self, scale: L, x: L) -> L {
         match self {
-            Self::Gaussian => scale * self.shape(x),
+            Self::Gaussian => scale * exp(x * L::c(-0.25)),
             Self::Exponential => {
                 let y = L::c(1.0) / (L::c(1.0) + x);
                 (scale * y) * y.sqrt()
