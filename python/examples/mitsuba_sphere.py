@@ -76,7 +76,12 @@ def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="la
     if not variant.startswith("scalar"):
         dr.set_flag(dr.JitFlag.SymbolicLoops, True)
         dr.set_flag(dr.JitFlag.SymbolicCalls, True)
-    scene = mi.load_dict(scene_dict(mi, fitted_bsdf(filename, select, plugin), size, spp))
+    # The numpy plugin turns symbolic mode off as it loads, on the loading
+    # thread only (Dr.Jit's flags are per thread): load it on this one.
+    scene = mi.load_dict(
+        scene_dict(mi, fitted_bsdf(filename, select, plugin), size, spp),
+        parallel=plugin == "laminar_native",
+    )
     start = time.perf_counter()
     image = np.array(mi.render(scene))
     first = time.perf_counter() - start

@@ -7,7 +7,7 @@ plugin type ``"laminar"``.
     mi.set_variant("llvm_ad_rgb")      # or "scalar_rgb"
     import laminar.mitsuba
     laminar.mitsuba.register()
-    bsdf = mi.load_dict({"type": "laminar", "filename": "fits.json", "select": "49/avg/exp"})
+    bsdf = mi.load_dict({"type": "laminar", "filename": "fits.json", "select": "49/avg/exp"}, parallel=False)
 
 Properties: ``filename``, a fitted-model file (``laminar fit --format
 json``), and ``select``: one label ``sample/channel/model`` (grey), or
@@ -29,7 +29,11 @@ variance stays low; a lobe-following mixture is not implemented.
 
 On the JIT variants the evaluation leaves Dr.Jit for numpy, so a scene
 must render in wavefront mode: loading a ``"laminar"`` BSDF turns Dr.Jit's
-symbolic loops and calls off. :func:`register` also adds
+symbolic loops and calls off, on the thread that loads it only (Dr.Jit's
+flags are per thread), so load its scene with ``mi.load_dict(...,
+parallel=False)``. Symbolic calls trace every live BSDF, so collect a
+``"laminar"`` BSDF (``gc.collect()``) before rendering another scene in
+symbolic mode. :func:`register` also adds
 ``"laminar_native"`` (:mod:`laminar.mitsuba_native`): the layered models in
 Dr.Jit itself, for symbolic mode, the CUDA variants and differentiation.
 This plugin stays as the reference the native one is tested against.
