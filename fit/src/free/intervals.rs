@@ -141,8 +141,9 @@ impl JacobianCovariance {
         let c = point.linear.amplitude();
         let beta = point.linear.beta(problem.beta.0);
         let k = problem.data.len();
-        let has_u = !columns.u.is_empty();
-        let u = |v: &[f64], i: usize| if has_u { v[i] } else { 0.0 };
+        // A column, or 0 where it is empty (no U; the surface term's
+        // derivative in n and a).
+        let u = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(0.0);
         // ∂(c M_k)/∂ each reported parameter, then ∂/∂c.
         let mut jac: Vec<Vec<f64>> = Vec::new();
         let mut on_face: Vec<bool> = Vec::new();
@@ -156,7 +157,7 @@ impl JacobianCovariance {
                     };
                     let d = &derivatives[j];
                     let col = (0..k)
-                        .map(|i| c * ((1.0 - beta) * d.s[i] + beta * u(&d.u, i)) * scale)
+                        .map(|i| c * ((1.0 - beta) * u(&d.s, i) + beta * u(&d.u, i)) * scale)
                         .collect();
                     let (lo, hi) = problem.bounds[j];
                     (col, point.theta[j] <= lo || point.theta[j] >= hi)

@@ -11,10 +11,11 @@
 
 use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
-use super::sums::{dot, dots, total};
+use super::sums::{dot, dots, gram, total};
 use crate::model::Model;
 use crate::scene::Scene;
 use laminar_core::f64x4;
+use nalgebra::DMatrix;
 use std::sync::Arc;
 
 /// A `[lo, hi]` range per parameter.
@@ -150,17 +151,6 @@ impl Problem {
         }
     }
 
-    /// `√w (a S + b U)` of two columns of the measurements (`U` empty for a
-    /// baseline: `√w a S`).
-    fn weighted_mix(&self, s: &[f64], u: &[f64], (a, b): (f64, f64)) -> Vec<f64> {
-        let rows = self.root_weight.iter().zip(s);
-        if u.is_empty() {
-            rows.map(|(r, s)| r * (a * s)).collect()
-        } else {
-            rows.zip(u).map(|((r, s), u)| r * (a * s + b * u)).collect()
-        }
-    }
-
     /// The point at `theta` with β in `beta` (the box's, or one value for a
     /// profile of β).
     pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> Point {
@@ -203,39 +193,100 @@ impl Problem {
         (point, residuals)
     }
 
-    /// The point at `theta`, its weighted residuals and the Jacobian of the
-    /// variable-projection residual with respect to the nonlinear
-    /// parameters (Golub and Pereyra's: the derivative at the fixed linear
-    /// coefficients projected off the columns whose coefficient is free,
-    /// plus the term of the coefficients' own change), one column per
-    /// parameter marked in `free` (empty for the others).
+    /// The point at `theta` and the Gauss–Newton normal equations of the
+    /// variable-projection residual there ([`Normal`]), with respect to the
+    /// nonlinear parameters marked in `free`.
     pub fn jacobian(
         &self,
         theta: &[f64],
         beta: (f64, f64),
         held: &Held,
         free: &[bool],
-    ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
-        self.jacobian_at(theta, beta, self.basis.evaluate_held(theta, held), free)
+    ) -> (Point, Normal) {
+        let (point, evaluated) = self.evaluate_keeping(theta, beta, held);
+        let normal = self.jacobian_at(&point, evaluated, beta, free);
+        (point, normal)
     }
 
-    /// [`Problem::jacobian`] at a point already evaluated.
+    /// [`Problem::jacobian`] at a point already evaluated: `point` and
+    /// `at`, its columns ([`Problem::evaluate_keeping`]).
+    ///
+    /// The Jacobian is Golub and Pereyra's: with `F` the weighted columns
+    /// whose coefficient moves freely at this point (both inside the cone,
+    /// the active ray's mix on its edge, none at c = 0), `P` the projection
+    /// onto them, `r` the weighted residuals and `A_j = √w (p ∂_j S + q ∂_j U)`
+    /// the derivative at the fixed coefficients,
+    ///
+    /// `J_j = −(I − P) A_j − F (FᵀF)⁻¹ v_j`, `v_j = (∂_j F)ᵀ r`:
+    ///
+    /// Kaufman's part, and the term of the coefficients' own change that the
+    /// large residuals of a misfitting model make matter. `JᵀJ` and `Jᵀr`
+    /// follow from the weighted inner products of the columns, the residuals
+    /// and the derivatives (the cross terms vanish, as `(I − P) F = 0`):
+    ///
+    /// `J_iᵀJ_j = A_iᵀA_j − (FᵀA_i)ᵀ(FᵀF)⁻¹(FᵀA_j) + v_iᵀ(FᵀF)⁻¹v_j`,
+    /// `J_jᵀr = −A_jᵀr + ((FᵀA_j) − v_j)ᵀ(FᵀF)⁻¹Fᵀr`,
+    ///
+    /// so one pass over the measurements ([`gram`]) gives them, and no
+    /// column of `J` is formed.
     pub fn jacobian_at(
         &self,
-        theta: &[f64],
-        beta: (f64, f64),
+        point: &Point,
         at: Evaluated,
+        beta: (f64, f64),
         free: &[bool],
-    ) -> (Point, Vec<f64>, Vec<Vec<f64>>) {
+    ) -> Normal {
         let (columns, derivatives) =
             self.basis
-                .derivatives_at(theta, &self.domain, false, at, free);
-        let (point, residuals) = self.point_and_residuals(theta, &columns, beta);
+                .derivatives_at(&point.theta, &self.domain, false, at, free);
         let Linear { p, q, .. } = point.linear;
         let has_u = !columns.u.is_empty();
-        // The columns whose coefficient moves freely at this point: both
-        // inside the cone, the active ray's mix on its edge, none at c = 0;
-        // as mixes `(weight of S, weight of U)` of the two columns.
+        let residuals: Vec<f64> = if has_u {
+            (self.data.iter().zip(&columns.s).zip(&columns.u))
+                .map(|((d, s), u)| d - p * s - q * u)
+                .collect()
+        } else {
+            (self.data.iter().zip(&columns.s))
+                .map(|(d, s)| d - p * s)
+                .collect()
+        };
+        // The vectors whose inner products are needed, and where each is:
+        // S, U (layered), the residuals, then each derivative that is not
+        // zero (∂S is for n and a).
+        let mut vectors: Vec<&[f64]> = vec![&columns.s];
+        fn place<'a>(v: &'a [f64], vectors: &mut Vec<&'a [f64]>) -> Option<usize> {
+            (!v.is_empty()).then(|| {
+                vectors.push(v);
+                vectors.len() - 1
+            })
+        }
+        let u_at = place(&columns.u, &mut vectors);
+        let r_at = place(&residuals, &mut vectors).unwrap_or(0);
+        let places: Vec<Option<(Option<usize>, Option<usize>)>> = derivatives
+            .iter()
+            .map(|d| {
+                d.as_ref()
+                    .map(|d| (place(&d.s, &mut vectors), place(&d.u, &mut vectors)))
+            })
+            .collect();
+        let n = vectors.len();
+        let g = gram(&self.weight[..residuals.len()], &vectors);
+        // A combination of at most two of the vectors, and the inner product
+        // of two combinations.
+        type Combination = [(Option<usize>, f64); 2];
+        let product = |x: &Combination, y: &Combination| -> f64 {
+            let mut sum = 0.0;
+            for &(a, ca) in x {
+                for &(b, cb) in y {
+                    if let (Some(a), Some(b)) = (a, b) {
+                        sum += ca * cb * g[a * n + b];
+                    }
+                }
+            }
+            sum
+        };
+        let e_r: Combination = [(Some(r_at), 1.0), (None, 0.0)];
+        // The free columns as mixes `(weight of S, weight of U)`.
         let mixes: Vec<(f64, f64)> = if point.linear.amplitude() <= 0.0 {
             Vec::new()
         } else if !has_u {
@@ -248,92 +299,101 @@ impl Problem {
                 vec![(1.0 - b, b)]
             }
         };
-        let free: Vec<Vec<f64>> = mixes
+        let f: Vec<Combination> = mixes
             .iter()
-            .map(|&m| self.weighted_mix(&columns.s, &columns.u, m))
+            .map(|&(ws, wu)| [(Some(0), ws), (u_at, wu)])
             .collect();
-        // `(FᵀF)⁻¹` of the free columns F, when they are independent.
-        let gram_inverse: Option<[[f64; 2]; 2]> = match free.as_slice() {
-            [] => None,
-            [f] => {
-                let g = dot(f, f);
-                (g > 0.0).then(|| [[1.0 / g, 0.0], [0.0, 0.0]])
+        let ff = |l: usize, m: usize| product(&f[l], &f[m]);
+        // `(FᵀF)⁻¹` when the free columns are independent (`back`), and the
+        // inverse the projection uses: onto the first nonzero column alone
+        // when the two are dependent.
+        let (projection, back): (Option<[[f64; 2]; 2]>, bool) = match f.len() {
+            0 => (None, false),
+            1 => {
+                let a = ff(0, 0);
+                ((a > 0.0).then(|| [[1.0 / a, 0.0], [0.0, 0.0]]), a > 0.0)
             }
-            [f, h] => {
-                let [a, b, d] = [dot(f, f), dot(f, h), dot(h, h)];
+            _ => {
+                let [a, b, d] = [ff(0, 0), ff(0, 1), ff(1, 1)];
                 let det = a * d - b * b;
-                (det > 1e-12 * a * d).then(|| [[d / det, -b / det], [-b / det, a / det]])
+                if det > 1e-12 * a * d {
+                    (Some([[d / det, -b / det], [-b / det, a / det]]), true)
+                } else if a > 0.0 {
+                    (Some([[1.0 / a, 0.0], [0.0, 0.0]]), false)
+                } else {
+                    ((d > 0.0).then(|| [[0.0, 0.0], [0.0, 1.0 / d]]), false)
+                }
             }
-            _ => unreachable!("at most two columns"),
         };
-        let basis = orthonormal(&free);
-        let k = residuals.len();
-        // `√w r`, against which `(∂F)ᵀ r = Σ √w (ws ∂S + wu ∂U) r` is formed.
-        let weighted_residuals: Vec<f64> = residuals
-            .iter()
-            .zip(&self.root_weight)
-            .map(|(r, w)| r * w)
-            .collect();
-        // Up to two basis vectors and two free columns, zeros for those
-        // there are not. The basis vectors times √w give their products
-        // with a column `−√w (p ∂S + q ∂U)` from ∂S and ∂U, in the same
-        // pass as the products with `√w r`.
-        let zeros = vec![0.0; k];
-        fn two<'a>(v: &'a [Vec<f64>], zeros: &'a [f64]) -> [&'a [f64]; 2] {
-            [0, 1].map(|i| v.get(i).map_or(zeros, |x| &x[..zeros.len()]))
+        // `xᵀ M y` of two vectors of the free columns' length.
+        let form = |m: &[[f64; 2]; 2], x: &[f64; 2], y: &[f64; 2]| -> f64 {
+            (0..2)
+                .map(|l| x[l] * (0..2).map(|k| m[l][k] * y[k]).sum::<f64>())
+                .sum()
+        };
+        let over_free = |each: &dyn Fn(usize) -> f64| -> [f64; 2] {
+            std::array::from_fn(|l| if l < f.len() { each(l) } else { 0.0 })
+        };
+        let f_r = over_free(&|l| product(&f[l], &e_r));
+        // Per parameter: A_j, FᵀA_j and v_j.
+        struct Parts {
+            a: Combination,
+            fa: [f64; 2],
+            v: [f64; 2],
         }
-        let rooted: Vec<Vec<f64>> = basis
+        let parts: Vec<Option<Parts>> = places
             .iter()
-            .map(|e| {
-                e.iter()
-                    .zip(&self.root_weight)
-                    .map(|(e, w)| e * w)
-                    .collect()
+            .map(|place| {
+                let (ds, du) = (*place)?;
+                let a = [(ds, p), (du, q)];
+                let fa = over_free(&|l| product(&f[l], &a));
+                let v = over_free(&|l| {
+                    let (ws, wu) = mixes[l];
+                    product(&[(ds, ws), (du, wu)], &e_r)
+                });
+                Some(Parts { a, fa, v })
             })
             .collect();
-        let [r0, r1] = two(&rooted, &zeros);
-        let against = [r0, r1, &weighted_residuals[..]];
-        let ([e0, e1], [f0, f1]) = (two(&basis, &zeros), two(&free, &zeros));
-        let w = &self.root_weight[..k];
-        let jac = derivatives
-            .iter()
-            .map(|d| {
-                let Some(d) = d else {
-                    return Vec::new();
-                };
-                let ds = &d.s[..k];
-                let du = if has_u { &d.u[..k] } else { &zeros[..k] };
-                let sums_s = dots(ds, against);
-                let sums_u = if has_u { dots(du, against) } else { [0.0; 3] };
-                // Kaufman's part: −P⊥ (∂Φ c) of the derivative at the fixed
-                // coefficients `−√w (∂Φ c)`, projected off the orthonormal
-                // basis of the free columns.
-                let along = [0, 1].map(|i| -(p * sums_s[i] + q * sums_u[i]));
-                // Golub–Pereyra's second part: −F (FᵀF)⁻¹ (∂F)ᵀ r, which the
-                // large residuals of a misfitting model make matter.
-                let back = match &gram_inverse {
-                    Some(inverse) => {
-                        let v: Vec<f64> = mixes
-                            .iter()
-                            .map(|&(ws, wu)| ws * sums_s[2] + wu * sums_u[2])
-                            .collect();
-                        [0, 1].map(|i| (0..v.len()).map(|l| inverse[i][l] * v[l]).sum())
+        let m = parts.len();
+        let mut normal = Normal {
+            jtj: DMatrix::zeros(m, m),
+            jtr: vec![0.0; m],
+        };
+        for (i, pi) in parts.iter().enumerate() {
+            let Some(pi) = pi else { continue };
+            let mut jtr = -product(&pi.a, &e_r);
+            if let Some(inverse) = &projection {
+                jtr += form(inverse, &pi.fa, &f_r);
+                if back {
+                    jtr -= form(inverse, &pi.v, &f_r);
+                }
+            }
+            normal.jtr[i] = jtr;
+            for (j, pj) in parts.iter().enumerate() {
+                let Some(pj) = pj else { continue };
+                let mut h = product(&pi.a, &pj.a);
+                if let Some(inverse) = &projection {
+                    h -= form(inverse, &pi.fa, &pj.fa);
+                    if back {
+                        h += form(inverse, &pi.v, &pj.v);
                     }
-                    None => [0.0; 2],
-                };
-                (0..k)
-                    .map(|i| {
-                        w[i] * (-p * ds[i] - q * du[i])
-                            - along[0] * e0[i]
-                            - along[1] * e1[i]
-                            - back[0] * f0[i]
-                            - back[1] * f1[i]
-                    })
-                    .collect()
-            })
-            .collect();
-        (point, residuals, jac)
+                }
+                normal.jtj[(i, j)] = h;
+            }
+        }
+        normal
     }
+}
+
+/// The Gauss–Newton normal equations of the variable-projection residual
+/// `r` at one point ([`Problem::jacobian_at`]): zero in the rows and
+/// columns of the parameters held.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Normal {
+    /// `JᵀJ`.
+    pub jtj: DMatrix<f64>,
+    /// `Jᵀr`: half the objective's gradient.
+    pub jtr: Vec<f64>,
 }
 
 /// `Σ w s²`, `Σ w s u` and `Σ w u²`, four partial sums each in the fixed
@@ -357,30 +417,6 @@ fn squares(w: &[f64], s: &[f64], u: &[f64]) -> [f64; 3] {
         out[0] += ws * s;
         out[1] += ws * u;
         out[2] += w * u * u;
-    }
-    out
-}
-
-/// Gram–Schmidt (twice) of a few columns, dropping any that are
-/// dependent on the others.
-fn orthonormal(columns: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let mut out: Vec<Vec<f64>> = Vec::new();
-    for v in columns {
-        let mut v = v.clone();
-        let norm0 = dot(&v, &v).sqrt();
-        for _ in 0..2 {
-            for e in &out {
-                let c = dot(e, &v);
-                for (x, y) in v.iter_mut().zip(e) {
-                    *x -= c * y;
-                }
-            }
-        }
-        let norm = dot(&v, &v).sqrt();
-        if norm > 1e-10 * norm0 && norm > 0.0 {
-            v.iter_mut().for_each(|x| *x /= norm);
-            out.push(v);
-        }
     }
     out
 }
@@ -428,30 +464,46 @@ mod tests {
                 ([libm::log(0.3), 1.2, 0.4], (0.6, 0.6)),
             ] {
                 let held = problem.basis.held(&theta, &free);
-                let (_, _, jac) = problem.jacobian(&theta, beta, &held, &free);
+                let (_, normal) = problem.jacobian(&theta, beta, &held, &free);
                 let residuals = |t: &[f64]| {
                     let c = problem.basis.columns(t);
                     let l = problem.moments(&c).solve(beta);
                     problem.residuals(&c, &l)
                 };
-                for j in 0..3 {
-                    let h = 1e-6;
-                    let (mut up, mut down) = (theta, theta);
-                    up[j] += h;
-                    down[j] -= h;
-                    let (ru, rd) = (residuals(&up), residuals(&down));
-                    let fd: Vec<f64> = ru
-                        .iter()
-                        .zip(&rd)
-                        .map(|(u, d)| (u - d) / (2.0 * h))
-                        .collect();
-                    let scale = dot(&fd, &fd).sqrt().max(dot(&jac[j], &jac[j]).sqrt());
-                    let diff: Vec<f64> = fd.iter().zip(&jac[j]).map(|(a, b)| a - b).collect();
-                    let err = dot(&diff, &diff).sqrt();
+                let r = residuals(&theta);
+                // J by central differences of the residuals.
+                let jac: Vec<Vec<f64>> = (0..3)
+                    .map(|j| {
+                        let h = 1e-6;
+                        let (mut up, mut down) = (theta, theta);
+                        up[j] += h;
+                        down[j] -= h;
+                        let (ru, rd) = (residuals(&up), residuals(&down));
+                        ru.iter()
+                            .zip(&rd)
+                            .map(|(u, d)| (u - d) / (2.0 * h))
+                            .collect()
+                    })
+                    .collect();
+                let norms: Vec<f64> = jac.iter().map(|c| dot(c, c).sqrt()).collect();
+                let r_norm = dot(&r, &r).sqrt();
+                for i in 0..3 {
+                    let want = dot(&jac[i], &r);
+                    let err = (normal.jtr[i] - want).abs();
                     assert!(
-                        err <= 1e-5 * scale,
-                        "{model} θ {theta:?} β {beta:?} parameter {j}: |J − FD| = {err:e} of {scale:e}"
+                        err <= 1e-5 * norms[i] * r_norm,
+                        "{model} θ {theta:?} β {beta:?} Jᵀr[{i}] {} against {want}",
+                        normal.jtr[i]
                     );
+                    for j in 0..3 {
+                        let want = dot(&jac[i], &jac[j]);
+                        let err = (normal.jtj[(i, j)] - want).abs();
+                        assert!(
+                            err <= 1e-5 * norms[i] * norms[j],
+                            "{model} θ {theta:?} β {beta:?} JᵀJ[{i}, {j}] {} against {want}",
+                            normal.jtj[(i, j)]
+                        );
+                    }
                 }
             }
         }

@@ -12,7 +12,6 @@
 //! (to the parabola's minimum) before the damping is raised.
 
 use super::problem::{Point, Problem};
-use super::sums::dot;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -57,14 +56,14 @@ pub fn minimise(
     };
     let mut x = clamp(start);
     let held = problem.basis.held(&x, free);
-    let (mut point, mut r, mut jac) = problem.jacobian(&x, beta, &held, free);
+    let (mut point, mut normal) = problem.jacobian(&x, beta, &held, free);
     let mut evaluations = 1;
     let mut lambda = 1e-3;
     // Nielsen's factor for consecutive failures.
     let mut nu = 2.0;
     'outer: for _ in 0..MAX_ITERATIONS {
         let m = x.len();
-        let gradient: Vec<f64> = jac.iter().map(|col| dot(col, &r)).collect();
+        let gradient = &normal.jtr;
         let moving: Vec<usize> = (0..m)
             .filter(|&j| {
                 let (lo, hi) = bounds[j];
@@ -78,7 +77,7 @@ pub fn minimise(
         let mut h = DMatrix::<f64>::zeros(f, f);
         for (a, &i) in moving.iter().enumerate() {
             for (b, &j) in moving.iter().enumerate() {
-                h[(a, b)] = dot(&jac[i], &jac[j]);
+                h[(a, b)] = normal.jtj[(i, j)];
             }
         }
         let g = DVector::from_iterator(f, moving.iter().map(|&j| -gradient[j]));
@@ -154,7 +153,8 @@ pub fn minimise(
                     (lambda * (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3))).max(1e-12)
                 };
                 nu = 2.0;
-                (point, r, jac) = problem.jacobian_at(&x, beta, evaluated, free);
+                normal = problem.jacobian_at(&candidate, evaluated, beta, free);
+                point = candidate;
                 break;
             }
             lambda *= nu;

@@ -39,6 +39,56 @@ pub fn total(a: f64x4) -> f64 {
     (a[0] + a[1]) + (a[2] + a[3])
 }
 
+/// The weighted Gram matrix `G_ab = Σ_k w_k x_ak x_bk` of up to eight
+/// `vectors` (each at least as long as `w`), row-major `n × n`: each
+/// entry's four partial sums in the fixed order of [`dots`], `(w_k x_ak)
+/// x_bk` per term, and the lower triangle the upper's mirror.
+pub fn gram(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
+    match vectors.len() {
+        0 => Vec::new(),
+        1 => gram_of::<1>(w, vectors),
+        2 => gram_of::<2>(w, vectors),
+        3 => gram_of::<3>(w, vectors),
+        4 => gram_of::<4>(w, vectors),
+        5 => gram_of::<5>(w, vectors),
+        6 => gram_of::<6>(w, vectors),
+        7 => gram_of::<7>(w, vectors),
+        8 => gram_of::<8>(w, vectors),
+        n => unreachable!("{n} vectors: the Jacobian has at most 8"),
+    }
+}
+
+/// [`gram`] of exactly `N` vectors (so that the products unroll).
+fn gram_of<const N: usize>(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
+    let len = w.len();
+    let (ws, w_tail) = w.as_chunks::<4>();
+    let body = len - w_tail.len();
+    let fours: [&[[f64; 4]]; N] = std::array::from_fn(|a| vectors[a][..len].as_chunks::<4>().0);
+    let mut acc = [[f64x4::ZERO; N]; N];
+    for (k, &wk) in ws.iter().enumerate() {
+        let wk = f64x4::from(wk);
+        let here: [f64x4; N] = std::array::from_fn(|a| f64x4::from(fours[a][k]));
+        for a in 0..N {
+            let wxa = wk * here[a];
+            for b in a..N {
+                acc[a][b] += wxa * here[b];
+            }
+        }
+    }
+    let mut out = vec![0.0; N * N];
+    for a in 0..N {
+        for b in a..N {
+            let mut sum = total(acc[a][b]);
+            for k in body..len {
+                sum += w[k] * vectors[a][k] * vectors[b][k];
+            }
+            out[a * N + b] = sum;
+            out[b * N + a] = sum;
+        }
+    }
+    out
+}
+
 /// `Σ_k x_k y_k` ([`dots`] of one vector).
 pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     dots(x, [y])[0]
@@ -57,6 +107,25 @@ mod tests {
             let want: f64 = x.iter().zip(&y).map(|(a, b)| a * b).sum();
             assert_eq!(dot(&x, &y), want, "{len}");
             assert_eq!(dots(&x, [&y, &x]), [want, dot(&x, &x)]);
+        }
+    }
+
+    #[test]
+    fn the_gram_matrix_holds_every_weighted_product() {
+        // Small integers and halves again: every sum is exact.
+        for len in [0, 1, 3, 4, 5, 8, 11] {
+            let w: Vec<f64> = (0..len).map(|i| (i % 3) as f64 + 0.5).collect();
+            let x: Vec<f64> = (0..len).map(|i| 1.0 + i as f64).collect();
+            let y: Vec<f64> = (0..len).map(|i| 0.5 * i as f64 - 1.0).collect();
+            let z: Vec<f64> = (0..len).map(|i| 3.0 - i as f64).collect();
+            let vectors = [&x[..], &y, &z];
+            let g = gram(&w, &vectors);
+            for (a, va) in vectors.iter().enumerate() {
+                for (b, vb) in vectors.iter().enumerate() {
+                    let want: f64 = (0..len).map(|k| w[k] * va[k] * vb[k]).sum();
+                    assert_eq!(g[a * 3 + b], want, "{len} ({a}, {b})");
+                }
+            }
         }
     }
 }
