@@ -136,7 +136,16 @@ pub fn minimise(
                     .zip(&x)
                     .any(|(a, b)| (a - b).abs() > 1e-14 * b.abs().max(1.0));
                 x = trial;
-                if gain < tolerance || !moved {
+                // A full, barely damped step whose decrease the Gauss–Newton
+                // model predicted to within the tolerance ends at the
+                // model's minimum: what is left to gain is at most about
+                // that disagreement (the residuals' own curvature, which
+                // the model leaves out, shrinks each step's remainder by
+                // its ratio to JᵀJ's), so no Jacobian is formed to confirm.
+                let agreed = fraction == 1.0
+                    && lambda <= 1e-3
+                    && (point.sse - candidate.sse - predicted).abs() < tolerance * point.sse;
+                if gain < tolerance || !moved || agreed {
                     point = candidate;
                     break 'outer;
                 }
