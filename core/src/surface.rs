@@ -38,18 +38,17 @@ impl Correlation {
         Self::ALL.get(code as usize).copied()
     }
 
-    /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`): Exponential
-    /// `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes (`x = ∞`).
-    /// The free objective's Jacobian uses it.
+    /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`, `x ≥ 0`):
+    /// Exponential `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes
+    /// (`x = ∞`). The free objective's Jacobian uses it.
+    #[inline]
     #[must_use]
-    pub fn log_slope_derivative(self, x: f64) -> f64 {
-        if !x.is_finite() {
-            return 0.0;
-        }
-        match self {
-            Self::Exponential => 3.0 * x / (1.0 + x),
-            Self::Gaussian => 0.5 * x,
-        }
+    pub fn log_slope_derivative<L: Lane>(self, x: L) -> L {
+        let value = match self {
+            Self::Exponential => L::c(3.0) * x / (L::c(1.0) + x),
+            Self::Gaussian => L::c(0.5) * x,
+        };
+        L::select(x.lt(L::c(f64::INFINITY)), value, L::c(0.0))
     }
 
     /// The roughness factor of eqs. 1–2 as a function of

@@ -16,7 +16,9 @@ use super::boundary::{boundary, BoundaryGroup};
 use crate::baseline::BaselineGeometry;
 use crate::model::{Family, Model};
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
-use laminar_core::{f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry};
+use laminar_core::{
+    f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
+};
 
 /// The columns of a model at one point: `s` always, `u` for the layered
 /// models (empty for a baseline). Of a derivative, an empty column is zero
@@ -85,21 +87,27 @@ impl Held {
     }
 }
 
-/// The Ragheb–Hancock base `B_k` and the surface term of a layered model
-/// at one (σ/T, n), with what their σ/T derivatives need.
-#[derive(Debug, Clone)]
-struct LayeredTerms {
-    base: Vec<f64>,
-    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`.
-    t: f64,
-    /// `x′`, the argument below the boundary, at each measurement.
-    x_refracted: Vec<f64>,
-    /// `(cos θi′, cos θs′)` at each measurement, for the n derivative.
-    refracted_cos: Vec<(f64, f64)>,
+/// The surface term, the boundary and the Ragheb–Hancock base `B` of four
+/// measurements at one (σ/T, n).
+#[derive(Debug, Clone, Copy)]
+struct LayerGroup {
+    surface: f64x4,
+    boundary: BoundaryGroup,
+    base: f64x4,
 }
 
-/// `∂ ln B/∂n` of the Ragheb–Hancock base at one measurement (eqs. 3–7),
-/// analytically, from the refracted cosines `(cos θi′, cos θs′)`;
+/// A layered model's terms at one (σ/T, n), four measurements at a time
+/// (the basis's packing), with what their derivatives need.
+#[derive(Debug, Clone)]
+struct LayeredTerms {
+    groups: Vec<LayerGroup>,
+    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`,
+    /// the base's `x′ = (T/σ)² · ratio`.
+    t: f64,
+}
+
+/// `∂ ln B/∂n` of the Ragheb–Hancock base at four measurements `g` (eqs.
+/// 3–7), analytically, from the refracted cosines of their boundary `b`;
 /// `x_refracted` is eq. 1–2's argument below the boundary.
 ///
 /// Snell's `cos θ′ = √(n² − sin²θ)/n` gives `∂cos θ′/∂n = sin²θ/(n³ cos θ′)`.
@@ -112,29 +120,31 @@ struct LayeredTerms {
 /// `p = n c + c′`. Where `B = 0` the caller uses 0.
 fn log_n_derivative(
     corr: Correlation,
-    g: &Geometry<f64>,
-    (ci, cs): (f64, f64),
+    g: &Geometry<f64x4>,
+    b: &BoundaryGroup,
     n: f64,
-    x_refracted: f64,
-) -> f64 {
-    let inv_n = 1.0 / n;
+    x_refracted: f64x4,
+) -> f64x4 {
+    let c = f64x4::c;
+    let (n, inv_n) = (f64x4::splat(n), f64x4::splat(1.0 / n));
+    let (ci, cs) = (b.cos_i, b.cos_s);
     // `∂cos θ′/∂n / cos θ′ = sin²θ/(n³ cos²θ′)`, and the derivative itself.
-    let rel = |sin2: f64, c: f64| sin2 * inv_n * inv_n * inv_n / (c * c);
+    let rel = |sin2: f64x4, c: f64x4| sin2 * inv_n * inv_n * inv_n / (c * c);
     let (ri, rs) = (rel(g.sin2_i, ci), rel(g.sin2_s, cs));
     let (dci, dcs) = (ri * ci, rs * cs);
-    let ell = -2.0 * inv_n - 2.0 * (dci + dcs) / (ci + cs);
+    let ell = c(-2.0) * inv_n - c(2.0) * (dci + dcs) / (ci + cs);
     // The elasticity of the shape in x′ is half that in σ/T with the sign
     // turned, as x ∝ (σ/T)⁻².
-    let elasticity = -0.5 * corr.log_slope_derivative(x_refracted);
+    let elasticity = c(-0.5) * corr.log_slope_derivative(x_refracted);
     // `∂ ln t/∂n = 1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`,
     // the last term as `2 (s_n p³ + p_n s³)/(s p (s² + p²))`.
-    let transmission = |c: f64, c2: f64, dc2: f64, rel2: f64| {
-        let (s, p) = (c + n * c2, n * c + c2);
-        let (ds, dp) = (c2 + n * dc2, c + dc2);
+    let transmission = |c1: f64x4, c2: f64x4, dc2: f64x4, rel2: f64x4| {
+        let (s, p) = (c1 + n * c2, n * c1 + c2);
+        let (ds, dp) = (c2 + n * dc2, c1 + dc2);
         let (s2, p2) = (s * s, p * p);
-        inv_n + rel2 - 2.0 * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
+        inv_n + rel2 - c(2.0) * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
     };
-    (1.0 + elasticity) * ell
+    (c(1.0) + elasticity) * ell
         + transmission(g.cos_i, ci, dci, ri)
         + transmission(g.cos_s, cs, dcs, rs)
 }
@@ -243,49 +253,42 @@ impl Basis {
         }
     }
 
-    /// The absorption factor `(1 − a cos²θi)(1 − a cos²θs)` of measurement `k`
-    /// (eqs. 10–14).
-    fn attenuation(&self, k: usize, a: f64) -> f64 {
-        let (ci, cs) = self.cosines();
-        (1.0 - a * ci[k]) * (1.0 - a * cs[k])
+    /// The absorption factor `(1 − a cos²θi)(1 − a cos²θs)` of four
+    /// measurements `g` (eqs. 10–14), and the two `cos²`.
+    fn attenuation(g: &Geometry<f64x4>, a: f64x4) -> (f64x4, [f64x4; 2]) {
+        let one = f64x4::c(1.0);
+        let (ci, cs) = (one - g.sin2_i, one - g.sin2_s);
+        ((one - a * ci) * (one - a * cs), [ci, cs])
     }
 
-    /// The surface term and the rest of [`LayeredTerms`] at (σ/T, n).
-    /// One pass over the measurements, each group's boundary built (or
-    /// taken from `held`) and used at once.
-    fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> (Vec<f64>, LayeredTerms) {
+    /// The [`LayeredTerms`] at (σ/T, n): one pass over the measurements,
+    /// each group's boundary built (or taken from `held`) and used at once.
+    fn layered_terms(&self, slope: f64, n: f64, held: &Held) -> LayeredTerms {
         let Self::Layered { corr, packed, .. } = self else {
             unreachable!("layered models only")
         };
         let t = inverse_slope_squared(slope);
-        let (len, t4) = (self.len(), f64x4::splat(t));
-        let mut terms = LayeredTerms {
-            base: Vec::with_capacity(len + 3),
-            t,
-            x_refracted: Vec::with_capacity(len + 3),
-            refracted_cos: Vec::with_capacity(len + 3),
+        let t4 = f64x4::splat(t);
+        let group = |g: &Geometry<f64x4>, boundary: BoundaryGroup| LayerGroup {
+            surface: surface_radiance(g, *corr, t4),
+            base: boundary.base(*corr, t4),
+            boundary,
         };
-        let mut take = |b: &BoundaryGroup| {
-            let base = b.base(*corr, t4).to_array();
-            let x = (b.ratio * t4).to_array();
-            let (ci, cs) = (b.cos_i.to_array(), b.cos_s.to_array());
-            terms.base.extend_from_slice(&base);
-            terms.x_refracted.extend_from_slice(&x);
-            terms.refracted_cos.extend((0..4).map(|k| (ci[k], cs[k])));
-        };
-        match held.at(n) {
-            Some(groups) => groups.iter().for_each(take),
+        let groups = match held.at(n) {
+            Some(boundaries) => packed
+                .iter()
+                .zip(boundaries)
+                .map(|(g, b)| group(g, *b))
+                .collect(),
             None => {
                 let inv_n = 1.0 / n;
                 packed
                     .iter()
-                    .for_each(|g| take(&BoundaryGroup::new(g, n, inv_n)));
+                    .map(|g| group(g, BoundaryGroup::new(g, n, inv_n)))
+                    .collect()
             }
-        }
-        terms.base.truncate(len);
-        terms.x_refracted.truncate(len);
-        terms.refracted_cos.truncate(len);
-        (self.surface(slope), terms)
+        };
+        LayeredTerms { groups, t }
     }
 
     /// The model's parameters from the nonlinear values `theta` (internal
@@ -320,12 +323,16 @@ impl Basis {
     /// [`Basis::evaluate`], reusing what `held` keeps when it applies.
     pub fn evaluate_held(&self, theta: &[f64], held: &Held) -> Evaluated {
         match self {
-            Self::Layered { .. } => {
+            Self::Layered { packed, .. } => {
                 let (slope, n, a) = self.slope_n_a(theta);
-                let (s, terms) = self.layered_terms(slope, n, held);
-                let u = (0..terms.base.len())
-                    .map(|k| terms.base[k] * self.attenuation(k, a))
-                    .collect();
+                let terms = self.layered_terms(slope, n, held);
+                let a = f64x4::splat(a);
+                let s = unpack(terms.groups.iter().map(|l| l.surface), self.len());
+                let u = unpack(
+                    (terms.groups.iter().zip(packed))
+                        .map(|(l, g)| l.base * Self::attenuation(g, a).0),
+                    self.len(),
+                );
                 Evaluated {
                     columns: Columns { s, u },
                     terms: Some(terms),
@@ -379,50 +386,53 @@ impl Basis {
         wanted: &[bool],
     ) -> (Columns, Vec<Option<Columns>>) {
         match (self, at.terms) {
-            (Self::Layered { corr, geometry, .. }, Some(terms)) => {
+            (Self::Layered { corr, packed, .. }, Some(terms)) => {
                 let (_, n, a) = self.slope_n_a(theta);
-                let len = terms.base.len();
-                let Columns { s, u } = at.columns;
-                let d_slope = Columns {
-                    s: (0..len)
-                        .map(|k| s[k] * corr.log_slope_derivative(geometry[k].ratio * terms.t))
-                        .collect(),
-                    u: (0..len)
-                        .map(|k| u[k] * corr.log_slope_derivative(terms.x_refracted[k]))
-                        .collect(),
-                };
-                let d_n = wanted[1].then(|| Columns {
-                    s: Vec::new(),
-                    u: (0..len)
-                        .map(|k| {
-                            let d = log_n_derivative(
-                                *corr,
-                                &geometry[k],
-                                terms.refracted_cos[k],
-                                n,
-                                terms.x_refracted[k],
-                            );
-                            if u[k] == 0.0 {
-                                0.0
-                            } else {
-                                u[k] * d
-                            }
-                        })
-                        .collect(),
-                });
-                let mut out = vec![wanted[0].then_some(d_slope), d_n];
-                if self.dim() == 3 && wanted[2] {
-                    let (ci, cs) = self.cosines();
-                    out.push(Some(Columns {
-                        s: Vec::new(),
-                        u: (0..len)
-                            .map(|k| terms.base[k] * (2.0 * a * ci[k] * cs[k] - ci[k] - cs[k]))
-                            .collect(),
-                    }));
-                } else if self.dim() == 3 {
-                    out.push(None);
+                let (len, t, a) = (self.len(), f64x4::splat(terms.t), f64x4::splat(a));
+                let zero = f64x4::ZERO;
+                // Per group, U again (the same bits as the column) and each
+                // wanted derivative: ∂/∂ ln σ/T of S and U, ∂U/∂n, ∂U/∂a.
+                let wanted_a = self.dim() == 3 && wanted[2];
+                let mut d: [Vec<f64>; 4] =
+                    std::array::from_fn(|_| Vec::with_capacity(len.next_multiple_of(4)));
+                for (l, g) in terms.groups.iter().zip(packed) {
+                    let (attenuation, [ci, cs]) = Self::attenuation(g, a);
+                    let u = l.base * attenuation;
+                    let x_refracted = l.boundary.ratio * t;
+                    let mut put = |i: usize, v: f64x4| d[i].extend_from_slice(&v.to_array());
+                    if wanted[0] {
+                        put(0, l.surface * corr.log_slope_derivative(g.ratio * t));
+                        put(1, u * corr.log_slope_derivative(x_refracted));
+                    }
+                    if wanted[1] {
+                        let log = log_n_derivative(*corr, g, &l.boundary, n, x_refracted);
+                        put(2, f64x4::select(u.eq(zero), zero, u * log));
+                    }
+                    if wanted_a {
+                        put(3, l.base * (f64x4::c(2.0) * a * ci * cs - ci - cs));
+                    }
                 }
-                (Columns { s, u }, out)
+                let [s_slope, u_slope, u_n, u_a] = d.map(|mut v| {
+                    v.truncate(len);
+                    v
+                });
+                let mut out = vec![
+                    wanted[0].then_some(Columns {
+                        s: s_slope,
+                        u: u_slope,
+                    }),
+                    wanted[1].then_some(Columns {
+                        s: Vec::new(),
+                        u: u_n,
+                    }),
+                ];
+                if self.dim() == 3 {
+                    out.push(wanted_a.then_some(Columns {
+                        s: Vec::new(),
+                        u: u_a,
+                    }));
+                }
+                (at.columns, out)
             }
             _ => {
                 let at = at.columns;
