@@ -252,7 +252,7 @@ impl Problem {
         };
         // The vectors whose inner products are needed, and where each is:
         // S, U (layered), the residuals, then each derivative that is not
-        // zero (∂S is for n and a).
+        // zero (∂S is zero in n and a).
         let mut vectors: Vec<&[f64]> = vec![&columns.s];
         fn place<'a>(v: &'a [f64], vectors: &mut Vec<&'a [f64]>) -> Option<usize> {
             (!v.is_empty()).then(|| {
