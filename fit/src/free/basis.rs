@@ -43,11 +43,12 @@ pub enum Basis {
     Layered {
         /// The correlation function (eqs. 1–2).
         corr: Correlation,
-        /// Geometry of each measurement.
-        geometry: Vec<Geometry<f64>>,
-        /// The same four measurements at a time (`pack`), which the
-        /// columns are computed from: the same bits as `geometry`, lane by
-        /// lane (the core's f64x4 path is bitwise its scalar f64 path).
+        /// The number of measurements.
+        len: usize,
+        /// Their geometry four at a time (`pack`, the last group padded),
+        /// which the columns are computed from: lane by lane the same bits
+        /// as one at a time (the core's f64x4 path is bitwise its scalar
+        /// f64 path).
         packed: Vec<Geometry<f64x4>>,
         /// `cos²θi` of each measurement.
         cos2_i: Vec<f64>,
@@ -181,7 +182,7 @@ impl Basis {
                     packed: pack(angles),
                     cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
                     cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
-                    geometry,
+                    len: angles.len(),
                     rh: !absorption,
                 }
             }
@@ -206,7 +207,7 @@ impl Basis {
     /// Number of measurements.
     pub fn len(&self) -> usize {
         match self {
-            Self::Layered { geometry, .. } => geometry.len(),
+            Self::Layered { len, .. } => *len,
             Self::Baseline(g) => g.len(),
         }
     }
