@@ -143,7 +143,7 @@ impl JacobianCovariance {
         let k = problem.data.len();
         // A column, or 0 where it is empty (no U; the surface term's
         // derivative in n and a).
-        let u = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(0.0);
+        let entry = |v: &[f64], i: usize| v.get(i).copied().unwrap_or(0.0);
         // ∂(c M_k)/∂ each reported parameter, then ∂/∂c.
         let mut jac: Vec<Vec<f64>> = Vec::new();
         let mut on_face: Vec<bool> = Vec::new();
@@ -157,14 +157,16 @@ impl JacobianCovariance {
                     };
                     let d = &derivatives[j];
                     let col = (0..k)
-                        .map(|i| c * ((1.0 - beta) * u(&d.s, i) + beta * u(&d.u, i)) * scale)
+                        .map(|i| {
+                            c * ((1.0 - beta) * entry(&d.s, i) + beta * entry(&d.u, i)) * scale
+                        })
                         .collect();
                     let (lo, hi) = problem.bounds[j];
                     (col, point.theta[j] <= lo || point.theta[j] >= hi)
                 }
                 Coordinate::Beta => {
                     let col = (0..k)
-                        .map(|i| c * (u(&columns.u, i) - columns.s[i]))
+                        .map(|i| c * (entry(&columns.u, i) - columns.s[i]))
                         .collect();
                     let (lo, hi) = problem.beta;
                     (col, beta <= lo || beta >= hi)
@@ -175,7 +177,7 @@ impl JacobianCovariance {
         }
         jac.push(
             (0..k)
-                .map(|i| (1.0 - beta) * columns.s[i] + beta * u(&columns.u, i))
+                .map(|i| (1.0 - beta) * columns.s[i] + beta * entry(&columns.u, i))
                 .collect(),
         );
         on_face.push(c <= 0.0);

@@ -138,17 +138,26 @@ impl Problem {
         }
     }
 
-    /// The weighted residuals `√w (D − p S − q U)`.
-    pub fn residuals(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
+    /// The residuals `D − p S − q U`, unweighted.
+    fn misfit(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
         let Linear { p, q, .. } = *linear;
-        let rows = self.root_weight.iter().zip(&self.data).zip(&columns.s);
+        let rows = self.data.iter().zip(&columns.s);
         if columns.u.is_empty() {
-            rows.map(|((r, d), s)| r * (d - p * s)).collect()
+            rows.map(|(d, s)| d - p * s).collect()
         } else {
             rows.zip(&columns.u)
-                .map(|(((r, d), s), u)| r * (d - p * s - q * u))
+                .map(|((d, s), u)| d - p * s - q * u)
                 .collect()
         }
+    }
+
+    /// The weighted residuals `√w (D − p S − q U)`.
+    pub fn residuals(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
+        let mut residuals = self.misfit(columns, linear);
+        for (e, r) in residuals.iter_mut().zip(&self.root_weight) {
+            *e *= r;
+        }
+        residuals
     }
 
     /// The point at `theta` with β in `beta` (the box's, or one value for a
@@ -172,25 +181,13 @@ impl Problem {
 
     /// The point at `theta` from its columns.
     pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
-        self.point_and_residuals(theta, columns, beta).0
-    }
-
-    /// [`Problem::point`] and the weighted residuals its objective sums.
-    fn point_and_residuals(
-        &self,
-        theta: &[f64],
-        columns: &Columns,
-        beta: (f64, f64),
-    ) -> (Point, Vec<f64>) {
         let linear = self.moments(columns).solve(beta);
         let residuals = self.residuals(columns, &linear);
-        let sse = dot(&residuals, &residuals);
-        let point = Point {
+        Point {
             theta: theta.to_vec(),
             linear,
-            sse,
-        };
-        (point, residuals)
+            sse: dot(&residuals, &residuals),
+        }
     }
 
     /// The point at `theta` and the Gauss–Newton normal equations of the
@@ -241,15 +238,7 @@ impl Problem {
                 .derivatives_at(&point.theta, &self.domain, false, at, free);
         let Linear { p, q, .. } = point.linear;
         let has_u = !columns.u.is_empty();
-        let residuals: Vec<f64> = if has_u {
-            (self.data.iter().zip(&columns.s).zip(&columns.u))
-                .map(|((d, s), u)| d - p * s - q * u)
-                .collect()
-        } else {
-            (self.data.iter().zip(&columns.s))
-                .map(|(d, s)| d - p * s)
-                .collect()
-        };
+        let residuals = self.misfit(&columns, &point.linear);
         // The vectors whose inner products are needed, and where each is:
         // S, U (layered), the residuals, then each derivative that is not
         // zero (∂S is zero in n and a).
