@@ -234,16 +234,20 @@ impl Basis {
     }
 
     /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on the boundary at
-    /// one n ([`Basis::boundary`]).
-    pub fn base(&self, slope: f64, boundary: &[BoundaryGroup]) -> Vec<f64> {
-        match self {
-            Self::Layered { corr, .. } => {
-                let t = f64x4::splat(inverse_slope_squared(slope));
-                let groups = boundary.iter().map(|b| b.base(*corr, t));
-                unpack(groups, self.len())
-            }
-            Self::Baseline(_) => Vec::new(),
-        }
+    /// one n ([`Basis::boundary`]), four measurements at a time (the last
+    /// group padded as [`Basis::boundary`]'s is); empty for a baseline.
+    pub fn base_groups<'a>(
+        &self,
+        slope: f64,
+        boundary: &'a [BoundaryGroup],
+    ) -> impl Iterator<Item = f64x4> + 'a {
+        let corr = match self {
+            Self::Layered { corr, .. } => Some(*corr),
+            Self::Baseline(_) => None,
+        };
+        let t = f64x4::splat(inverse_slope_squared(slope));
+        corr.into_iter()
+            .flat_map(move |corr| boundary.iter().map(move |b| b.base(corr, t)))
     }
 
     /// `cos²θi` and `cos²θs` of each measurement (layered models).

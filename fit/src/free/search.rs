@@ -86,6 +86,78 @@ struct ColumnSums {
     sb: [f64; 3],
 }
 
+impl ColumnSums {
+    /// One column's base from its groups of four (`len` measurements) and
+    /// its sums against the weights and the weighted surface term, in one
+    /// pass. `coefficients` holds, per whole group of four measurements,
+    /// `[w, w S, g1, g2, g1², g1 g2, g2²]`, and `tail` the same seven per
+    /// measurement of the last, partial group. Each sum is, bit for bit,
+    /// [`dots`] of `w B B` (or `w S B`) against the factor (and against
+    /// ones): the same four partial sums per product, in measurement order,
+    /// without the K-vectors.
+    fn new(
+        groups: impl Iterator<Item = f64x4>,
+        len: usize,
+        coefficients: &[[f64x4; 7]],
+        tail: &[[f64; 7]],
+    ) -> Self {
+        let mut groups = groups;
+        let mut base = Vec::with_capacity(len.next_multiple_of(4));
+        // Σ w B² against [1, g1, g2, g11, g12, g22]; Σ w S B against [1, g1, g2].
+        let mut bb = [f64x4::ZERO; 6];
+        let mut sb = [f64x4::ZERO; 3];
+        // The coefficients lead the zip, so that it stops before taking the
+        // last, partial group from `groups`.
+        for (c, b) in coefficients.iter().zip(groups.by_ref()) {
+            base.extend_from_slice(&b.to_array());
+            accumulate(&mut bb, &mut sb, b, c);
+        }
+        let body = base.len();
+        base.extend(groups.flat_map(|b| b.to_array()));
+        base.truncate(len);
+        let mut bb = bb.map(total);
+        let mut sb = sb.map(total);
+        for (&b, c) in base[body..].iter().zip(tail) {
+            accumulate(&mut bb, &mut sb, b, c);
+        }
+        let [b00, b01, b02, b11, b12, b22] = bb;
+        Self {
+            base,
+            bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
+            sb,
+        }
+    }
+}
+
+/// One term of [`ColumnSums::new`]'s sums: `w B²` times each of `[1, g1,
+/// g2, g1², g1 g2, g2²]` into `bb`, `w S B` times each of `[1, g1, g2]`
+/// into `sb`, from the base `b` and the coefficients `[w, w S, g1, g2, g1²,
+/// g1 g2, g2²]`.
+fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], b: L, [w, ws, f @ ..]: &[L; 7]) {
+    let wbb = *w * b * b;
+    let wsb = *ws * b;
+    bb[0] = bb[0] + wbb;
+    for (acc, f) in bb[1..].iter_mut().zip(f) {
+        *acc = *acc + wbb * *f;
+    }
+    sb[0] = sb[0] + wsb;
+    sb[1] = sb[1] + wsb * f[0];
+    sb[2] = sb[2] + wsb * f[1];
+}
+
+/// `vectors` interleaved: per whole group of four measurements, the group
+/// of each vector; then, per measurement of the last, partial group, its
+/// value in each.
+fn interleave<const N: usize>(vectors: [&[f64]; N]) -> (Vec<[f64x4; N]>, Vec<[f64; N]>) {
+    let len = vectors.first().map_or(0, |v| v.len());
+    let body = len / 4;
+    let groups = (0..body)
+        .map(|g| vectors.map(|v| f64x4::from_f64_lanes(|i| v[4 * g + i])))
+        .collect();
+    let tail = (4 * body..len).map(|k| vectors.map(|v| v[k])).collect();
+    (groups, tail)
+}
+
 impl ModelSide {
     /// The model side of `problem` (a layered model) on `axes`.
     pub fn new(problem: &Problem, axes: &GridAxes) -> Self {
@@ -99,7 +171,6 @@ impl ModelSide {
         let g11: Vec<f64> = g1.iter().map(|g| g * g).collect();
         let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
-        let ones = vec![1.0; k];
         let boundaries: Vec<_> = axes.axes[1].iter().map(|&n| basis.boundary(n)).collect();
         let w = &problem.weight;
         let rows = axes.axes[0]
@@ -108,19 +179,12 @@ impl ModelSide {
                 let s = basis.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
+                let (coefficients, tail) = interleave([w, &ws, &g1, &g2, &g11, &g12, &g22]);
                 let columns = boundaries
                     .iter()
                     .map(|boundary| {
-                        let base = basis.base(slope, boundary);
-                        let wbb: Vec<f64> = (0..k).map(|i| w[i] * base[i] * base[i]).collect();
-                        let wsb: Vec<f64> = (0..k).map(|i| ws[i] * base[i]).collect();
-                        let [b00, b01, b02, b11, b12, b22] =
-                            dots(&wbb, [&ones, &g1, &g2, &g11, &g12, &g22]);
-                        ColumnSums {
-                            sb: dots(&wsb, [&ones, &g1, &g2]),
-                            bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
-                            base,
-                        }
+                        let groups = basis.base_groups(slope, boundary);
+                        ColumnSums::new(groups, k, &coefficients, &tail)
                     })
                     .collect();
                 SlopeRow { s, ss, columns }
@@ -371,5 +435,19 @@ mod tests {
             assert!(values.sse.iter().all(|e| e.is_finite()));
         }
         assert_ne!(together[0], together[1]);
+        // And each grid value is the objective evaluated directly there,
+        // from the residuals (the moments form cancels digits of Σ w D²).
+        for (problem, values) in problems.iter().zip(&together) {
+            for (flat, &sse) in values.sse.iter().enumerate() {
+                let at = values.indices(flat);
+                let theta: Vec<f64> = (0..3).map(|p| axes.axes[p][at[p]]).collect();
+                let theta = [libm::log(theta[0]), theta[1], theta[2]];
+                let direct = problem.evaluate(&theta, problem.beta).sse;
+                assert!(
+                    (sse - direct).abs() <= 1e-10 * problem.dd,
+                    "at {at:?}: grid {sse}, direct {direct}"
+                );
+            }
+        }
     }
 }
