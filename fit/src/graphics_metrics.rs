@@ -13,9 +13,11 @@
 //!   `sqrt(Σ (∛(f_d cos θi) − ∛(f_m cos θi))² / K)`, which weighs a dim
 //!   tail's misfit nearer to what an observer sees than the RMS does.
 //!
-//! Every measurement counts once (the published metrics' solid-angle
+//! The cube roots are within 1 ulp of the correctly rounded ones
+//! (`cube_root`, four at a time). Every measurement counts once (the published metrics' solid-angle
 //! weights belong to a dense tabulation, which a measurement set is not).
 
+use crate::cube_root::cbrt4;
 use serde::{Deserialize, Serialize};
 
 /// A fit's graphics error measures (see the module docs).
@@ -37,11 +39,18 @@ impl GraphicsMetrics {
         }
         let k = data.len() as f64;
         let (mut squares, mut roots) = (0.0, 0.0);
-        for (&d, &p) in data.iter().zip(prediction) {
-            let (d, p) = (d * scale, p * scale);
-            squares += (d - p) * (d - p);
-            let r = libm::cbrt(d) - libm::cbrt(p);
-            roots += r * r;
+        // Four at a time for the cube roots (`cbrt4`, within 1 ulp); the
+        // sums still run one measurement after another.
+        for (d, p) in data.chunks(4).zip(prediction.chunks(4)) {
+            let len = d.len();
+            let four = |v: &[f64]| std::array::from_fn(|i| v.get(i).map_or(1.0, |x| x * scale));
+            let (d, p): ([f64; 4], [f64; 4]) = (four(d), four(p));
+            let (cd, cp) = (cbrt4(d), cbrt4(p));
+            for i in 0..len {
+                squares += (d[i] - p[i]) * (d[i] - p[i]);
+                let r = cd[i] - cp[i];
+                roots += r * r;
+            }
         }
         let metrics = Self {
             cosine_rms: (squares / k).sqrt(),

@@ -60,6 +60,7 @@ mod baseline;
 pub mod choice;
 mod covariance;
 pub mod coverage;
+mod cube_root;
 mod edges;
 mod error;
 mod estimate;
