@@ -182,7 +182,13 @@ fn release(
     }
     let free = vec![true; problem.dim()];
     let point = minimise(&wider, &minimum.theta, &free, wider.beta, SCREENING).point;
-    let e = estimate(scene, &wider, model, &point);
+    let e = estimate(
+        scene,
+        &wider,
+        model,
+        &point,
+        &wider.basis.columns(&point.theta),
+    );
     Released {
         value: coordinate.value(&point, &wider),
         rms: e.rms,
@@ -277,8 +283,9 @@ fn fit_from(
     analysis: Analysis,
 ) -> Fit {
     let grid_flat = grid_best(&values);
-    let grid_point = problem.evaluate(&layout.theta(&values.indices(grid_flat)), problem.beta);
-    let best = estimate(scene, &problem, model, &grid_point);
+    let grid_theta = layout.theta(&values.indices(grid_flat));
+    let (grid_point, grid_columns) = problem.evaluate(&grid_theta, problem.beta);
+    let best = estimate(scene, &problem, model, &grid_point, &grid_columns);
 
     let rh = ragheb_hancock(scene, &problem, layout, &values, model, analysis.refine);
 
@@ -338,7 +345,8 @@ fn fit_from(
         analyse(&problem, layout, refined, analysis)
     };
     let minimum = &analysed.minimum;
-    let refined_estimate = estimate(scene, &problem, model, minimum);
+    let minimum_columns = problem.basis.columns(&minimum.theta);
+    let refined_estimate = estimate(scene, &problem, model, minimum, &minimum_columns);
     let resampled = (analysis.uncertainty == Uncertainty::Bootstrap)
         .then(|| {
             bootstrap(
@@ -419,7 +427,8 @@ fn ragheb_hancock(
             _ => Some(f),
         },
     )?;
-    let mut point = problem.evaluate(&layout.theta(&values.indices(slice)), problem.beta);
+    let theta = layout.theta(&values.indices(slice));
+    let (mut point, mut columns) = problem.evaluate(&theta, problem.beta);
     if refine {
         // A side result reported by its rms: the screening tolerance (10⁻⁶
         // of the objective) fixes that to about 5·10⁻⁷ of itself.
@@ -431,6 +440,7 @@ fn ragheb_hancock(
             SCREENING,
         )
         .point;
+        columns = problem.basis.columns(&point.theta);
     }
     let fitted = FittedModel::with_amplitude(
         rh_model,
@@ -442,7 +452,7 @@ fn ragheb_hancock(
         Estimate::of_raw(
             scene,
             fitted,
-            &raw_terms(problem, &point),
+            &raw_terms(&columns),
             problem.parameter_count() - 1,
         )
         .expect("the box lies inside the model's domain"),

@@ -128,8 +128,14 @@ pub(super) fn params_of(problem: &Problem, model: Model, point: &Point) -> Model
     }
 }
 
-/// The estimate of `model` at `point`.
-pub(super) fn estimate(scene: &Scene, problem: &Problem, model: Model, point: &Point) -> Estimate {
+/// The estimate of `model` at `point`, whose columns are `columns`.
+pub(super) fn estimate(
+    scene: &Scene,
+    problem: &Problem,
+    model: Model,
+    point: &Point,
+    columns: &Columns,
+) -> Estimate {
     let fitted = FittedModel::with_amplitude(
         model,
         params_of(problem, model, point),
@@ -139,16 +145,15 @@ pub(super) fn estimate(scene: &Scene, problem: &Problem, model: Model, point: &P
     Estimate::of_raw(
         scene,
         fitted,
-        &raw_terms(problem, point),
+        &raw_terms(columns),
         problem.parameter_count(),
     )
     .expect("the box lies inside the model's domain")
 }
 
-/// The model's raw terms at `point` (`[S, U]`, or `[L, 0]` for a baseline),
-/// from its columns: an [`Estimate`] without evaluating the model again.
-pub(super) fn raw_terms(problem: &Problem, point: &Point) -> Vec<[f64; 2]> {
-    let Columns { s, u } = problem.basis.columns(&point.theta);
+/// The model's raw terms (`[S, U]`, or `[L, 0]` for a baseline) from its
+/// columns at a point: an [`Estimate`] without evaluating the model again.
+pub(super) fn raw_terms(Columns { s, u }: &Columns) -> Vec<[f64; 2]> {
     (0..s.len())
         .map(|k| [s[k], u.get(k).copied().unwrap_or(0.0)])
         .collect()

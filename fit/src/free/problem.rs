@@ -161,10 +161,11 @@ impl Problem {
     }
 
     /// The point at `theta` with β in `beta` (the box's, or one value for a
-    /// profile of β).
-    pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> Point {
+    /// profile of β), and the columns there (what an estimate's prediction
+    /// needs).
+    pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Columns) {
         let columns = self.basis.columns(theta);
-        self.point(theta, &columns, beta)
+        (self.point(theta, &columns, beta), columns)
     }
 
     /// [`Problem::evaluate`], keeping what [`Problem::jacobian_at`] needs,

@@ -442,7 +442,7 @@ mod tests {
                 let at = values.indices(flat);
                 let theta: Vec<f64> = (0..3).map(|p| axes.axes[p][at[p]]).collect();
                 let theta = [libm::log(theta[0]), theta[1], theta[2]];
-                let direct = problem.evaluate(&theta, problem.beta).sse;
+                let direct = problem.evaluate(&theta, problem.beta).0.sse;
                 assert!(
                     (sse - direct).abs() <= 1e-10 * problem.dd,
                     "at {at:?}: grid {sse}, direct {direct}"
