@@ -99,14 +99,12 @@ mod tests {
         }));
         values.extend((1..2000).map(|i| i as f64 / 1000.0));
         let roots = cbrt_all(&values);
-        let (mut worst, mut exact) = (0, 0);
+        let mut exact = 0;
         for (&x, &y) in values.iter().zip(&roots) {
             let d = ulps(y, libm::cbrt(x));
             assert!(d <= 1, "cbrt({x:e}) = {y:e}, libm {:e}", libm::cbrt(x));
-            worst = worst.max(d);
             exact += usize::from(d == 0);
         }
-        assert!(worst <= 1);
         // Nearly all are the correctly rounded root itself.
         assert!(exact as f64 >= 0.9 * values.len() as f64, "{exact} exact");
         let special = [0.0, -0.0, -8.0, 1e-310, f64::INFINITY, f64::NAN, -1e-320];

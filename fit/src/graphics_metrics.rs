@@ -14,8 +14,9 @@
 //!   tail's misfit nearer to what an observer sees than the RMS does.
 //!
 //! The cube roots are within 1 ulp of the correctly rounded ones
-//! (`cube_root`, four at a time). Every measurement counts once (the published metrics' solid-angle
-//! weights belong to a dense tabulation, which a measurement set is not).
+//! (`cube_root`, four at a time). Every measurement counts once (the
+//! published metrics' solid-angle weights belong to a dense tabulation,
+//! which a measurement set is not).
 
 use crate::cube_root::cbrt4;
 use serde::{Deserialize, Serialize};
