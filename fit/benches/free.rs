@@ -1,6 +1,7 @@
 //! The free-amplitude objective's cost (docs/conventions.md §4b, §11b):
 //! one fit with the defaults (grid stage, refinement, 68%/95% profile
-//! intervals and the Jacobian), the grid stage alone, and batches of sets
+//! intervals and the Jacobian), the grid stage alone (and both again with
+//! the grid stage's model terms in `f32x8`, `_f32`), and batches of sets
 //! on one geometry with the defaults (elements = sets, so criterion reports
 //! sets per second). The scene is CUReT sample 21 (K = 198) when
 //! `CURET_DIR` is set, else the built-in synthetic one (K = 200); the
@@ -13,14 +14,14 @@
 //! The `free_large_k` group is a bidirectional texture's size: 151 light
 //! by 151 view directions (K = 22,801, as one UBO2014 material), 48 exp
 //! sets on that geometry, fitted with the defaults and by the search alone
-//! (elements = sets).
+//! (in `f64` and `f32x8`; elements = sets).
 //! Run: `cargo bench --bench free` (one group: `cargo bench --bench free -- free_large_k`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use laminar_core::Angles;
 use laminar_fit::coverage::{noisy_sets, NoiseModel};
 use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
+use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Precision, Scene, Uncertainty};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -72,9 +73,20 @@ fn free(c: &mut Criterion) {
             b.iter(|| black_box(full.fit(&scene, model)))
         });
     }
-    let grid_only = fitter(Analysis::NONE);
-    group.bench_function("exp_grid_stage_only", |b| {
-        b.iter(|| black_box(grid_only.fit(&scene, Model::Exp)))
+    for precision in Precision::ALL {
+        let grid_only = fitter(Analysis::NONE).grid_precision(precision);
+        let suffix = if precision == Precision::F64 {
+            ""
+        } else {
+            "_f32"
+        };
+        group.bench_function(format!("exp_grid_stage_only{suffix}"), |b| {
+            b.iter(|| black_box(grid_only.fit(&scene, Model::Exp)))
+        });
+    }
+    let gauss_f32 = fitter(Analysis::FULL).grid_precision(Precision::F32);
+    group.bench_function("gauss_one_fit_defaults_f32", |b| {
+        b.iter(|| black_box(gauss_f32.fit(&scene, Model::Gauss)))
     });
     group.finish();
 
@@ -157,13 +169,15 @@ fn large_k(c: &mut Criterion) {
     let mut group = c.benchmark_group(format!("free_large_k_{}", angles.len()));
     group.sample_size(10);
     group.throughput(Throughput::Elements(count as u64));
-    for (label, analysis) in [
-        ("defaults", Analysis::FULL),
-        ("search_only", Analysis::NONE),
+    for (label, analysis, precision) in [
+        ("defaults", Analysis::FULL, Precision::F64),
+        ("search_only", Analysis::NONE, Precision::F64),
+        ("search_only_f32", Analysis::NONE, Precision::F32),
     ] {
         let fitter = Fitter::new(Grid::user())
             .expect("the default box is valid")
-            .analysis(analysis);
+            .analysis(analysis)
+            .grid_precision(precision);
         group.bench_function(format!("exp_{count}_sets_{label}"), |b| {
             b.iter(|| black_box(fitter.fit_batch(&batch, Model::Exp)))
         });

@@ -7,6 +7,7 @@ use crate::analysis::Analysis;
 use crate::error::FitError;
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
+use crate::free::search::Precision;
 use crate::grid::Grid;
 use crate::model::Model;
 use crate::objective::Objective;
@@ -64,6 +65,7 @@ pub struct Fitter {
     progress: Option<Progress>,
     analysis: Analysis,
     objective: Objective,
+    precision: Precision,
 }
 
 impl Fitter {
@@ -83,6 +85,7 @@ impl Fitter {
             progress: None,
             analysis: Analysis::FULL,
             objective: Objective::default(),
+            precision: Precision::F64,
         })
     }
 
@@ -108,6 +111,17 @@ impl Fitter {
     /// The analysis after the grid search.
     pub fn analysis_of_fits(&self) -> Analysis {
         self.analysis
+    }
+
+    /// The arithmetic of the free objective's grid stage for the layered
+    /// models (default [`Precision::F64`]; [`Precision::F32`] computes the
+    /// grid's model side in `f32x8` lanes, the refinement and everything
+    /// after it still in `f64`; its measured effect on the fits:
+    /// docs/speed.md). The paper objective's arithmetic is its
+    /// [`Fitter::path`]'s.
+    pub fn grid_precision(mut self, precision: Precision) -> Self {
+        self.precision = precision;
+        self
     }
 
     /// The search path of the layered models (default [`SearchPath::DEFAULT`]).
@@ -201,7 +215,7 @@ impl Fitter {
         let tick = || self.tick();
         self.run(|| match self.objective {
             Objective::Free => {
-                let fit = free::driver::fit(scene, model, &self.grid, analysis);
+                let fit = free::driver::fit(scene, model, (&self.grid, self.precision), analysis);
                 tick();
                 fit
             }
@@ -334,7 +348,13 @@ impl Fitter {
     fn fit_batch_with(&self, scenes: &[Scene], model: Model, analysis: Analysis) -> Vec<Fit> {
         let tick = || self.tick();
         self.run(|| match self.objective {
-            Objective::Free => free::driver::fit_batch(scenes, model, &self.grid, analysis, &tick),
+            Objective::Free => free::driver::fit_batch(
+                scenes,
+                model,
+                (&self.grid, self.precision),
+                analysis,
+                &tick,
+            ),
             Objective::Paper => self.paper(&tick).fit_batch(scenes, model),
         })
     }

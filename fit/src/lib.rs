@@ -88,6 +88,7 @@ pub use error::{FitError, GridError, MeasurementError, ModelError, UnknownName};
 pub use estimate::Estimate;
 pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
+pub use free::search::Precision;
 pub use grid::{Axis, Grid};
 pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::{Baseline, Model, Param};

@@ -1,7 +1,7 @@
 //! What a fit does, set by name from any front end: the objective, the
 //! grid's axes (and with the free objective the box every estimate and
-//! interval stays in), the search path, the analysis after the search and
-//! the worker threads. The command line, Python and WebAssembly hand their
+//! interval stays in), the search path, the free objective's grid-stage
+//! precision, the analysis after the search and the worker threads. The command line, Python and WebAssembly hand their
 //! options over by name and text ([`Settings::set`]); the parsing and the
 //! checks are here, once, and [`Settings::fitter`] builds the [`Fitter`].
 //!
@@ -18,6 +18,10 @@
 //! let e = s.set("sigma", "0:1:3").unwrap_err();
 //! assert!(e.to_string().contains("slope, beta, n, a"), "{e}");
 //! assert_eq!(s.fitter()?.objective_of_fits(), Objective::Paper);
+//! // The free objective's grid stage in f32x8 lanes.
+//! s.set("precision", "f32")?;
+//! let e = s.set("precision", "f16").unwrap_err();
+//! assert!(e.to_string().contains("f64 or f32"), "{e}");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
@@ -25,6 +29,7 @@ use crate::analysis::{parse_folds, parse_resamples, parse_seed, Analysis};
 use crate::error::{choices, FitError, GridError, UnknownName};
 use crate::fit::Fitter;
 use crate::fitted::param_names;
+use crate::free::search::Precision;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::objective::Objective;
@@ -41,6 +46,8 @@ pub struct Settings {
     pub axes: Vec<(Param, Axis)>,
     /// The search path of the layered models (the paper objective's grid search).
     pub path: SearchPath,
+    /// The arithmetic of the free objective's grid stage (layered models).
+    pub precision: Precision,
     /// Refinement and uncertainty after the search.
     pub analysis: Analysis,
     /// Worker threads (`None`: every core).
@@ -53,6 +60,7 @@ impl Default for Settings {
             objective: Objective::Free,
             axes: Vec::new(),
             path: SearchPath::DEFAULT,
+            precision: Precision::F64,
             analysis: Analysis::FULL,
             threads: None,
         }
@@ -76,7 +84,7 @@ pub enum SettingError {
 }
 
 /// The names [`Settings::set`] takes besides the grid's axes ([`Grid::PARAMS`]).
-pub const NAMES: [&str; 8] = [
+pub const NAMES: [&str; 9] = [
     "objective",
     "refine",
     "uncertainty",
@@ -84,6 +92,7 @@ pub const NAMES: [&str; 8] = [
     "seed",
     "folds",
     "path",
+    "precision",
     "threads",
 ];
 
@@ -93,6 +102,7 @@ impl Settings {
     /// `jacobian`, `both`, `bootstrap`), `resamples` (the bootstrap's, 2 to
     /// 100,000), `seed` (the bootstrap's and the folds'), `folds` (of the
     /// cross-validation comparing models: 0, or 2 to 100), `path` (`METHOD-ARITH`),
+    /// `precision` (the free objective's grid stage: `f64`, `f32`),
     /// `threads` (a count)
     /// or a grid axis by its parameter's name (`slope`, `beta`, `n`, `a`:
     /// `start:stop:count`, `start:stop:count:log` or one value).
@@ -120,6 +130,7 @@ impl Settings {
             "seed" => self.analysis.seed = parse_seed(value).map_err(invalid)?,
             "folds" => self.analysis.folds = parse_folds(value).map_err(invalid)?,
             "path" => self.path = value.parse().map_err(|e| invalid(format!("{e}")))?,
+            "precision" => self.precision = value.parse().map_err(|e| invalid(format!("{e}")))?,
             "threads" => {
                 let t = value
                     .parse()
@@ -189,6 +200,7 @@ impl Settings {
         let fitter = Fitter::new(self.grid()?)?
             .objective(self.objective)
             .path(self.path)
+            .grid_precision(self.precision)
             .analysis(self.analysis);
         match self.threads {
             Some(t) => fitter.threads(t),

@@ -92,6 +92,10 @@ fn exp_intervals_cover_the_truth() {
     check(Model::Exp);
 }
 
+/// Known bug (docs/conventions.md §11b): n's 68% rate with σ = 0.01
+/// estimated passes at 0.780 only because the profile walk ends one of
+/// its 200 intervals short (trial 141); with exact ends it is 0.785, above
+/// the band.
 #[test]
 fn gauss_intervals_cover_the_truth() {
     check(Model::Gauss);

@@ -66,6 +66,10 @@ export interface FitOptions {
   a?: string;
   /** Search path of the paper objective, e.g. 'envelope-f32x8' (the default). */
   path?: string;
+  /** The free objective's grid stage: 'f64' (default) or 'f32' (the model's
+   * terms at each grid point in f32x8 lanes; the refinement and intervals
+   * still in f64). */
+  precision?: 'f64' | 'f32';
   /** Called after each grid shard (paper: one σ/T value; free: the whole
    * fit) with (done, total). */
   onProgress?: (done: number, total: number) => void;
@@ -205,7 +209,7 @@ pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<
 
 #[cfg(test)]
 mod tests {
-    use laminar_fit::{settings, Grid, Objective, Param, Uncertainty};
+    use laminar_fit::{settings, Grid, Objective, Param, Precision, Uncertainty};
 
     /// The `FitOptions` declaration, read from this file (wasm-bindgen
     /// takes the constant over, so the test reads the source).
@@ -234,6 +238,8 @@ mod tests {
         assert!(declared.contains(&format!("objective?: {objectives};")));
         let uncertainties = union(Uncertainty::ALL.map(|u| u.to_string()).to_vec());
         assert!(declared.contains(&format!("uncertainty?: {uncertainties};")));
+        let precisions = union(Precision::ALL.map(|p| p.to_string()).to_vec());
+        assert!(declared.contains(&format!("precision?: {precisions};")));
         let names = settings::NAMES
             .into_iter()
             .filter(|&n| n != "threads") // one thread in the browser

@@ -11,7 +11,8 @@ use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::paper::search::SearchPath;
 use laminar_fit::{
-    Analysis, Axis, Fitter, Model, Objective, Param, Quantity, Settings, Uncertainty, UnknownName,
+    Analysis, Axis, Fitter, Model, Objective, Param, Precision, Quantity, Settings, Uncertainty,
+    UnknownName,
 };
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
@@ -236,6 +237,15 @@ pub struct ObjectiveArgs {
     /// by their max (what `reproduce` uses).
     #[arg(long, default_value_t = Objective::Free, value_parser = parse_objective)]
     pub objective: Objective,
+    /// The free objective's grid stage (layered models): f64, or f32 (each
+    /// grid point's model terms in f32x8 lanes; the refinement and
+    /// intervals still in f64; docs/speed.md gives its measured effect).
+    #[arg(long, default_value_t = Precision::F64, value_parser = parse_precision)]
+    pub precision: Precision,
+}
+
+fn parse_precision(s: &str) -> Result<Precision, UnknownName> {
+    s.parse()
 }
 
 fn parse_objective(s: &str) -> Result<Objective, UnknownName> {
@@ -325,23 +335,25 @@ impl FitterArgs {
             &self.threads,
             self.path.path,
             &self.analysis,
-            self.objective.objective,
+            (self.objective.objective, self.objective.precision),
         )
     }
 }
 
-/// A fitter of `objective` on the grid with the threads, path and analysis given.
+/// A fitter of `objective` (its grid stage in `precision` under the free
+/// objective) on the grid with the threads, path and analysis given.
 pub fn fitter(
     grid: &GridArgs,
     threads: &ThreadArgs,
     path: SearchPath,
     analysis: &AnalysisArgs,
-    objective: Objective,
+    (objective, precision): (Objective, Precision),
 ) -> Result<Fitter, CliError> {
     let settings = Settings {
         objective,
         axes: grid.axes(),
         path,
+        precision,
         analysis: analysis.analysis(),
         threads: threads.threads,
     };

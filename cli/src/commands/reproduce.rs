@@ -7,7 +7,7 @@ use clap::Args;
 use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::Objective;
+use laminar_fit::{Objective, Precision};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -46,7 +46,7 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
         &args.threads,
         args.path.path,
         &args.analysis,
-        Objective::Paper,
+        (Objective::Paper, Precision::F64),
     )?;
     let jobs = args
         .curet

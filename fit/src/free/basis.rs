@@ -17,8 +17,9 @@ use crate::baseline::BaselineGeometry;
 use crate::model::{Family, Model};
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
 use laminar_core::{
-    f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
+    f32x8, f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
 };
+use std::sync::OnceLock;
 
 /// The columns of a model at one point: `s` always, `u` for the layered
 /// models (empty for a baseline). Of a derivative, an empty column is zero
@@ -50,6 +51,12 @@ pub enum Basis {
         /// as one at a time (the core's f64x4 path is bitwise its scalar
         /// f64 path).
         packed: Vec<Geometry<f64x4>>,
+        /// The same eight at a time in single precision (the last group
+        /// padded likewise), for the grid stage's `f32x8` path: built from
+        /// `angles` when first asked for.
+        packed8: OnceLock<Vec<Geometry<f32x8>>>,
+        /// The measurements' directions.
+        angles: Vec<Angles>,
         /// `cos²θi` of each measurement.
         cos2_i: Vec<f64>,
         /// `cos²θs` of each measurement.
@@ -166,13 +173,40 @@ fn log_n_derivative(
         + transmission(g.cos_s, cs, dcs, rs)
 }
 
-/// `angles` four at a time, the last group padded with its last
+/// `angles` a lane's width at a time, the last group padded with its last
 /// measurement (whose lanes [`unpack`] drops).
-fn pack(angles: &[Angles]) -> Vec<Geometry<f64x4>> {
+fn pack<L: Lane>(angles: &[Angles]) -> Vec<Geometry<L>> {
     angles
-        .chunks(4)
+        .chunks(L::LANES)
         .map(|group| Geometry::from_lanes(|i| group[i.min(group.len() - 1)]))
         .collect()
+}
+
+/// A lane type the basis keeps the measurements' geometry packed in:
+/// `f64x4` (every stage) and `f32x8` (the grid stage in single precision).
+pub trait Packed: Lane {
+    /// The packed geometry of `basis` (empty for a baseline).
+    fn packed(basis: &Basis) -> &[Geometry<Self>];
+}
+
+impl Packed for f64x4 {
+    fn packed(basis: &Basis) -> &[Geometry<Self>] {
+        match basis {
+            Basis::Layered { packed, .. } => packed,
+            Basis::Baseline(_) => &[],
+        }
+    }
+}
+
+impl Packed for f32x8 {
+    fn packed(basis: &Basis) -> &[Geometry<Self>] {
+        match basis {
+            Basis::Layered {
+                packed8, angles, ..
+            } => packed8.get_or_init(|| pack(angles)),
+            Basis::Baseline(_) => &[],
+        }
+    }
 }
 
 /// The first `len` lanes of `groups`, in measurement order.
@@ -196,6 +230,8 @@ impl Basis {
                 Self::Layered {
                     corr: correlation,
                     packed: pack(angles),
+                    packed8: OnceLock::new(),
+                    angles: angles.to_vec(),
                     cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
                     cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
                     len: angles.len(),
@@ -228,13 +264,10 @@ impl Basis {
         }
     }
 
-    /// The boundary at refractive index `n` ([`super::boundary`]), four
-    /// measurements at a time (layered models only).
-    pub fn boundary(&self, n: f64) -> Vec<BoundaryGroup> {
-        match self {
-            Self::Layered { packed, .. } => boundary(packed, n),
-            Self::Baseline(_) => Vec::new(),
-        }
+    /// The boundary at refractive index `n` ([`super::boundary`]), a lane's
+    /// width of measurements at a time (layered models only).
+    pub fn boundary<L: Packed>(&self, n: f64) -> Vec<BoundaryGroup<L>> {
+        boundary(L::packed(self), n)
     }
 
     /// The raw surface term at σ/T (layered models only).
@@ -250,18 +283,19 @@ impl Basis {
     }
 
     /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on the boundary at
-    /// one n ([`Basis::boundary`]), four measurements at a time (the last
-    /// group padded as [`Basis::boundary`]'s is); empty for a baseline.
-    pub fn base_groups<'a>(
+    /// one n ([`Basis::boundary`]), a lane's width of measurements at a time
+    /// (the last group padded as [`Basis::boundary`]'s is); empty for a
+    /// baseline.
+    pub fn base_groups<'a, L: Lane + 'a>(
         &self,
         slope: f64,
-        boundary: &'a [BoundaryGroup],
-    ) -> impl Iterator<Item = f64x4> + 'a {
+        boundary: &'a [BoundaryGroup<L>],
+    ) -> impl Iterator<Item = L> + 'a {
         let corr = match self {
             Self::Layered { corr, .. } => Some(*corr),
             Self::Baseline(_) => None,
         };
-        let t = f64x4::splat(inverse_slope_squared(slope));
+        let t = L::c(inverse_slope_squared(slope));
         corr.into_iter()
             .flat_map(move |corr| boundary.iter().map(move |b| b.base(corr, t)))
     }
@@ -332,7 +366,7 @@ impl Basis {
     /// `theta`: the boundary when n is held (a profile of n).
     pub fn held(&self, theta: &[f64], free: &[bool]) -> Held {
         let boundary = match self {
-            Self::Layered { .. } if !free[1] => Some((theta[1], self.boundary(theta[1]))),
+            Self::Layered { .. } if !free[1] => Some((theta[1], self.boundary::<f64x4>(theta[1]))),
             _ => None,
         };
         Held { boundary }

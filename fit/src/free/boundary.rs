@@ -19,23 +19,25 @@
 
 use laminar_core::{f64x4, Correlation, Geometry, Lane};
 
-/// One group of four measurements at one n.
+/// One group of measurements at one n: four in `f64x4` lanes (the
+/// refinement's and, by default, the grid stage's), eight in `f32x8`
+/// lanes (the grid stage's in single precision, [`super::search`]).
 #[derive(Debug, Clone, Copy)]
-pub struct BoundaryGroup {
+pub struct BoundaryGroup<L = f64x4> {
     /// `P`: `B = P · shape(x′)`.
-    pub factor: f64x4,
+    pub factor: L,
     /// `v_xy² / (n² v_z′²)`: `x′ = ratio · (T/σ)²`; +∞ where `v_z′ = 0`.
-    pub ratio: f64x4,
+    pub ratio: L,
     /// `cos θi′`.
-    pub cos_i: f64x4,
+    pub cos_i: L,
     /// `cos θs′`.
-    pub cos_s: f64x4,
+    pub cos_s: L,
 }
 
-impl BoundaryGroup {
+impl<L: Lane> BoundaryGroup<L> {
     /// The boundary of the measurements `g` at index `n ≥ 1` (`inv_n` its
-    /// reciprocal).
-    pub fn new(g: &Geometry<f64x4>, n: f64, inv_n: f64) -> Self {
+    /// reciprocal; both rounded once to the lane precision).
+    pub fn new(g: &Geometry<L>, n: f64, inv_n: f64) -> Self {
         if n == 1.0 {
             // No boundary: the layer's terms are the surface's own, bit for
             // bit (`U ≡ S` at a = 0, as in the core, so that β's tie there
@@ -47,15 +49,15 @@ impl BoundaryGroup {
                 cos_s: g.cos_s,
             };
         }
-        let (n, inv_n) = (f64x4::splat(n), f64x4::splat(inv_n));
-        let (zero, one) = (f64x4::c(0.0), f64x4::c(1.0));
+        let (n, inv_n) = (L::c(n), L::c(inv_n));
+        let (zero, one) = (L::c(0.0), L::c(1.0));
         let n2m1 = (n - one) * (n + one);
         // Snell: `cos θ′ = √(n² − 1 + cos²θ)/n` (no total internal
         // reflection from air into the layer; the max guards n < 1).
-        let refract = |c: f64x4| (n2m1 + c * c).max(zero).sqrt() * inv_n;
+        let refract = |c: L| (n2m1 + c * c).max(zero).sqrt() * inv_n;
         let (ci, cs) = (refract(g.cos_i), refract(g.cos_s));
         // `t · s² p² / (2 n c c′) = s² + p²` and `s² p²` of one direction.
-        let parts = |c: f64x4, c2: f64x4| {
+        let parts = |c: L, c2: L| {
             let (s, p) = (c + n * c2, n * c + c2);
             let (s2, p2) = (s * s, p * p);
             (s2 + p2, s2 * p2)
@@ -69,16 +71,12 @@ impl BoundaryGroup {
         let lit = zero.lt(vz2);
         let den = prod_i * prod_s;
         let passes = zero.lt(den) & lit;
-        let safe = |v: f64x4, ok| f64x4::select(ok, v, one);
+        let safe = |v: L, ok| L::select(ok, v, one);
         let inv_vz2 = one / safe(vz2, lit);
         // `cos θi · t_i t_s / n²` with `t_i t_s = 4 n² ci ci′ cs cs′ Σi Σs/(Πi Πs)`.
-        let numerator = f64x4::c(4.0) * g.cos_i * g.cos_i * ci * g.cos_s * cs * sum_i * sum_s;
-        let factor = f64x4::select(passes, numerator / safe(den, passes) * inv_vz2, zero);
-        let ratio = f64x4::select(
-            lit,
-            g.vxy2 * (inv_n * inv_n) * inv_vz2,
-            f64x4::c(f64::INFINITY),
-        );
+        let numerator = L::c(4.0) * g.cos_i * g.cos_i * ci * g.cos_s * cs * sum_i * sum_s;
+        let factor = L::select(passes, numerator / safe(den, passes) * inv_vz2, zero);
+        let ratio = L::select(lit, g.vxy2 * (inv_n * inv_n) * inv_vz2, L::c(f64::INFINITY));
         Self {
             factor,
             ratio,
@@ -89,14 +87,14 @@ impl BoundaryGroup {
 
     /// `B` at `(T/σ)² = t` (eqs. 3–4).
     #[inline]
-    pub fn base(&self, corr: Correlation, t: f64x4) -> f64x4 {
+    pub fn base(&self, corr: Correlation, t: L) -> L {
         corr.scaled_shape(self.factor, self.ratio * t)
     }
 }
 
-/// The boundary of every measurement at one n, four at a time
+/// The boundary of every measurement at one n, a lane's width at a time
 /// ([`super::basis`]'s packing).
-pub fn boundary(packed: &[Geometry<f64x4>], n: f64) -> Vec<BoundaryGroup> {
+pub fn boundary<L: Lane>(packed: &[Geometry<L>], n: f64) -> Vec<BoundaryGroup<L>> {
     let inv_n = 1.0 / n;
     packed
         .iter()

@@ -14,7 +14,7 @@ use super::problem::{Point, Problem};
 use super::record::{correlations, parameters};
 use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{
-    grid_starts, grid_values, grid_values_many, GridValues, ModelSide, SETS_PER_PASS,
+    grid_starts, grid_values, grid_values_many, GridValues, ModelSide, Precision, SETS_PER_PASS,
 };
 use crate::adequacy::Adequacy;
 use crate::analysis::{Analysis, Uncertainty};
@@ -198,11 +198,17 @@ fn release(
 
 /// Fits `model` to `scene` under the free-amplitude objective in the box of
 /// `grid` (its axes' ranges; the layered models' grid over σ/T, n and a,
-/// the baselines' their own grids), with `analysis` after the grid stage.
-pub fn fit(scene: &Scene, model: Model, grid: &Grid, analysis: Analysis) -> Fit {
+/// the baselines' their own grids), the grid stage's bases in `precision`,
+/// with `analysis` after the grid stage.
+pub fn fit(
+    scene: &Scene,
+    model: Model,
+    (grid, precision): (&Grid, Precision),
+    analysis: Analysis,
+) -> Fit {
     let layout = Layout::new(model, grid);
     let problem = problem_of(scene, model, &layout, None);
-    let values = grid_values(&problem, &layout.axes);
+    let values = grid_values(&problem, &layout.axes, precision);
     fit_from(scene, model, &layout, problem, values, analysis)
 }
 
@@ -225,7 +231,7 @@ fn problem_of(scene: &Scene, model: Model, layout: &Layout, basis: Option<Arc<Ba
 pub fn fit_batch(
     scenes: &[Scene],
     model: Model,
-    grid: &Grid,
+    (grid, precision): (&Grid, Precision),
     analysis: Analysis,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<Fit> {
@@ -239,7 +245,7 @@ pub fn fit_batch(
     let basis = one_geometry.then(|| Arc::new(Basis::new(model, first.angles())));
     let first = problem_of(first, model, &layout, basis.clone());
     let shared = (one_geometry && scenes.iter().all(|s| ModelSide::shareable(&first, s)))
-        .then(|| ModelSide::new(&first, &layout.axes));
+        .then(|| ModelSide::new(&first, &layout.axes, precision));
     // [`SETS_PER_PASS`] sets at a time: their grid stage in one pass over
     // the shared model side, then each set's fit.
     scenes
@@ -256,7 +262,7 @@ pub fn fit_batch(
                 }
                 None => problems
                     .iter()
-                    .map(|p| grid_values(p, &layout.axes))
+                    .map(|p| grid_values(p, &layout.axes, precision))
                     .collect(),
             };
             problems
@@ -525,7 +531,7 @@ mod tests {
         let scene = synthetic::default_scene();
         let grid = Grid::user();
         for model in Model::ALL {
-            let fit = fit(&scene, model, &grid, Analysis::FULL);
+            let fit = fit(&scene, model, (&grid, Precision::F64), Analysis::FULL);
             let estimates = [Some(&fit.best), fit.refined.as_ref(), fit.rh.as_ref()];
             for (which, e) in estimates.into_iter().enumerate() {
                 let Some(e) = e else { continue };

@@ -9,11 +9,13 @@
 //! `B2 = B cos²θi cos²θs`) are formed once; every a of the axis is then a
 //! 2×2 solve from polynomials in a, with no pass over the measurements.
 
+use super::basis::Basis;
+use super::boundary::BoundaryGroup;
 use super::linear::Quadratic;
 use super::problem::Problem;
 use super::sums::{dots, total};
 use crate::scene::Scene;
-use laminar_core::{f64x4, Lane};
+use laminar_core::{f32x8, f64x4, Lane};
 use rayon::prelude::*;
 
 /// The grid axes of the nonlinear parameters, in the model's values (σ/T,
@@ -158,9 +160,72 @@ fn interleave<const N: usize>(vectors: [&[f64]; N]) -> (Vec<[f64x4; N]>, Vec<[f6
     (groups, tail)
 }
 
+/// The arithmetic of the grid stage's model side: each column's base `B`
+/// (eqs. 3–7) at every grid point of σ/T and n. Its sums, the data's and
+/// every later stage run in `f64` either way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Precision {
+    /// `f64x4` lanes (the default): the grid values are the objective
+    /// evaluated in `f64` at each grid point.
+    #[default]
+    F64,
+    /// `f32x8` lanes (the core's single-precision path, bitwise its scalar
+    /// `f32` on every target), widened exactly to `f64` for the sums: each
+    /// `B` within a few `f32` ulps, so a grid value moves by about 10⁻⁷ of
+    /// `Σ w D²`, which can change the grid's best point only among
+    /// near-ties; the refinement then runs in `f64` from the grid's basins
+    /// (the measured differences: docs/speed.md).
+    F32,
+}
+
+impl Precision {
+    /// Both, the default first.
+    pub const ALL: [Precision; 2] = [Self::F64, Self::F32];
+}
+
+impl std::fmt::Display for Precision {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::F64 => "f64",
+            Self::F32 => "f32",
+        })
+    }
+}
+
+impl std::str::FromStr for Precision {
+    type Err = crate::error::UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        crate::error::find_named("precision", &Self::ALL, |p| p.to_string(), s)
+    }
+}
+
+/// Groups of eight `f32` values as groups of four `f64` (exactly).
+fn widened(groups: impl Iterator<Item = f32x8>) -> impl Iterator<Item = f64x4> {
+    groups.flat_map(|v| {
+        let v = v.to_array();
+        [0, 4].map(|h| f64x4::from_f64_lanes(|i| f64::from(v[h + i])))
+    })
+}
+
+/// The boundary at every n of the grid, in the model side's arithmetic.
+enum Boundaries {
+    F64(Vec<Vec<BoundaryGroup>>),
+    F32(Vec<Vec<BoundaryGroup<f32x8>>>),
+}
+
+impl Boundaries {
+    fn new(basis: &Basis, n_axis: &[f64], precision: Precision) -> Self {
+        match precision {
+            Precision::F64 => Self::F64(n_axis.iter().map(|&n| basis.boundary(n)).collect()),
+            Precision::F32 => Self::F32(n_axis.iter().map(|&n| basis.boundary(n)).collect()),
+        }
+    }
+}
+
 impl ModelSide {
-    /// The model side of `problem` (a layered model) on `axes`.
-    pub fn new(problem: &Problem, axes: &GridAxes) -> Self {
+    /// The model side of `problem` (a layered model) on `axes`, its bases
+    /// in `precision`.
+    pub fn new(problem: &Problem, axes: &GridAxes, precision: Precision) -> Self {
         let basis = &problem.basis;
         let (ci, cs) = basis.cosines();
         let k = problem.data.len();
@@ -171,7 +236,7 @@ impl ModelSide {
         let g11: Vec<f64> = g1.iter().map(|g| g * g).collect();
         let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
-        let boundaries: Vec<_> = axes.axes[1].iter().map(|&n| basis.boundary(n)).collect();
+        let boundaries = Boundaries::new(basis, &axes.axes[1], precision);
         let w = &problem.weight;
         let rows = axes.axes[0]
             .par_iter()
@@ -180,13 +245,25 @@ impl ModelSide {
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
                 let (coefficients, tail) = interleave([w, &ws, &g1, &g2, &g11, &g12, &g22]);
-                let columns = boundaries
-                    .iter()
-                    .map(|boundary| {
-                        let groups = basis.base_groups(slope, boundary);
-                        ColumnSums::new(groups, k, &coefficients, &tail)
-                    })
-                    .collect();
+                let columns = match &boundaries {
+                    Boundaries::F64(each) => each
+                        .iter()
+                        .map(|b| {
+                            ColumnSums::new(basis.base_groups(slope, b), k, &coefficients, &tail)
+                        })
+                        .collect(),
+                    Boundaries::F32(each) => each
+                        .iter()
+                        .map(|b| {
+                            ColumnSums::new(
+                                widened(basis.base_groups(slope, b)),
+                                k,
+                                &coefficients,
+                                &tail,
+                            )
+                        })
+                        .collect(),
+                };
                 SlopeRow { s, ss, columns }
             })
             .collect();
@@ -201,10 +278,11 @@ impl ModelSide {
 }
 
 /// The objective at every grid point of `axes` (layered: σ/T, n and, for
-/// the absorptive models, a; baselines: their two parameters).
-pub fn grid_values(problem: &Problem, axes: &GridAxes) -> GridValues {
+/// the absorptive models, a, their bases in `precision`; baselines: their
+/// two parameters, in `f64`).
+pub fn grid_values(problem: &Problem, axes: &GridAxes, precision: Precision) -> GridValues {
     if problem.basis.has_balance() {
-        let side = ModelSide::new(problem, axes);
+        let side = ModelSide::new(problem, axes, precision);
         let mut values = grid_values_many(&[problem], axes, &side);
         values.pop().expect("one set, one grid")
     } else {
@@ -427,11 +505,11 @@ mod tests {
                 vec![0.0, 0.3, 1.0],
             ],
         };
-        let side = ModelSide::new(&problems[0], &axes);
+        let side = ModelSide::new(&problems[0], &axes, Precision::F64);
         let refs: Vec<&Problem> = problems.iter().collect();
         let together = grid_values_many(&refs, &axes, &side);
         for (problem, values) in problems.iter().zip(&together) {
-            assert_eq!(values, &grid_values(problem, &axes));
+            assert_eq!(values, &grid_values(problem, &axes, Precision::F64));
             assert!(values.sse.iter().all(|e| e.is_finite()));
         }
         assert_ne!(together[0], together[1]);
@@ -448,6 +526,70 @@ mod tests {
                     "at {at:?}: grid {sse}, direct {direct}"
                 );
             }
+        }
+    }
+
+    /// The grid stage in single precision ([`Precision::F32`]): every base
+    /// `B` of at least 10⁻³ of its column's largest within 8 `f32` ulps of
+    /// the `f64` one (exponential) or 20 (Gaussian: its tail's `exp`
+    /// amplifies the rounding of its argument), every grid value within
+    /// 2·10⁻⁷ of `Σ w D²` of the `f64` one; on the default grid, with a last
+    /// group of eight that is partly padding.
+    #[test]
+    fn single_precision_grid_values_are_the_f64_ones_to_its_rounding() {
+        use super::super::layout::Layout;
+        use crate::grid::Grid;
+        let mut angles = synthetic::geometries();
+        angles.truncate(angles.len() / 8 * 8 - 3);
+        for model in [Model::Exp, Model::Gauss] {
+            let layout = Layout::new(model, &Grid::user());
+            let scene = &noisy_sets(
+                &angles,
+                model,
+                Objective::Free,
+                NoiseModel::Every(0.01),
+                1,
+                3,
+            )[0];
+            let problem = Problem::new(
+                scene,
+                (model, None),
+                (layout.bounds.clone(), layout.reported.clone()),
+                layout.domain.clone(),
+                layout.beta,
+            );
+            let [wide, narrow] =
+                [Precision::F64, Precision::F32].map(|p| ModelSide::new(&problem, &layout.axes, p));
+            let mut worst_base: f64 = 0.0;
+            for (a, b) in wide.rows.iter().zip(&narrow.rows) {
+                for (a, b) in a.columns.iter().zip(&b.columns) {
+                    assert_eq!(a.base.len(), b.base.len());
+                    let top = a.base.iter().fold(0.0, |m: f64, x| m.max(*x));
+                    for (x, y) in a.base.iter().zip(&b.base) {
+                        if *x > 1e-3 * top {
+                            worst_base = worst_base.max((x - y).abs() / x);
+                        }
+                    }
+                }
+            }
+            let refs = [&problem];
+            let [wide, narrow] =
+                [wide, narrow].map(|side| grid_values_many(&refs, &layout.axes, &side).remove(0));
+            let worst_value = wide
+                .sse
+                .iter()
+                .zip(&narrow.sse)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max)
+                / problem.dd;
+            // Measured: 6.6 and 17.6 f32 ulps; 9.6e-8 and 5.2e-8 of Σ w D².
+            let ulps = worst_base / f64::from(f32::EPSILON);
+            let most = if model == Model::Exp { 8.0 } else { 20.0 };
+            assert!(ulps <= most, "{model}: a base {ulps} f32 ulps off");
+            assert!(
+                worst_value <= 2e-7,
+                "{model}: a grid value {worst_value:e} of Σ w D² off"
+            );
         }
     }
 }

@@ -1,0 +1,80 @@
+//! The grid stage in `f32` against `f64` (`Precision`): the same sets
+//! fitted with the defaults both ways, and per (model, noise) how many
+//! fits' best grid point moved and the largest change of a refined value
+//! and of an interval's end, as a fraction of that parameter's 68.27%
+//! interval (the `f64` fit's headline). The table of docs/speed.md. Run:
+//! `cargo run --release -p laminar-fit --example grid_precision -- [SETS]`
+//! (with `CURET_DIR` set, CUReT sample 21's geometry is used besides the
+//! built-in one).
+
+use laminar_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
+use laminar_fit::synthetic;
+use laminar_fit::{Fit, Fitter, Grid, Model, Objective, Precision};
+use laminar_io::curet::CuretDir;
+use std::path::{Path, PathBuf};
+
+/// The largest changes between two fits of one set, as fractions of the
+/// `f64` fit's 68.27% intervals: (grid point moved, refined value, an
+/// interval's end).
+fn changes(wide: &Fit, narrow: &Fit) -> (bool, f64, f64) {
+    let mut moved = false;
+    let (mut value, mut end) = (0.0f64, 0.0f64);
+    for (p, q) in wide.parameters.iter().zip(&narrow.parameters) {
+        assert_eq!(p.name, q.name);
+        moved |= p.grid != q.grid;
+        let Some(width) = p.interval68.map(|i| i.hi - i.lo).filter(|w| *w > 0.0) else {
+            continue;
+        };
+        value = value.max((p.value() - q.value()).abs() / width);
+        for (a, b) in [(p.interval68, q.interval68), (p.interval95, q.interval95)] {
+            if let (Some(a), Some(b)) = (a, b) {
+                end = end.max((a.lo - b.lo).abs().max((a.hi - b.hi).abs()) / width);
+            }
+        }
+    }
+    (moved, value, end)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let count: usize = std::env::args().nth(1).map_or(Ok(200), |a| a.parse())?;
+    let mut geometries = vec![("built-in", synthetic::geometries())];
+    if let Some(dir) = std::env::var_os("CURET_DIR") {
+        let scene = CuretDir::open(Path::new(&dir))?
+            .samples(&[PathBuf::from("abrdf.dat")], Some(&[21]))?
+            .remove(0)
+            .set
+            .scene("avg")?;
+        geometries.push(("CUReT 21", scene.angles().to_vec()));
+    }
+    let noises = [
+        SETTINGS[0],
+        SETTINGS[1],
+        NoiseModel::Every(1e-3),
+        NoiseModel::Every(0.0),
+    ];
+    let fitter = Fitter::new(Grid::user())?.objective(Objective::Free);
+    let single = fitter.clone().grid_precision(Precision::F32);
+    println!("| geometry | model | noise | sets | grid point moved | largest refined change | largest end change |");
+    println!("|---|---|---|---|---|---|---|");
+    for (label, angles) in &geometries {
+        for model in [Model::Exp, Model::Gauss, Model::RhExp, Model::RhGauss] {
+            for noise in noises {
+                let sets = noisy_sets(angles, model, Objective::Free, noise, count, 2016);
+                let wide = fitter.fit_batch(&sets, model);
+                let narrow = single.fit_batch(&sets, model);
+                let (mut moved, mut value, mut end) = (0, 0.0f64, 0.0f64);
+                for (a, b) in wide.iter().zip(&narrow) {
+                    let (m, v, e) = changes(a, b);
+                    moved += usize::from(m);
+                    value = value.max(v);
+                    end = end.max(e);
+                }
+                println!(
+                    "| {label} | {model} | {} | {count} | {moved} | {value:.1e} | {end:.1e} |",
+                    noise.label()
+                );
+            }
+        }
+    }
+    Ok(())
+}
