@@ -52,20 +52,42 @@ pub fn normal_cdf(z: f64) -> f64 {
     0.5 * libm::erfc(-z / core::f64::consts::SQRT_2)
 }
 
+/// The measurements in the runs test's order (see the module docs): by
+/// `tan²θh`, ties by θi, ties of both by index. It depends on the geometry
+/// only, so the sets of a batch on one geometry share it (each order costs
+/// a geometry's sines and cosines and a sort of all K measurements).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunsOrder(Vec<usize>);
+
+impl RunsOrder {
+    /// The order of the measurements `angles`.
+    pub fn new(angles: &[Angles]) -> Self {
+        let mut keyed: Vec<(f64, f64, usize)> = angles
+            .iter()
+            .enumerate()
+            .map(|(k, a)| (Geometry::<f64>::splat(a).ratio, a.theta_i(), k))
+            .collect();
+        // Stable: equal keys keep the measurements' order.
+        keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        Self(keyed.into_iter().map(|(_, _, k)| k).collect())
+    }
+}
+
 /// The runs test of the residuals `r` at `angles` (see the module docs):
 /// `(z, p)`, `None` with fewer than two residuals of each sign.
 pub fn runs_test(angles: &[Angles], r: &[f64]) -> Option<(f64, f64)> {
-    // Each measurement's key once (a geometry costs sines and cosines).
-    let mut keyed: Vec<(f64, f64, usize)> = (0..angles.len())
-        .filter(|&k| r[k] != 0.0)
-        .map(|k| {
-            let a = &angles[k];
-            (Geometry::<f64>::splat(a).ratio, a.theta_i(), k)
-        })
+    runs_test_in(&RunsOrder::new(angles), r)
+}
+
+/// [`runs_test`] with the measurements' order already formed; residuals
+/// of exactly 0 are left out.
+pub fn runs_test_in(order: &RunsOrder, r: &[f64]) -> Option<(f64, f64)> {
+    let signs: Vec<bool> = order
+        .0
+        .iter()
+        .filter(|&&k| r[k] != 0.0)
+        .map(|&k| r[k] > 0.0)
         .collect();
-    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let order: Vec<usize> = keyed.into_iter().map(|(_, _, k)| k).collect();
-    let signs: Vec<bool> = order.iter().map(|&k| r[k] > 0.0).collect();
     let pos = signs.iter().filter(|&&s| s).count() as f64;
     let n = signs.len() as f64;
     let neg = n - pos;
@@ -84,10 +106,16 @@ impl Adequacy {
     /// The tests of a fit with weighted residuals `e = √w r` at `angles`,
     /// `p` fitted parameters; `weighted` when the weights are `1/σ²`.
     pub fn new(angles: &[Angles], e: &[f64], p: usize, weighted: bool) -> Self {
+        Self::in_order(&RunsOrder::new(angles), e, p, weighted)
+    }
+
+    /// [`Adequacy::new`] with the measurements' order for the runs test
+    /// already formed.
+    pub fn in_order(order: &RunsOrder, e: &[f64], p: usize, weighted: bool) -> Self {
         let chi2_p = weighted
             .then(|| chi2_survival(e.iter().map(|v| v * v).sum(), e.len().saturating_sub(p)))
             .flatten();
-        let runs = runs_test(angles, e);
+        let runs = runs_test_in(order, e);
         let lack_of_fit =
             chi2_p.is_some_and(|p| p < LACK_OF_FIT) || runs.is_some_and(|(_, p)| p < LACK_OF_FIT);
         Self {

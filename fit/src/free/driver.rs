@@ -5,7 +5,7 @@
 //! record ([`super::record`]). The paper objective's driver is
 //! [`crate::paper::driver`]; [`crate::Fitter`] dispatches to one or the other.
 
-use super::basis::Basis;
+use super::basis::{Basis, Columns};
 use super::bootstrap::bootstrap;
 use super::cross_validation::cross_validate;
 use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
@@ -16,7 +16,7 @@ use super::refine::{minimise, refine, SCREENING, TOLERANCE};
 use super::search::{
     grid_starts, grid_values, grid_values_many, GridValues, ModelSide, Precision, SETS_PER_PASS,
 };
-use crate::adequacy::Adequacy;
+use crate::adequacy::{Adequacy, RunsOrder};
 use crate::analysis::{Analysis, Uncertainty};
 use crate::choice::Information;
 use crate::estimate::Estimate;
@@ -27,7 +27,7 @@ use crate::objective::Objective;
 use crate::report::{Fit, Parameter, Released};
 use crate::scene::Scene;
 use rayon::prelude::*;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Most starts of the refinement: the best point of each of the grid's
 /// best basins.
@@ -209,7 +209,16 @@ pub fn fit(
     let layout = Layout::new(model, grid);
     let problem = problem_of(scene, model, &layout, None);
     let values = grid_values(&problem, &layout.axes, precision);
-    fit_from(scene, model, &layout, problem, values, analysis)
+    let runs_order = OnceLock::new();
+    fit_from(
+        scene,
+        model,
+        &layout,
+        problem,
+        &runs_order,
+        values,
+        analysis,
+    )
 }
 
 /// The objective of `model` on `scene` in the box of `layout`, on `basis`
@@ -243,6 +252,7 @@ pub fn fit_batch(
     // the model side of the grid stage too.
     let one_geometry = scenes.iter().all(|s| s.angles() == first.angles());
     let basis = one_geometry.then(|| Arc::new(Basis::new(model, first.angles())));
+    let shared_runs_order = OnceLock::new();
     let first = problem_of(first, model, &layout, basis.clone());
     let shared = (one_geometry && scenes.iter().all(|s| ModelSide::shareable(&first, s)))
         .then(|| ModelSide::new(&first, &layout.axes, precision));
@@ -270,7 +280,14 @@ pub fn fit_batch(
                 .zip(values)
                 .zip(chunk)
                 .map(|((problem, values), scene)| {
-                    let fit = fit_from(scene, model, &layout, problem, values, analysis);
+                    let own_runs_order = OnceLock::new();
+                    let runs_order = if one_geometry {
+                        &shared_runs_order
+                    } else {
+                        &own_runs_order
+                    };
+                    let fit =
+                        fit_from(scene, model, &layout, problem, runs_order, values, analysis);
                     progress();
                     fit
                 })
@@ -279,12 +296,15 @@ pub fn fit_batch(
         .collect()
 }
 
-/// A fit from its grid stage's values on.
+/// A fit from its grid stage's values on; `runs_order`, the adequacy
+/// test's order of the measurements, is formed at the first fit that
+/// needs it (shared by the fits of a batch on one geometry).
 fn fit_from(
     scene: &Scene,
     model: Model,
     layout: &Layout,
     problem: Problem,
+    runs_order: &OnceLock<RunsOrder>,
     values: GridValues,
     analysis: Analysis,
 ) -> Fit {
@@ -388,7 +408,8 @@ fn fit_from(
         .and_then(|c| correlations(layout, c));
     record.amplitude = Some(minimum.linear.amplitude());
     record.chi2_weighted = chi2_weighted(&problem, minimum);
-    record.adequacy = Some(adequacy(scene, &problem, minimum));
+    let runs_order = runs_order.get_or_init(|| RunsOrder::new(scene.angles()));
+    record.adequacy = Some(adequacy(runs_order, &problem, minimum, &minimum_columns));
     record.information = Information::new(
         minimum.sse,
         problem.data.len(),
@@ -401,16 +422,17 @@ fn fit_from(
     record
 }
 
-/// The adequacy tests of the residuals at `point` ([`crate::adequacy`]).
-fn adequacy(scene: &Scene, problem: &Problem, point: &Point) -> Adequacy {
-    let columns = problem.basis.columns(&point.theta);
-    let e = problem.residuals(&columns, &point.linear);
-    Adequacy::new(
-        scene.angles(),
-        &e,
-        problem.parameter_count(),
-        problem.weighted,
-    )
+/// The adequacy tests of the residuals at `point`, whose columns are
+/// `columns` ([`crate::adequacy`]; `runs_order` the scene's measurements
+/// in the runs test's order).
+fn adequacy(
+    runs_order: &RunsOrder,
+    problem: &Problem,
+    point: &Point,
+    columns: &Columns,
+) -> Adequacy {
+    let e = problem.residuals(columns, &point.linear);
+    Adequacy::in_order(runs_order, &e, problem.parameter_count(), problem.weighted)
 }
 
 /// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
