@@ -187,6 +187,10 @@ fn pack<L: Lane>(angles: &[Angles]) -> Vec<Geometry<L>> {
 pub trait Packed: Lane {
     /// The packed geometry of `basis` (empty for a baseline).
     fn packed(basis: &Basis) -> &[Geometry<Self>];
+
+    /// Groups of this lane's values as groups of four `f64`, exactly and in
+    /// order (the grid stage's sums run in `f64x4`).
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4>;
 }
 
 impl Packed for f64x4 {
@@ -195,6 +199,10 @@ impl Packed for f64x4 {
             Basis::Layered { packed, .. } => packed,
             Basis::Baseline(_) => &[],
         }
+    }
+
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4> {
+        groups
     }
 }
 
@@ -206,6 +214,13 @@ impl Packed for f32x8 {
             } => packed8.get_or_init(|| pack(angles)),
             Basis::Baseline(_) => &[],
         }
+    }
+
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4> {
+        groups.flat_map(|v| {
+            let v = v.to_array();
+            [0, 4].map(|h| f64x4::from_f64_lanes(|i| f64::from(v[h + i])))
+        })
     }
 }
 

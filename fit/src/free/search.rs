@@ -9,7 +9,7 @@
 //! `B2 = B cos²θi cos²θs`) are formed once; every a of the axis is then a
 //! 2×2 solve from polynomials in a, with no pass over the measurements.
 
-use super::basis::Basis;
+use super::basis::Packed;
 use super::boundary::BoundaryGroup;
 use super::linear::Quadratic;
 use super::problem::Problem;
@@ -199,29 +199,6 @@ impl std::str::FromStr for Precision {
     }
 }
 
-/// Groups of eight `f32` values as groups of four `f64` (exactly).
-fn widened(groups: impl Iterator<Item = f32x8>) -> impl Iterator<Item = f64x4> {
-    groups.flat_map(|v| {
-        let v = v.to_array();
-        [0, 4].map(|h| f64x4::from_f64_lanes(|i| f64::from(v[h + i])))
-    })
-}
-
-/// The boundary at every n of the grid, in the model side's arithmetic.
-enum Boundaries {
-    F64(Vec<Vec<BoundaryGroup>>),
-    F32(Vec<Vec<BoundaryGroup<f32x8>>>),
-}
-
-impl Boundaries {
-    fn new(basis: &Basis, n_axis: &[f64], precision: Precision) -> Self {
-        match precision {
-            Precision::F64 => Self::F64(n_axis.iter().map(|&n| basis.boundary(n)).collect()),
-            Precision::F32 => Self::F32(n_axis.iter().map(|&n| basis.boundary(n)).collect()),
-        }
-    }
-}
-
 impl ModelSide {
     /// The model side of `problem` (a layered model) on `axes`, its bases
     /// in `precision`.
@@ -236,38 +213,40 @@ impl ModelSide {
         let g11: Vec<f64> = g1.iter().map(|g| g * g).collect();
         let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
-        let boundaries = Boundaries::new(basis, &axes.axes[1], precision);
+        let coefficients = [&g1[..], &g2, &g11, &g12, &g22];
+        let rows = match precision {
+            Precision::F64 => Self::rows::<f64x4>(problem, axes, coefficients),
+            Precision::F32 => Self::rows::<f32x8>(problem, axes, coefficients),
+        };
+        Self { rows, g: [g1, g2] }
+    }
+
+    /// The rows of [`ModelSide::new`], the bases in `L`'s lanes; `g` the
+    /// factors `[g1, g2, g1², g1 g2, g2²]` of each measurement.
+    fn rows<L: Packed>(problem: &Problem, axes: &GridAxes, g: [&[f64]; 5]) -> Vec<SlopeRow> {
+        let basis = &problem.basis;
+        let k = problem.data.len();
+        let boundaries: Vec<Vec<BoundaryGroup<L>>> =
+            axes.axes[1].iter().map(|&n| basis.boundary(n)).collect();
         let w = &problem.weight;
-        let rows = axes.axes[0]
+        let [g1, g2, g11, g12, g22] = g;
+        axes.axes[0]
             .par_iter()
             .map(|&slope| {
                 let s = basis.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
-                let (coefficients, tail) = interleave([w, &ws, &g1, &g2, &g11, &g12, &g22]);
-                let columns = match &boundaries {
-                    Boundaries::F64(each) => each
-                        .iter()
-                        .map(|b| {
-                            ColumnSums::new(basis.base_groups(slope, b), k, &coefficients, &tail)
-                        })
-                        .collect(),
-                    Boundaries::F32(each) => each
-                        .iter()
-                        .map(|b| {
-                            ColumnSums::new(
-                                widened(basis.base_groups(slope, b)),
-                                k,
-                                &coefficients,
-                                &tail,
-                            )
-                        })
-                        .collect(),
-                };
+                let (coefficients, tail) = interleave([w, &ws, g1, g2, g11, g12, g22]);
+                let columns = boundaries
+                    .iter()
+                    .map(|b| {
+                        let groups = L::widened(basis.base_groups(slope, b));
+                        ColumnSums::new(groups, k, &coefficients, &tail)
+                    })
+                    .collect();
                 SlopeRow { s, ss, columns }
             })
-            .collect();
-        Self { rows, g: [g1, g2] }
+            .collect()
     }
 
     /// True when `problem`'s model side serves `scene` (on its geometry):
