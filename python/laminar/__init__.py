@@ -91,6 +91,7 @@ def fit(
     objective="free",
     resamples=200,
     seed=0,
+    precision="f64",
 ):
     """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
     ``jensen``, ``oren-nayar``) to a :class:`Measurements`.
@@ -111,8 +112,11 @@ def fit(
     calibrated by the sandwich covariance), ``"bootstrap"`` (a pairs
     bootstrap of ``resamples`` refits seeded by ``seed`` as the headline)
     or ``"off"``; see ``FitResult.parameters``. ``threads``: worker threads
-    (default: all cores)."""
-    return _fit(measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed)
+    (default: all cores). ``precision``: the arithmetic of the free
+    objective's grid stage, ``"f64"`` (default) or ``"f32"`` (the model
+    terms in single precision, the sums and everything after in double;
+    faster for the Gaussian models' single fits; docs/speed.md)."""
+    return _fit(measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed, precision)
 
 
 def fit_batch(
@@ -125,6 +129,7 @@ def fit_batch(
     refine=True,
     uncertainty="both",
     objective="free",
+    precision="f64",
 ):
     """Fits a layered ``model`` to every row of ``values`` (N × K) on one
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
@@ -144,12 +149,12 @@ def fit_batch(
     none); NaN when not computed. :data:`BATCH_DTYPES` gives each field's
     own dtype (as the Dask results store it).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
-    times faster. ``objective`` as in :func:`fit`."""
+    times faster. ``objective`` and ``precision`` as in :func:`fit`."""
     geometry = np.ascontiguousarray(geometry, dtype=np.float64)
     values = np.ascontiguousarray(values, dtype=np.float64)
     if values.ndim != 2:
         raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
-    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty, objective)
+    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty, objective, precision)
     out = np.empty(values.shape[0], dtype=BATCH_DTYPE)
     for name in BATCH_COLUMNS:
         out[name] = columns[name]

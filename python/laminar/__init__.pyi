@@ -40,4 +40,5 @@ def fit_batch(
     refine: bool = True,
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
+    precision: Precision = "f64",
 ) -> npt.NDArray[np.void]: ...

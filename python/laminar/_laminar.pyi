@@ -159,6 +159,7 @@ def fit(
     objective: Objective = "free",
     resamples: int = 200,
     seed: int = 0,
+    precision: Precision = "f64",
 ) -> FitResult: ...
 def compare(
     measurements: Measurements,
@@ -171,6 +172,7 @@ def compare(
     resamples: int = 200,
     seed: int = 0,
     folds: int = 5,
+    precision: Precision = "f64",
 ) -> list[FitResult]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
@@ -182,4 +184,5 @@ def fit_batch(
     refine: bool = True,
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
+    precision: Precision = "f64",
 ) -> dict[str, Array]: ...

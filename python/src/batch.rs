@@ -25,7 +25,7 @@ pub(crate) fn batch_row() -> BatchRow {
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
 /// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
 #[pyfunction]
-#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both", objective = "free"))]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both", objective = "free", precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_batch<'py>(
     py: Python<'py>,
@@ -38,6 +38,7 @@ pub(crate) fn fit_batch<'py>(
     refine: bool,
     uncertainty: &str,
     objective: &str,
+    precision: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
     if model.correlation().is_none() {
@@ -47,8 +48,16 @@ pub(crate) fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let resampling = (DEFAULT_RESAMPLES as u64, 0, 0);
-    let fitter = fitter(grid, threads, refine, uncertainty, objective, resampling)?;
+    let resamples = DEFAULT_RESAMPLES.to_string();
+    let named = [
+        ("objective", objective),
+        ("uncertainty", uncertainty),
+        ("precision", precision),
+        ("resamples", &resamples),
+        ("seed", "0"),
+        ("folds", "0"),
+    ];
+    let fitter = fitter(grid, threads, refine, &named)?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

@@ -12,24 +12,19 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
 
-/// The fitter of `fit` and `fit_batch`: each option handed to the
-/// library's settings by name ([`Settings::set`]); a grid axis is its
-/// text or a sequence of values.
+/// The fitter of `fit`, `compare` and `fit_batch`: the `named` options
+/// handed to the library's settings by name ([`Settings::set`], whose error
+/// names the option); a grid axis is its text or a sequence of values.
 pub(crate) fn fitter(
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
     threads: Option<usize>,
     refine: bool,
-    uncertainty: &str,
-    objective: &str,
-    (resamples, seed, folds): (u64, u64, u64),
+    named: &[(&str, &str)],
 ) -> PyResult<Fitter> {
     let mut s = Settings::default();
-    s.set("folds", &folds.to_string()).map_err(value_error)?;
-    s.set("objective", objective).map_err(value_error)?;
-    s.set("uncertainty", uncertainty).map_err(value_error)?;
-    s.set("resamples", &resamples.to_string())
-        .map_err(value_error)?;
-    s.set("seed", &seed.to_string()).map_err(value_error)?;
+    for (name, value) in named {
+        s.set(name, value).map_err(value_error)?;
+    }
     s.analysis.refine = refine;
     s.threads = threads;
     for (name, spec) in grid.unwrap_or_default() {
@@ -274,7 +269,7 @@ impl FitResult {
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit(
     py: Python<'_>,
@@ -287,16 +282,19 @@ pub(crate) fn fit(
     objective: &str,
     resamples: u64,
     seed: u64,
+    precision: &str,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
-    let fitter = fitter(
-        grid,
-        threads,
-        refine,
-        uncertainty,
-        objective,
-        (resamples, seed, 0),
-    )?;
+    let (resamples, seed) = (resamples.to_string(), seed.to_string());
+    let named = [
+        ("objective", objective),
+        ("uncertainty", uncertainty),
+        ("precision", precision),
+        ("resamples", &resamples),
+        ("seed", &seed),
+        ("folds", "0"),
+    ];
+    let fitter = fitter(grid, threads, refine, &named)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
@@ -312,7 +310,7 @@ pub(crate) fn fit(
 /// other arguments are ``fit``'s. Ranks need the free objective and
 /// ``refine``.
 #[pyfunction]
-#[pyo3(signature = (measurements, models = None, grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, folds = 5))]
+#[pyo3(signature = (measurements, models = None, grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, folds = 5, precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compare(
     py: Python<'_>,
@@ -326,6 +324,7 @@ pub(crate) fn compare(
     resamples: u64,
     seed: u64,
     folds: u64,
+    precision: &str,
 ) -> PyResult<Vec<FitResult>> {
     let models: Vec<Model> = match models {
         Some(names) if !names.is_instance_of::<pyo3::types::PyString>() => names
@@ -345,14 +344,16 @@ pub(crate) fn compare(
         }
         None => Model::ALL.to_vec(),
     };
-    let fitter = fitter(
-        grid,
-        threads,
-        refine,
-        uncertainty,
-        objective,
-        (resamples, seed, folds),
-    )?;
+    let (resamples, seed, folds) = (resamples.to_string(), seed.to_string(), folds.to_string());
+    let named = [
+        ("objective", objective),
+        ("uncertainty", uncertainty),
+        ("precision", precision),
+        ("resamples", &resamples),
+        ("seed", &seed),
+        ("folds", &folds),
+    ];
+    let fitter = fitter(grid, threads, refine, &named)?;
     let scene = measurements.scene()?;
     let fits = py
         .detach(|| fitter.fit_all(std::slice::from_ref(&scene), &models, |_, _| None))

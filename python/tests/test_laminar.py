@@ -338,6 +338,15 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
         laminar.fit(m, "exp", grid={"sigma": "0:1:2"})
     for uncertainty in lit["Uncertainty"]:
         laminar.fit(m, "exp", uncertainty=uncertainty)
+    # The grid stage's arithmetic: f32 finds the same minimum of these
+    # noiseless data as f64, in fit, compare and fit_batch alike.
+    by_precision = {p: laminar.fit(m, "exp", precision=p) for p in lit["Precision"]}
+    compared = {p: laminar.compare(m, ["exp"], folds=0, precision=p)[0] for p in lit["Precision"]}
+    batch = {p: laminar.fit_batch(g, values[None, :], "exp", precision=p) for p in lit["Precision"]}
+    for name, value in by_precision["f64"].params.items():
+        assert by_precision["f32"].params[name] == pytest.approx(value, rel=1e-6, abs=1e-9), name
+        assert compared["f32"].params[name] == pytest.approx(value, rel=1e-6, abs=1e-9), name
+        assert batch["f32"][name][0] == pytest.approx(batch["f64"][name][0], rel=1e-6, abs=1e-9), name
     csv = tmp_path / "m.csv"
     csv.write_text("theta_i,phi_i,theta_v,phi_v,value\n" + "".join(f"{r[0]},{r[1]},{r[2]},{r[3]},{v}\n" for r, v in zip(g, values)))
     for unit in lit["AngleUnit"]:
@@ -346,6 +355,9 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
         lambda: laminar.fit(m, "lambert"),
         lambda: laminar.fit(m, "exp", objective="max"),
         lambda: laminar.fit(m, "exp", uncertainty="some"),
+        lambda: laminar.fit(m, "exp", precision="f16"),
+        lambda: laminar.compare(m, ["exp"], precision="half"),
+        lambda: laminar.fit_batch(g, values[None, :], "exp", precision="f16"),
         lambda: laminar.Measurements.from_arrays(*g.T, values, quantity="watts"),
         lambda: laminar.Measurements.from_csv(csv, angles="grad"),
     ]:

@@ -328,36 +328,32 @@ pub struct FitterArgs {
 }
 
 impl FitterArgs {
-    /// The fitter these options describe ([`fitter`]).
+    /// The fitter these options describe.
     pub fn fitter(&self) -> Result<Fitter, CliError> {
-        fitter(
-            &self.grid,
-            &self.threads,
-            self.path.path,
-            &self.analysis,
-            (self.objective.objective, self.objective.precision),
-        )
+        let settings = Settings {
+            objective: self.objective.objective,
+            precision: self.objective.precision,
+            ..settings(&self.grid, &self.threads, self.path.path, &self.analysis)
+        };
+        Ok(settings.fitter()?)
     }
 }
 
-/// A fitter of `objective` (its grid stage in `precision` under the free
-/// objective) on the grid with the threads, path and analysis given.
-pub fn fitter(
+/// The settings of the grid, threads, search path and analysis given, the
+/// others (the objective, the grid stage's precision) at their defaults.
+pub fn settings(
     grid: &GridArgs,
     threads: &ThreadArgs,
     path: SearchPath,
     analysis: &AnalysisArgs,
-    (objective, precision): (Objective, Precision),
-) -> Result<Fitter, CliError> {
-    let settings = Settings {
-        objective,
+) -> Settings {
+    Settings {
         axes: grid.axes(),
         path,
-        precision,
         analysis: analysis.analysis(),
         threads: threads.threads,
-    };
-    Ok(settings.fitter()?)
+        ..Settings::default()
+    }
 }
 
 /// Sets the global thread pool (for work outside a [`Fitter`]).

@@ -1,13 +1,13 @@
 //! `laminar reproduce`: the paper's experiment, tables and figures.
 
 use super::options::{
-    fitter, progress, report_time, AnalysisArgs, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
+    progress, report_time, settings, AnalysisArgs, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
 use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::{Objective, Precision};
+use laminar_fit::{Objective, Settings};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -41,13 +41,11 @@ pub struct ReproduceArgs {
 pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let start = Instant::now();
     prepare_out_dir(&args.out)?;
-    let fitter = fitter(
-        &args.grid,
-        &args.threads,
-        args.path.path,
-        &args.analysis,
-        (Objective::Paper, Precision::F64),
-    )?;
+    let fitter = Settings {
+        objective: Objective::Paper,
+        ..settings(&args.grid, &args.threads, args.path.path, &args.analysis)
+    }
+    .fitter()?;
     let jobs = args
         .curet
         .jobs()?
