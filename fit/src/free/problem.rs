@@ -11,7 +11,7 @@
 
 use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
-use super::sums::{dot, dots, gram, total};
+use super::sums::{dots, gram, total};
 use crate::model::Model;
 use crate::scene::Scene;
 use laminar_core::f64x4;
@@ -183,12 +183,61 @@ impl Problem {
     /// The point at `theta` from its columns.
     pub fn point(&self, theta: &[f64], columns: &Columns, beta: (f64, f64)) -> Point {
         let linear = self.moments(columns).solve(beta);
-        let residuals = self.residuals(columns, &linear);
         Point {
             theta: theta.to_vec(),
+            sse: self.sse(columns, &linear),
             linear,
-            sse: dot(&residuals, &residuals),
         }
+    }
+
+    /// `Σ w (D − p S − q U)²`: the weighted residuals ([`Problem::residuals`])
+    /// dotted with themselves ([`dots`]: the same four partial sums, so the
+    /// same bits), without forming them.
+    fn sse(&self, columns: &Columns, linear: &Linear) -> f64 {
+        let Linear { p, q, .. } = *linear;
+        let len = self.data.len();
+        // Without U (a baseline), q times a column of zeros adds nothing:
+        // `d − p s − 0` is `d − p s` exactly.
+        let zeros;
+        let u = if columns.u.is_empty() {
+            zeros = vec![0.0; len];
+            &zeros
+        } else {
+            &columns.u
+        };
+        let (p4, q4) = (f64x4::splat(p), f64x4::splat(q));
+        let rows = |k: usize| {
+            (
+                &self.data[k..],
+                &columns.s[k..],
+                &u[k..],
+                &self.root_weight[k..],
+            )
+        };
+        let (d, s, u4, w) = rows(0);
+        let (d, d_tail) = d[..len].as_chunks::<4>();
+        let (s, _) = s[..len].as_chunks::<4>();
+        let (u4, _) = u4[..len].as_chunks::<4>();
+        let (w, _) = w[..len].as_chunks::<4>();
+        let mut acc = f64x4::ZERO;
+        for (((d, s), u), w) in d.iter().zip(s).zip(u4).zip(w) {
+            let (d, s, u, w) = (
+                f64x4::from(*d),
+                f64x4::from(*s),
+                f64x4::from(*u),
+                f64x4::from(*w),
+            );
+            let e = (d - p4 * s - q4 * u) * w;
+            acc += e * e;
+        }
+        let mut sum = total(acc);
+        let body = len - d_tail.len();
+        let (d, s, u, w) = rows(body);
+        for (((d, s), u), w) in d.iter().zip(s).zip(u).zip(w) {
+            let e = (d - p * s - q * u) * w;
+            sum += e * e;
+        }
+        sum
     }
 
     /// The point at `theta` and the Gauss–Newton normal equations of the
@@ -414,10 +463,71 @@ fn squares(w: &[f64], s: &[f64], u: &[f64]) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coverage::{noisy_scene, NoiseModel};
+    use crate::coverage::{noisy_scene, noisy_scene_on, NoiseModel};
     use crate::fitted::ModelParams;
+    use crate::free::sums::dot;
     use crate::objective::Objective;
     use crate::synthetic::Noise;
+
+    /// A point's objective is its weighted residuals dotted with
+    /// themselves, bit for bit, with weights and without.
+    #[test]
+    fn the_objective_is_the_residuals_sum_of_squares_to_the_bit() {
+        let mut rng = Noise::new(11);
+        let layered = ModelParams::Layered {
+            slope: 0.4,
+            beta: 0.3,
+            n: 1.5,
+            a: 0.3,
+        };
+        let cases = [
+            (
+                Model::Exp,
+                layered,
+                NoiseModel::Every(0.01),
+                [0.3f64.ln(), 1.4, 0.2],
+            ),
+            (
+                Model::Gauss,
+                layered,
+                NoiseModel::Heteroscedastic {
+                    floor: 0.005,
+                    relative: 0.02,
+                },
+                [0.5f64.ln(), 1.7, 0.0],
+            ),
+        ];
+        for (model, truth, noise, theta) in cases {
+            // Three measurements fewer: a partial group of four, so the
+            // tail's order is checked too.
+            let mut angles = crate::synthetic::geometries();
+            angles.truncate(angles.len() - 3);
+            let scene = noisy_scene_on(angles, model, Objective::Free, truth, noise, &mut rng);
+            assert_ne!(scene.len() % 4, 0);
+            let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
+            let problem = Problem::new(
+                &scene,
+                (model, None),
+                (bounds.clone(), bounds),
+                vec![(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
+                (0.0, 1.0),
+            );
+            // Points around `theta`: rounding differences in the order of
+            // the sums would show at some of them.
+            for i in 0..32 {
+                let shift = f64::from(i) / 32.0;
+                let at = [
+                    theta[0] + shift,
+                    theta[1] + 0.5 * shift,
+                    theta[2] + 0.1 * shift,
+                ];
+                let (point, columns) = problem.evaluate(&at, problem.beta);
+                let r = problem.residuals(&columns, &point.linear);
+                assert_eq!(point.sse.to_bits(), dot(&r, &r).to_bits(), "{model} {at:?}");
+                assert!(point.sse > 0.0);
+            }
+        }
+    }
 
     #[test]
     fn the_jacobian_is_the_derivative_of_the_residuals() {

@@ -90,6 +90,7 @@ fn gram_of<const N: usize>(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
 }
 
 /// `Σ_k x_k y_k` ([`dots`] of one vector).
+#[cfg(test)]
 pub fn dot(x: &[f64], y: &[f64]) -> f64 {
     dots(x, [y])[0]
 }
