@@ -2,7 +2,7 @@
 //! ([`BatchRow`]) that `laminar fit-batch` writes.
 
 use crate::convert::{lab_angles, layered_names, parse, reserve};
-use crate::fit_result::fitter;
+use crate::fit_result::{fitter, Named};
 use laminar_fit::analysis::DEFAULT_RESAMPLES;
 use laminar_fit::{MeasurementSet, Model, Quantity};
 use laminar_io::fits::BatchRow;
@@ -48,16 +48,15 @@ pub(crate) fn fit_batch<'py>(
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
-    let resamples = DEFAULT_RESAMPLES.to_string();
-    let named = [
-        ("objective", objective),
-        ("uncertainty", uncertainty),
-        ("precision", precision),
-        ("resamples", &resamples),
-        ("seed", "0"),
-        ("folds", "0"),
-    ];
-    let fitter = fitter(grid, threads, refine, &named)?;
+    let named = Named {
+        objective,
+        uncertainty,
+        precision,
+        resamples: DEFAULT_RESAMPLES as u64,
+        seed: 0,
+        folds: 0,
+    };
+    let fitter = fitter(grid, threads, refine, named)?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

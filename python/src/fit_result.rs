@@ -12,18 +12,36 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::HashMap;
 
+/// The options of `fit`, `compare` and `fit_batch` that the library's
+/// settings take by name ([`Settings::set`], whose error names the option).
+pub(crate) struct Named<'a> {
+    pub objective: &'a str,
+    pub uncertainty: &'a str,
+    pub precision: &'a str,
+    pub resamples: u64,
+    pub seed: u64,
+    pub folds: u64,
+}
+
 /// The fitter of `fit`, `compare` and `fit_batch`: the `named` options
-/// handed to the library's settings by name ([`Settings::set`], whose error
-/// names the option); a grid axis is its text or a sequence of values.
+/// handed to the library's settings by name; a grid axis is its text or a
+/// sequence of values.
 pub(crate) fn fitter(
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
     threads: Option<usize>,
     refine: bool,
-    named: &[(&str, &str)],
+    named: Named<'_>,
 ) -> PyResult<Fitter> {
     let mut s = Settings::default();
-    for (name, value) in named {
-        s.set(name, value).map_err(value_error)?;
+    for (name, value) in [
+        ("objective", named.objective.to_string()),
+        ("uncertainty", named.uncertainty.to_string()),
+        ("precision", named.precision.to_string()),
+        ("resamples", named.resamples.to_string()),
+        ("seed", named.seed.to_string()),
+        ("folds", named.folds.to_string()),
+    ] {
+        s.set(name, &value).map_err(value_error)?;
     }
     s.analysis.refine = refine;
     s.threads = threads;
@@ -285,16 +303,15 @@ pub(crate) fn fit(
     precision: &str,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
-    let (resamples, seed) = (resamples.to_string(), seed.to_string());
-    let named = [
-        ("objective", objective),
-        ("uncertainty", uncertainty),
-        ("precision", precision),
-        ("resamples", &resamples),
-        ("seed", &seed),
-        ("folds", "0"),
-    ];
-    let fitter = fitter(grid, threads, refine, &named)?;
+    let named = Named {
+        objective,
+        uncertainty,
+        precision,
+        resamples,
+        seed,
+        folds: 0,
+    };
+    let fitter = fitter(grid, threads, refine, named)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
@@ -344,16 +361,15 @@ pub(crate) fn compare(
         }
         None => Model::ALL.to_vec(),
     };
-    let (resamples, seed, folds) = (resamples.to_string(), seed.to_string(), folds.to_string());
-    let named = [
-        ("objective", objective),
-        ("uncertainty", uncertainty),
-        ("precision", precision),
-        ("resamples", &resamples),
-        ("seed", &seed),
-        ("folds", &folds),
-    ];
-    let fitter = fitter(grid, threads, refine, &named)?;
+    let named = Named {
+        objective,
+        uncertainty,
+        precision,
+        resamples,
+        seed,
+        folds,
+    };
+    let fitter = fitter(grid, threads, refine, named)?;
     let scene = measurements.scene()?;
     let fits = py
         .detach(|| fitter.fit_all(std::slice::from_ref(&scene), &models, |_, _| None))
