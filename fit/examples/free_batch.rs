@@ -1,7 +1,9 @@
 //! One `fit_batch` of the free objective with the defaults, on the sets of
 //! `cargo bench --bench free` (CUReT sample 21's geometry when `CURET_DIR`
 //! is set, else the built-in scene's): a workload for profilers
-//! (`valgrind --tool=callgrind`, `perf record`). Run:
+//! (`valgrind --tool=callgrind`, `perf record`). With `LAMINAR_ONE_AT_A_TIME`
+//! set, each set is fitted on its own (`Fitter::fit`, no shared model side).
+//! Run:
 //! `cargo run --release -p laminar-fit --example free_batch -- [SETS] [THREADS]`.
 
 use laminar_fit::coverage::{noisy_sets, NoiseModel};
@@ -54,7 +56,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .analysis(analysis())
         .threads(threads)?;
     let start = Instant::now();
-    let fits = fitter.fit_batch(&sets, Model::Exp);
+    let fits = if std::env::var_os("LAMINAR_ONE_AT_A_TIME").is_some() {
+        sets.iter().map(|s| fitter.fit(s, Model::Exp)).collect()
+    } else {
+        fitter.fit_batch(&sets, Model::Exp)
+    };
     let seconds = start.elapsed().as_secs_f64();
     let rms: f64 = fits.iter().map(|f| f.best.rms).sum::<f64>() / count as f64;
     println!(

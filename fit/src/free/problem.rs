@@ -196,48 +196,23 @@ impl Problem {
     fn sse(&self, columns: &Columns, linear: &Linear) -> f64 {
         let Linear { p, q, .. } = *linear;
         let len = self.data.len();
-        // Without U (a baseline), q times a column of zeros adds nothing:
-        // `d − p s − 0` is `d − p s` exactly.
-        let zeros;
-        let u = if columns.u.is_empty() {
-            zeros = vec![0.0; len];
-            &zeros
-        } else {
-            &columns.u
-        };
-        let (p4, q4) = (f64x4::splat(p), f64x4::splat(q));
-        let rows = |k: usize| {
-            (
-                &self.data[k..],
-                &columns.s[k..],
-                &u[k..],
-                &self.root_weight[k..],
-            )
-        };
-        let (d, s, u4, w) = rows(0);
-        let (d, d_tail) = d[..len].as_chunks::<4>();
-        let (s, _) = s[..len].as_chunks::<4>();
-        let (u4, _) = u4[..len].as_chunks::<4>();
-        let (w, _) = w[..len].as_chunks::<4>();
-        let mut acc = f64x4::ZERO;
-        for (((d, s), u), w) in d.iter().zip(s).zip(u4).zip(w) {
-            let (d, s, u, w) = (
-                f64x4::from(*d),
-                f64x4::from(*s),
-                f64x4::from(*u),
-                f64x4::from(*w),
-            );
-            let e = (d - p4 * s - q4 * u) * w;
-            acc += e * e;
+        let (d, d_tail) = self.data.as_chunks::<4>();
+        let (s, s_tail) = columns.s[..len].as_chunks::<4>();
+        let (w, w_tail) = self.root_weight[..len].as_chunks::<4>();
+        let rows = d.iter().zip(s).zip(w);
+        let tail = d_tail.iter().zip(s_tail).zip(w_tail);
+        if columns.u.is_empty() {
+            // A baseline: q times zero adds nothing, `d − p s − 0` is
+            // `d − p s` exactly.
+            let zeros = std::iter::repeat(&[0.0; 4]);
+            let rows = rows.zip(zeros).map(|(((d, s), w), u)| [d, s, u, w]);
+            let tail = tail.map(|((d, s), w)| [*d, *s, 0.0, *w]);
+            return weighted_sum_of_squares(rows, tail, (p, q));
         }
-        let mut sum = total(acc);
-        let body = len - d_tail.len();
-        let (d, s, u, w) = rows(body);
-        for (((d, s), u), w) in d.iter().zip(s).zip(u).zip(w) {
-            let e = (d - p * s - q * u) * w;
-            sum += e * e;
-        }
-        sum
+        let (u, u_tail) = columns.u[..len].as_chunks::<4>();
+        let rows = rows.zip(u).map(|(((d, s), w), u)| [d, s, u, w]);
+        let tail = tail.zip(u_tail).map(|(((d, s), w), u)| [*d, *s, *u, *w]);
+        weighted_sum_of_squares(rows, tail, (p, q))
     }
 
     /// The point at `theta` and the Gauss–Newton normal equations of the
@@ -458,6 +433,30 @@ fn squares(w: &[f64], s: &[f64], u: &[f64]) -> [f64; 3] {
         out[2] += w * u * u;
     }
     out
+}
+
+/// `Σ ((d − p s − q u) w)²` over the groups of four `[d, s, u, w]` of
+/// `rows`, then the measurements of the last, partial group (`tail`), in
+/// order: the same four partial sums as [`dots`], so the same bits as the
+/// weighted residuals dotted with themselves.
+fn weighted_sum_of_squares<'a>(
+    rows: impl Iterator<Item = [&'a [f64; 4]; 4]>,
+    tail: impl Iterator<Item = [f64; 4]>,
+    (p, q): (f64, f64),
+) -> f64 {
+    let (p4, q4) = (f64x4::splat(p), f64x4::splat(q));
+    let mut acc = f64x4::ZERO;
+    for row in rows {
+        let [d, s, u, w] = row.map(|v| f64x4::from(*v));
+        let e = (d - p4 * s - q4 * u) * w;
+        acc += e * e;
+    }
+    let mut sum = total(acc);
+    for [d, s, u, w] in tail {
+        let e = (d - p * s - q * u) * w;
+        sum += e * e;
+    }
+    sum
 }
 
 #[cfg(test)]

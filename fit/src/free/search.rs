@@ -92,16 +92,17 @@ impl ColumnSums {
     /// One column's base from its groups of four (`len` measurements) and
     /// its sums against the weights and the weighted surface term, in one
     /// pass. `coefficients` holds, per whole group of four measurements,
-    /// `[w, w S, g1, g2, g1², g1 g2, g2²]`, and `tail` the same seven per
-    /// measurement of the last, partial group. Each sum is, bit for bit,
-    /// [`dots`] of `w B B` (or `w S B`) against the factor (and against
-    /// ones): the same four partial sums per product, in measurement order,
-    /// without the K-vectors.
+    /// `[w, g1, g2, g1², g1 g2, g2²]` (the same for every σ/T) and `ws` the
+    /// weighted surface term `w S` (this row's), each with the whole groups
+    /// in `.0` and the measurements of the last, partial group in `.1`.
+    /// Each sum is, bit for bit, [`dots`] of `w B B` (or `w S B`) against
+    /// the factor (and against ones): the same four partial sums per
+    /// product, in measurement order, without the K-vectors.
     fn new(
         groups: impl Iterator<Item = f64x4>,
         len: usize,
-        coefficients: &[[f64x4; 7]],
-        tail: &[[f64; 7]],
+        coefficients: (&[[f64x4; 6]], &[[f64; 6]]),
+        ws: (&[[f64; 4]], &[f64]),
     ) -> Self {
         let mut groups = groups;
         let mut base = Vec::with_capacity(len.next_multiple_of(4));
@@ -110,17 +111,17 @@ impl ColumnSums {
         let mut sb = [f64x4::ZERO; 3];
         // The coefficients lead the zip, so that it stops before taking the
         // last, partial group from `groups`.
-        for (c, b) in coefficients.iter().zip(groups.by_ref()) {
+        for ((c, ws), b) in coefficients.0.iter().zip(ws.0).zip(groups.by_ref()) {
             base.extend_from_slice(&b.to_array());
-            accumulate(&mut bb, &mut sb, b, c);
+            accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
         }
         let body = base.len();
         base.extend(groups.flat_map(|b| b.to_array()));
         base.truncate(len);
         let mut bb = bb.map(total);
         let mut sb = sb.map(total);
-        for (&b, c) in base[body..].iter().zip(tail) {
-            accumulate(&mut bb, &mut sb, b, c);
+        for ((&b, c), &ws) in base[body..].iter().zip(coefficients.1).zip(ws.1) {
+            accumulate(&mut bb, &mut sb, (b, ws), c);
         }
         let [b00, b01, b02, b11, b12, b22] = bb;
         Self {
@@ -133,11 +134,11 @@ impl ColumnSums {
 
 /// One term of [`ColumnSums::new`]'s sums: `w B²` times each of `[1, g1,
 /// g2, g1², g1 g2, g2²]` into `bb`, `w S B` times each of `[1, g1, g2]`
-/// into `sb`, from the base `b` and the coefficients `[w, w S, g1, g2, g1²,
-/// g1 g2, g2²]`.
-fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], b: L, [w, ws, f @ ..]: &[L; 7]) {
+/// into `sb`, from the base `b`, the weighted surface term `ws` and the
+/// coefficients `[w, g1, g2, g1², g1 g2, g2²]`.
+fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], (b, ws): (L, L), [w, f @ ..]: &[L; 6]) {
     let wbb = *w * b * b;
-    let wsb = *ws * b;
+    let wsb = ws * b;
     bb[0] = bb[0] + wbb;
     for (acc, f) in bb[1..].iter_mut().zip(f) {
         *acc = *acc + wbb * *f;
@@ -226,22 +227,26 @@ impl ModelSide {
     fn rows<L: Packed>(problem: &Problem, axes: &GridAxes, g: [&[f64]; 5]) -> Vec<SlopeRow> {
         let basis = &problem.basis;
         let k = problem.data.len();
-        let boundaries: Vec<Vec<BoundaryGroup<L>>> =
-            axes.axes[1].iter().map(|&n| basis.boundary(n)).collect();
+        let boundaries: Vec<Vec<BoundaryGroup<L>>> = axes.axes[1]
+            .par_iter()
+            .map(|&n| basis.boundary(n))
+            .collect();
         let w = &problem.weight;
         let [g1, g2, g11, g12, g22] = g;
+        // What every σ/T row shares, interleaved once.
+        let (coefficients, tail) = interleave([w, g1, g2, g11, g12, g22]);
         axes.axes[0]
             .par_iter()
             .map(|&slope| {
                 let s = basis.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
-                let (coefficients, tail) = interleave([w, &ws, g1, g2, g11, g12, g22]);
+                let ws_groups = ws.as_chunks::<4>();
                 let columns = boundaries
                     .iter()
                     .map(|b| {
                         let groups = L::widened(basis.base_groups(slope, b));
-                        ColumnSums::new(groups, k, &coefficients, &tail)
+                        ColumnSums::new(groups, k, (&coefficients, &tail), ws_groups)
                     })
                     .collect();
                 SlopeRow { s, ss, columns }
