@@ -13,6 +13,7 @@
 //!   (σa, σs′), Oren–Nayar's at (σ, ρ)).
 
 use super::boundary::{boundary, BoundaryGroup};
+use super::pool::{self, Free};
 use crate::baseline::BaselineGeometry;
 use crate::model::{Family, Model};
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
@@ -30,6 +31,14 @@ pub struct Columns {
     pub s: Vec<f64>,
     /// `U_k` (layered), empty for a baseline.
     pub u: Vec<f64>,
+}
+
+impl Drop for Columns {
+    /// The vectors go back to the thread's pool ([`pool`]).
+    fn drop(&mut self) {
+        pool::release(std::mem::take(&mut self.s));
+        pool::release(std::mem::take(&mut self.u));
+    }
 }
 
 /// Central difference step of the parameters without an analytic derivative
@@ -130,6 +139,18 @@ struct LayeredTerms {
     t: f64,
 }
 
+thread_local! {
+    /// The vectors of [`LayeredTerms`] released on this thread ([`pool`]).
+    static GROUPS: Free<LayerGroup, 3> = const { Free::new() };
+}
+
+impl Drop for LayeredTerms {
+    fn drop(&mut self) {
+        let groups = std::mem::take(&mut self.groups);
+        let _ = GROUPS.try_with(|f| f.give(groups));
+    }
+}
+
 /// `∂ ln B/∂n` of the Ragheb–Hancock base at four measurements `g` (eqs.
 /// 3–7), analytically, from the refracted cosines of their boundary `b`;
 /// `x_refracted` is eq. 1–2's argument below the boundary.
@@ -226,7 +247,7 @@ impl Packed for f32x8 {
 
 /// The first `len` lanes of `groups`, in measurement order.
 fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(len.next_multiple_of(4));
+    let mut out = pool::vector(len.next_multiple_of(4));
     groups.for_each(|v| out.extend_from_slice(&v.to_array()));
     out.truncate(len);
     out
@@ -341,20 +362,20 @@ impl Basis {
         let t4 = f64x4::splat(t);
         let group =
             |g: &Geometry<f64x4>, boundary: BoundaryGroup| LayerGroup::new(g, boundary, *corr, t4);
-        let groups = match held.at(n) {
-            Some(boundaries) => packed
-                .iter()
-                .zip(boundaries)
-                .map(|(g, b)| group(g, *b))
-                .collect(),
+        let mut groups = GROUPS.with(|f| f.take(packed.len()));
+        match held.at(n) {
+            Some(boundaries) => {
+                groups.extend(packed.iter().zip(boundaries).map(|(g, b)| group(g, *b)))
+            }
             None => {
                 let inv_n = 1.0 / n;
-                packed
-                    .iter()
-                    .map(|g| group(g, BoundaryGroup::new(g, n, inv_n)))
-                    .collect()
+                groups.extend(
+                    packed
+                        .iter()
+                        .map(|g| group(g, BoundaryGroup::new(g, n, inv_n))),
+                )
             }
-        };
+        }
         LayeredTerms { groups, t }
     }
 
@@ -461,7 +482,7 @@ impl Basis {
                 // wanted derivative: ∂/∂ ln σ/T of S and U, ∂U/∂n, ∂U/∂a.
                 let wanted_a = self.dim() == 3 && wanted[2];
                 let mut d: [Vec<f64>; 4] =
-                    std::array::from_fn(|_| Vec::with_capacity(len.next_multiple_of(4)));
+                    std::array::from_fn(|_| pool::vector(len.next_multiple_of(4)));
                 for (l, g) in terms.groups.iter().zip(packed) {
                     let (attenuation, [ci, cs]) = Self::attenuation(g, a);
                     let u = l.base * attenuation;
@@ -515,7 +536,7 @@ impl Basis {
                             }
                             let mut t = theta.to_vec();
                             t[j] = v;
-                            self.columns(&t).s
+                            std::mem::take(&mut self.columns(&t).s)
                         };
                         let (up, down) = (moved(hi), moved(lo));
                         Some(Columns {

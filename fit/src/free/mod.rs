@@ -25,6 +25,7 @@ pub(crate) mod driver;
 pub(crate) mod intervals;
 pub(crate) mod layout;
 pub(crate) mod linear;
+mod pool;
 pub(crate) mod problem;
 pub(crate) mod record;
 pub(crate) mod refine;

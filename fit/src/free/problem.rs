@@ -11,6 +11,7 @@
 
 use super::basis::{Basis, Columns, Evaluated, Held};
 use super::linear::{Linear, Moments};
+use super::pool;
 use super::sums::{dots, gram, total};
 use crate::model::Model;
 use crate::scene::Scene;
@@ -142,13 +143,13 @@ impl Problem {
     fn misfit(&self, columns: &Columns, linear: &Linear) -> Vec<f64> {
         let Linear { p, q, .. } = *linear;
         let rows = self.data.iter().zip(&columns.s);
+        let mut misfit = pool::vector(self.data.len());
         if columns.u.is_empty() {
-            rows.map(|(d, s)| d - p * s).collect()
+            misfit.extend(rows.map(|(d, s)| d - p * s));
         } else {
-            rows.zip(&columns.u)
-                .map(|((d, s), u)| d - p * s - q * u)
-                .collect()
+            misfit.extend(rows.zip(&columns.u).map(|((d, s), u)| d - p * s - q * u));
         }
+        misfit
     }
 
     /// The weighted residuals `√w (D − p S − q U)`.
@@ -285,6 +286,8 @@ impl Problem {
             .collect();
         let n = vectors.len();
         let g = gram(&self.weight[..residuals.len()], &vectors);
+        drop(vectors);
+        pool::release(residuals);
         // A combination of at most two of the vectors, and the inner product
         // of two combinations.
         type Combination = [(Option<usize>, f64); 2];
