@@ -4,10 +4,11 @@
 //! hundred times, each a vector of K values (and a layered model's terms,
 //! a group per four measurements); above glibc's per-thread cache (1 KB),
 //! each allocation and release goes through the allocator's bins. The
-//! vectors released here ([`Columns`](super::basis::Columns) and the
-//! layered terms on drop, the residuals by hand) are handed out again by
-//! [`vector`] and [`groups`], cleared: the arithmetic never sees them, so
-//! nothing a fit computes depends on them.
+//! vectors released here ([`Columns`](super::basis::Columns) on drop, the
+//! residuals by hand) are handed out again by [`vector`], emptied, and the
+//! layered terms' groups likewise by their own [`Free`] in
+//! [`super::basis`]: the arithmetic never sees what a vector held before,
+//! so nothing a fit computes depends on them.
 
 use std::cell::RefCell;
 
@@ -29,7 +30,7 @@ impl<T, const MOST: usize> Free<T, MOST> {
         v
     }
 
-    /// Keeps `v` (when it holds memory and fewer than [`MOST`] are kept).
+    /// Keeps `v` (when it holds memory and fewer than `MOST` are kept).
     pub(super) fn give(&self, v: Vec<T>) {
         if v.capacity() > 0 {
             let mut free = self.0.borrow_mut();
