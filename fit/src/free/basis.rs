@@ -481,23 +481,36 @@ impl Basis {
                 // Per group, U again (the same bits as the column) and each
                 // wanted derivative: ∂/∂ ln σ/T of S and U, ∂U/∂n, ∂U/∂a.
                 let wanted_a = self.dim() == 3 && wanted[2];
-                let mut d: [Vec<f64>; 4] =
-                    std::array::from_fn(|_| pool::vector(len.next_multiple_of(4)));
-                for (l, g) in terms.groups.iter().zip(packed) {
-                    let (attenuation, [ci, cs]) = Self::attenuation(g, a);
-                    let u = l.base * attenuation;
-                    let x_refracted = l.boundary.ratio * t;
-                    let mut put = |i: usize, v: f64x4| d[i].extend_from_slice(&v.to_array());
-                    if wanted[0] {
-                        put(0, l.surface * corr.log_slope_derivative(g.ratio * t));
-                        put(1, u * corr.log_slope_derivative(x_refracted));
+                // Each wanted derivative's vector, a group of four written
+                // in place per group of measurements (the others empty).
+                let filled = [wanted[0], wanted[0], wanted[1], wanted_a];
+                let mut d: [Vec<f64>; 4] = filled.map(|f| {
+                    if !f {
+                        return Vec::new();
                     }
-                    if wanted[1] {
-                        let log = log_n_derivative(*corr, g, &l.boundary, n, x_refracted);
-                        put(2, f64x4::select(u.eq(zero), zero, u * log));
-                    }
-                    if wanted_a {
-                        put(3, l.base * (f64x4::c(2.0) * a * ci * cs - ci - cs));
+                    let mut v = pool::vector(4 * terms.groups.len());
+                    v.resize(4 * terms.groups.len(), 0.0);
+                    v
+                });
+                {
+                    let [d_s, d_u, d_n, d_a] = d.each_mut().map(|v| v.as_chunks_mut::<4>().0);
+                    for (i, (l, g)) in terms.groups.iter().zip(packed).enumerate() {
+                        let (attenuation, [ci, cs]) = Self::attenuation(g, a);
+                        let u = l.base * attenuation;
+                        let x_refracted = l.boundary.ratio * t;
+                        if wanted[0] {
+                            let ds = l.surface * corr.log_slope_derivative(g.ratio * t);
+                            d_s[i] = ds.to_array();
+                            d_u[i] = (u * corr.log_slope_derivative(x_refracted)).to_array();
+                        }
+                        if wanted[1] {
+                            let log = log_n_derivative(*corr, g, &l.boundary, n, x_refracted);
+                            d_n[i] = f64x4::select(u.eq(zero), zero, u * log).to_array();
+                        }
+                        if wanted_a {
+                            let da = l.base * (f64x4::c(2.0) * a * ci * cs - ci - cs);
+                            d_a[i] = da.to_array();
+                        }
                     }
                 }
                 let [s_slope, u_slope, u_n, u_a] = d.map(|mut v| {
