@@ -448,13 +448,13 @@ fn ragheb_hancock(
     let rh_model = model.ragheb_hancock()?;
     let zero_a = layout.axes.axes.get(2)?.iter().position(|&v| v == 0.0)?;
     let a_len = values.lens[2];
-    let slice = (0..values.sse.len()).filter(|f| f % a_len == zero_a).fold(
-        None,
-        |b: Option<usize>, f| match b {
-            Some(g) if values.sse[g] <= values.sse[f] => Some(g),
-            _ => Some(f),
-        },
-    )?;
+    let slice =
+        (zero_a..values.sse.len())
+            .step_by(a_len)
+            .fold(None, |b: Option<usize>, f| match b {
+                Some(g) if values.sse[g] <= values.sse[f] => Some(g),
+                _ => Some(f),
+            })?;
     let theta = layout.theta(&values.indices(slice));
     let (mut point, mut columns) = problem.evaluate(&theta, problem.beta);
     if refine {
