@@ -71,6 +71,9 @@ pub struct ModelSide {
     rows: Vec<SlopeRow>,
     /// Per measurement: the factors turning B into B1 and B2.
     g: [Vec<f64>; 2],
+    /// True when it holds one set's data's sums instead of the bases
+    /// ([`ModelSide::for_one_set`]): it serves that set alone.
+    one_set: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -83,9 +86,13 @@ struct SlopeRow {
 
 #[derive(Debug, Clone)]
 struct ColumnSums {
+    /// `B` (empty when the data's sums are kept instead, `db`).
     base: Vec<f64>,
     bb: [[f64; 3]; 3],
     sb: [f64; 3],
+    /// `Σ w D B` against `[1, g1, g2]` of the one set the model side was
+    /// formed for ([`ModelSide::for_one_set`]), as [`data_sums`] forms them.
+    db: Option<[f64; 3]>,
 }
 
 impl ColumnSums {
@@ -97,37 +104,81 @@ impl ColumnSums {
     /// in `.0` and the measurements of the last, partial group in `.1`.
     /// Each sum is, bit for bit, [`dots`] of `w B B` (or `w S B`) against
     /// the factor (and against ones): the same four partial sums per
-    /// product, in measurement order, without the K-vectors.
+    /// product, in measurement order, without the K-vectors. With one
+    /// set's weighted data `wd` (split the same way), its sums `db` are
+    /// formed in the same pass, bit for bit [`data_sums`]'s, and `B` is not
+    /// kept.
     fn new(
         groups: impl Iterator<Item = f64x4>,
         len: usize,
         coefficients: (&[[f64x4; 6]], &[[f64; 6]]),
         ws: (&[[f64; 4]], &[f64]),
+        wd: Option<(&[[f64; 4]], &[f64])>,
     ) -> Self {
         let mut groups = groups;
-        let mut base = Vec::with_capacity(len.next_multiple_of(4));
+        let mut base = Vec::with_capacity(if wd.is_none() {
+            len.next_multiple_of(4)
+        } else {
+            0
+        });
         // Σ w B² against [1, g1, g2, g11, g12, g22]; Σ w S B against [1, g1, g2].
         let mut bb = [f64x4::ZERO; 6];
         let mut sb = [f64x4::ZERO; 3];
+        let mut db = [f64x4::ZERO; 3];
         // The coefficients lead the zip, so that it stops before taking the
         // last, partial group from `groups`.
-        for ((c, ws), b) in coefficients.0.iter().zip(ws.0).zip(groups.by_ref()) {
-            base.extend_from_slice(&b.to_array());
-            accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
+        let whole = coefficients.0.iter().zip(ws.0).zip(groups.by_ref());
+        match wd {
+            None => {
+                for ((c, ws), b) in whole {
+                    base.extend_from_slice(&b.to_array());
+                    accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
+                }
+            }
+            Some((wd, _)) => {
+                for (((c, ws), b), wd) in whole.zip(wd) {
+                    accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
+                    let t = b * f64x4::from(*wd);
+                    db[0] += t;
+                    db[1] += t * c[1];
+                    db[2] += t * c[2];
+                }
+            }
         }
-        let body = base.len();
-        base.extend(groups.flat_map(|b| b.to_array()));
-        base.truncate(len);
+        // The last, partial group's measurements.
+        let body = len - coefficients.1.len();
+        let mut rest = [0.0; 4];
+        for (r, b) in rest
+            .iter_mut()
+            .zip(groups.flat_map(|b| b.to_array()).take(len - body))
+        {
+            *r = b;
+        }
+        let rest = &rest[..len - body];
         let mut bb = bb.map(total);
         let mut sb = sb.map(total);
-        for ((&b, c), &ws) in base[body..].iter().zip(coefficients.1).zip(ws.1) {
+        let mut db = db.map(total);
+        for ((&b, c), &ws) in rest.iter().zip(coefficients.1).zip(ws.1) {
             accumulate(&mut bb, &mut sb, (b, ws), c);
+        }
+        let db = wd.map(|(_, wd_tail)| {
+            for ((&b, c), &wd) in rest.iter().zip(coefficients.1).zip(wd_tail) {
+                let t = b * wd;
+                db[0] += t;
+                db[1] += t * c[1];
+                db[2] += t * c[2];
+            }
+            db
+        });
+        if db.is_none() {
+            base.extend_from_slice(rest);
         }
         let [b00, b01, b02, b11, b12, b22] = bb;
         Self {
             base,
             bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
             sb,
+            db,
         }
     }
 }
@@ -204,6 +255,18 @@ impl ModelSide {
     /// The model side of `problem` (a layered model) on `axes`, its bases
     /// in `precision`.
     pub fn new(problem: &Problem, axes: &GridAxes, precision: Precision) -> Self {
+        Self::formed(problem, axes, precision, false)
+    }
+
+    /// [`ModelSide::new`] for `problem`'s set alone: each column's data's
+    /// sums formed in its pass, bit for bit those of a shared model side,
+    /// and no base kept (one pass over the measurements per column where
+    /// sharing takes two).
+    fn for_one_set(problem: &Problem, axes: &GridAxes, precision: Precision) -> Self {
+        Self::formed(problem, axes, precision, true)
+    }
+
+    fn formed(problem: &Problem, axes: &GridAxes, precision: Precision, one_set: bool) -> Self {
         let basis = &problem.basis;
         let (ci, cs) = basis.cosines();
         let k = problem.data.len();
@@ -216,15 +279,25 @@ impl ModelSide {
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();
         let coefficients = [&g1[..], &g2, &g11, &g12, &g22];
         let rows = match precision {
-            Precision::F64 => Self::rows::<f64x4>(problem, axes, coefficients),
-            Precision::F32 => Self::rows::<f32x8>(problem, axes, coefficients),
+            Precision::F64 => Self::rows::<f64x4>(problem, axes, coefficients, one_set),
+            Precision::F32 => Self::rows::<f32x8>(problem, axes, coefficients, one_set),
         };
-        Self { rows, g: [g1, g2] }
+        Self {
+            rows,
+            g: [g1, g2],
+            one_set,
+        }
     }
 
     /// The rows of [`ModelSide::new`], the bases in `L`'s lanes; `g` the
-    /// factors `[g1, g2, g1², g1 g2, g2²]` of each measurement.
-    fn rows<L: Packed>(problem: &Problem, axes: &GridAxes, g: [&[f64]; 5]) -> Vec<SlopeRow> {
+    /// factors `[g1, g2, g1², g1 g2, g2²]` of each measurement; with
+    /// `one_set`, `problem`'s data's sums in place of the bases.
+    fn rows<L: Packed>(
+        problem: &Problem,
+        axes: &GridAxes,
+        g: [&[f64]; 5],
+        one_set: bool,
+    ) -> Vec<SlopeRow> {
         let basis = &problem.basis;
         let k = problem.data.len();
         let boundaries: Vec<Vec<BoundaryGroup<L>>> = axes.axes[1]
@@ -246,7 +319,8 @@ impl ModelSide {
                     .iter()
                     .map(|b| {
                         let groups = L::widened(basis.base_groups(slope, b));
-                        ColumnSums::new(groups, k, (&coefficients, &tail), ws_groups)
+                        let wd = one_set.then(|| problem.weighted_data.as_chunks::<4>());
+                        ColumnSums::new(groups, k, (&coefficients, &tail), ws_groups, wd)
                     })
                     .collect();
                 SlopeRow { s, ss, columns }
@@ -266,7 +340,7 @@ impl ModelSide {
 /// two parameters, in `f64`).
 pub fn grid_values(problem: &Problem, axes: &GridAxes, precision: Precision) -> GridValues {
     if problem.basis.has_balance() {
-        let side = ModelSide::new(problem, axes, precision);
+        let side = ModelSide::for_one_set(problem, axes, precision);
         let mut values = grid_values_many(&[problem], axes, &side);
         values.pop().expect("one set, one grid")
     } else {
@@ -347,12 +421,17 @@ fn data_sums(
 /// model side they share (computed for one set, or shared:
 /// [`ModelSide::shareable`]), in one pass over it; per grid point only the
 /// data's sums remain, then each a is a closed-form solve. Each set's
-/// values are bit for bit those of its own pass.
+/// values are bit for bit those of its own pass. A model side formed for
+/// one set ([`ModelSide::for_one_set`]) serves that set alone.
 pub fn grid_values_many(
     problems: &[&Problem],
     axes: &GridAxes,
     model: &ModelSide,
 ) -> Vec<GridValues> {
+    assert!(
+        !model.one_set || problems.len() == 1,
+        "a model side formed for one set serves that set alone"
+    );
     let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
     let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
     let g = [&model.g[0][..], &model.g[1][..]];
@@ -373,7 +452,10 @@ pub fn grid_values_many(
             let mut acc = vec![[f64x4::ZERO; 3]; problems.len()];
             let mut sums = vec![[0.0; 3]; problems.len()];
             for (n, c) in row.columns.iter().enumerate() {
-                data_sums(&c.base, g, &wds, &mut acc, &mut sums);
+                match c.db {
+                    Some(db) => sums[0] = db,
+                    None => data_sums(&c.base, g, &wds, &mut acc, &mut sums),
+                }
                 let at = n * a_axis.len();
                 for (set, problem) in problems.iter().enumerate() {
                     let q = Quadratic {
@@ -549,13 +631,19 @@ mod tests {
                 vec![0.0, 0.3, 1.0],
             ],
         };
-        let side = ModelSide::new(&problems[0], &axes, Precision::F64);
         let refs: Vec<&Problem> = problems.iter().collect();
-        let together = grid_values_many(&refs, &axes, &side);
-        for (problem, values) in problems.iter().zip(&together) {
-            assert_eq!(values, &grid_values(problem, &axes, Precision::F64));
-            assert!(values.sse.iter().all(|e| e.is_finite()));
+        // One set's own grid stage forms its data's sums in the model
+        // side's pass, a batch's in a pass of their own: the same bits.
+        for precision in Precision::ALL {
+            let side = ModelSide::new(&problems[0], &axes, precision);
+            let together = grid_values_many(&refs, &axes, &side);
+            for (problem, values) in problems.iter().zip(&together) {
+                assert_eq!(values, &grid_values(problem, &axes, precision));
+                assert!(values.sse.iter().all(|e| e.is_finite()));
+            }
         }
+        let side = ModelSide::new(&problems[0], &axes, Precision::F64);
+        let together = grid_values_many(&refs, &axes, &side);
         assert_ne!(together[0], together[1]);
         // And each grid value is the objective evaluated directly there,
         // from the residuals (the moments form cancels digits of Σ w D²).
