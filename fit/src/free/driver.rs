@@ -544,7 +544,137 @@ fn fitted_to_rounding(problem: &Problem, levels: &Levels) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synthetic;
+    use crate::coverage::{draw, noisy_scene, NoiseModel};
+    use crate::report::Source;
+    use crate::synthetic::{self, Noise};
+
+    /// The profile of `problem`'s nonlinear parameter `j` at `value`
+    /// (internal coordinates): the least objective of the other parameters
+    /// minimised to 10⁻¹² from every fourth σ/T and every n of the grid and
+    /// from `minimum`.
+    fn profile_at(
+        problem: &Problem,
+        layout: &Layout,
+        minimum: &[f64],
+        j: usize,
+        value: f64,
+    ) -> f64 {
+        let axes = &layout.axes.axes;
+        let mut starts = vec![minimum.to_vec()];
+        for &slope in axes[0].iter().step_by(4) {
+            for &n in &axes[1] {
+                let mut start = minimum.to_vec();
+                (start[0], start[1]) = (libm::log(slope), n);
+                starts.push(start);
+            }
+        }
+        let mut free = vec![true; problem.dim()];
+        free[j] = false;
+        starts
+            .par_iter_mut()
+            .map(|start| {
+                start[j] = value;
+                minimise(problem, start, &free, problem.beta, 1e-12)
+                    .point
+                    .sse
+            })
+            .reduce(|| f64::INFINITY, f64::min)
+    }
+
+    /// Checks that each end of the `level` (0: 68.27%, 1: 95%) profile
+    /// intervals of the nonlinear parameters of the coverage run's set
+    /// `trial` (exp, σ = 0.01 estimated, seed 2016) lies where the profile
+    /// ([`profile_at`]) reaches the level (within 10% in `sqrt(profile −
+    /// min)`; below it at a face of the box), and that the profile stays
+    /// below the level at a quarter, half, three quarters and 90% of the
+    /// way from the estimate to the end.
+    fn check_ends(trial: usize, level: usize) {
+        let (model, grid) = (Model::Exp, Grid::user());
+        let mut rng = Noise::new(2016);
+        let scene = (0..=trial)
+            .map(|_| {
+                let truth = draw(model, Objective::Free, &mut rng);
+                noisy_scene(
+                    model,
+                    Objective::Free,
+                    truth,
+                    NoiseModel::Every(0.01),
+                    &mut rng,
+                )
+            })
+            .last()
+            .unwrap();
+        let layout = Layout::new(model, &grid);
+        let fit = fit(&scene, model, (&grid, Precision::F64), Analysis::FULL);
+        let problem = problem_of(&scene, model, &layout, None);
+        let mut minimum = vec![0.0; problem.dim()];
+        for (p, c) in fit.parameters.iter().zip(&layout.coordinates) {
+            if let Coordinate::Nonlinear { j, log } = *c {
+                minimum[j] = if log { libm::log(p.value()) } else { p.value() };
+            }
+        }
+        let sse_min = problem.evaluate(&minimum, problem.beta).0.sse;
+        let target = Levels::new(&problem, sse_min).unwrap().heights[level].sqrt();
+        for (p, c) in fit.parameters.iter().zip(&layout.coordinates) {
+            let Coordinate::Nonlinear { j, log } = *c else {
+                continue;
+            };
+            let height = |v: f64| {
+                let internal = if log { libm::log(v) } else { v };
+                let profile = profile_at(&problem, &layout, &minimum, j, internal);
+                (profile - sse_min).max(0.0).sqrt()
+            };
+            let (lo, hi) = layout.reported[j];
+            let interval = p.intervals(Source::Profile)[level].unwrap();
+            for end in [interval.lo, interval.hi] {
+                let h = height(end);
+                let reached = if end <= lo || end >= hi {
+                    h <= 1.1 * target
+                } else {
+                    (h - target).abs() <= 0.1 * target
+                };
+                assert!(
+                    reached,
+                    "trial {trial} {}: the end {end}: sqrt(profile - min) {h}, the level {target}",
+                    p.name
+                );
+                for t in [0.25, 0.5, 0.75, 0.9] {
+                    let v = p.value() + t * (end - p.value());
+                    let h = height(v);
+                    assert!(
+                        h < target,
+                        "trial {trial} {}: {v}, inside, at {h} above the level {target}",
+                        p.name
+                    );
+                }
+            }
+        }
+    }
+
+    /// A walk whose bracket of the level narrows without a probe near it
+    /// minimises the far side again from the near side's parameters before
+    /// it ends at a jump of the profile: in these three sets of the coverage
+    /// run a minimisation had stopped in another valley there, and the walk
+    /// ended its 95% intervals short (trial 3's a at 0.821, where
+    /// `sqrt(profile − min)` is 17% below the level, and trial 100's at
+    /// 0.100; they now end at 0.839 and 0.406).
+    #[test]
+    fn a_walk_ends_at_a_jump_only_where_the_profile_jumps() {
+        for trial in [3, 100, 147] {
+            check_ends(trial, 1);
+        }
+    }
+
+    /// Known bug (docs/conventions.md §11b): trial 100's 68.27% interval of
+    /// a ends at 0.0717, where the walk's minimisations, following the
+    /// profile's valley at n ≈ 1.01 from the estimate, find
+    /// `sqrt(profile − min)` at the level; the valley at the face n = 2.5 is
+    /// lower there (13% below the level).
+    #[test]
+    #[ignore = "known bug: the profile's walk follows one valley where another is lower"]
+    fn profile_ends_follow_the_lowest_valley() {
+        check_ends(100, 0);
+    }
 
     /// Each estimate's Δ_RMS, which a fit forms from its own columns, is
     /// that of its fitted model's prediction.

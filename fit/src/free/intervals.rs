@@ -324,6 +324,8 @@ struct Probe {
     distance: f64,
     height: f64,
     theta: Vec<f64>,
+    /// Minimised again from the profile's path below it (a jump's far side).
+    rechecked: bool,
 }
 
 impl Side<'_> {
@@ -572,6 +574,7 @@ impl Side<'_> {
             distance: 0.0,
             height: 0.0,
             theta: self.minimum.theta.clone(),
+            rechecked: false,
         }];
         let mut ends = [(face, true); 2];
         for (level, &height) in self.levels.heights.iter().enumerate() {
@@ -610,6 +613,7 @@ impl Side<'_> {
                     distance: next.min(room),
                     height: h,
                     theta: point.theta,
+                    rechecked: false,
                 });
                 if h < target && next >= room {
                     found = Some((face, true));
@@ -633,7 +637,45 @@ impl Side<'_> {
                     if above.distance - near.distance <= BRACKET_TOLERANCE * above.distance {
                         // A bracket this narrow without a probe near the
                         // level: the profile jumps across it (another
-                        // valley takes over), and the end is the jump.
+                        // valley takes over), and the end is the jump;
+                        // unless the far side's minimisation stopped in
+                        // another valley, which minimising there again
+                        // from the near side's parameters (the profile's
+                        // path continued) shows.
+                        if !above.rechecked {
+                            let (distance, mut start) = (above.distance, near.theta.clone());
+                            let value = if distance >= room {
+                                face
+                            } else {
+                                estimate + self.direction * distance
+                            };
+                            if let Coordinate::Nonlinear { j, .. } = self.coordinate {
+                                start[j] = self.internal(value);
+                            }
+                            let point = self.profile(value, target, &start);
+                            if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
+                                return Walk::NewMinimum(point);
+                            }
+                            let h = (point.sse - sse_min).max(0.0).sqrt();
+                            let far = probes
+                                .iter_mut()
+                                .find(|p| p.distance == distance && p.height >= target)
+                                .expect("the bracket's far probe");
+                            far.rechecked = true;
+                            if h < far.height {
+                                (far.height, far.theta) = (h, point.theta);
+                            }
+                            if h < target {
+                                next = Self::next_distance(
+                                    &probes,
+                                    probes.len() - before,
+                                    target,
+                                    alpha,
+                                )
+                                .min(room);
+                                continue;
+                            }
+                        }
                         found = Some((estimate + self.direction * next, false));
                         break;
                     }
@@ -659,6 +701,7 @@ mod tests {
             distance,
             height,
             theta: Vec::new(),
+            rechecked: false,
         }
     }
 
