@@ -570,6 +570,24 @@ impl Side<'_> {
             .filter(|&sd| sd > 0.0)
             .map(|sd| self.levels.s2.sqrt() / sd);
         let room = (face - estimate).abs();
+        // The held value at a distance from the estimate (the face from
+        // `room` on).
+        let value_at = |distance: f64| {
+            if distance >= room {
+                face
+            } else {
+                estimate + self.direction * distance
+            }
+        };
+        // The profile at `value` from `start` and `sqrt(profile − min)`
+        // there, or a point below the minimum.
+        let measure = |value: f64, target: f64, start: &[f64]| {
+            let point = self.profile(value, target, start);
+            if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
+                return Err(point);
+            }
+            Ok(((point.sse - sse_min).max(0.0).sqrt(), point.theta))
+        };
         let mut probes = vec![Probe {
             distance: 0.0,
             height: 0.0,
@@ -598,21 +616,16 @@ impl Side<'_> {
                     // at the face itself.
                     next = room;
                 }
-                let value = if next >= room {
-                    face
-                } else {
-                    estimate + self.direction * next
-                };
+                let value = value_at(next);
                 let start = self.start(value, next, &probes);
-                let point = self.profile(value, target, &start);
-                if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
-                    return Walk::NewMinimum(point);
-                }
-                let h = (point.sse - sse_min).max(0.0).sqrt();
+                let (h, theta) = match measure(value, target, &start) {
+                    Ok(measured) => measured,
+                    Err(lower) => return Walk::NewMinimum(lower),
+                };
                 probes.push(Probe {
                     distance: next.min(room),
                     height: h,
-                    theta: point.theta,
+                    theta,
                     rechecked: false,
                 });
                 if h < target && next >= room {
@@ -644,26 +657,21 @@ impl Side<'_> {
                         // path continued) shows.
                         if !above.rechecked {
                             let (distance, mut start) = (above.distance, near.theta.clone());
-                            let value = if distance >= room {
-                                face
-                            } else {
-                                estimate + self.direction * distance
-                            };
+                            let value = value_at(distance);
                             if let Coordinate::Nonlinear { j, .. } = self.coordinate {
                                 start[j] = self.internal(value);
                             }
-                            let point = self.profile(value, target, &start);
-                            if point.sse < sse_min * (1.0 - 1e-9) - 1e-300 {
-                                return Walk::NewMinimum(point);
-                            }
-                            let h = (point.sse - sse_min).max(0.0).sqrt();
+                            let (h, theta) = match measure(value, target, &start) {
+                                Ok(measured) => measured,
+                                Err(lower) => return Walk::NewMinimum(lower),
+                            };
                             let far = probes
                                 .iter_mut()
                                 .find(|p| p.distance == distance && p.height >= target)
                                 .expect("the bracket's far probe");
                             far.rechecked = true;
                             if h < far.height {
-                                (far.height, far.theta) = (h, point.theta);
+                                (far.height, far.theta) = (h, theta);
                             }
                             if h < target {
                                 next = Self::next_distance(

@@ -138,10 +138,7 @@ impl ColumnSums {
             Some((wd, _)) => {
                 for (((c, ws), b), wd) in whole.zip(wd) {
                     accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
-                    let t = b * f64x4::from(*wd);
-                    db[0] += t;
-                    db[1] += t * c[1];
-                    db[2] += t * c[2];
+                    accumulate_data(&mut db, (b, f64x4::from(*wd)), [c[1], c[2]]);
                 }
             }
         }
@@ -163,10 +160,7 @@ impl ColumnSums {
         }
         let db = wd.map(|(_, wd_tail)| {
             for ((&b, c), &wd) in rest.iter().zip(coefficients.1).zip(wd_tail) {
-                let t = b * wd;
-                db[0] += t;
-                db[1] += t * c[1];
-                db[2] += t * c[2];
+                accumulate_data(&mut db, (b, wd), [c[1], c[2]]);
             }
             db
         });
@@ -197,6 +191,16 @@ fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], (b, ws): (L, L), [w, f 
     sb[0] = sb[0] + wsb;
     sb[1] = sb[1] + wsb * f[0];
     sb[2] = sb[2] + wsb * f[1];
+}
+
+/// One term of a set's data's sums: `w D B` times each of `[1, g1, g2]`
+/// into `db`, from the base `b`, the weighted datum `wd` and the factors
+/// `g1`, `g2` ([`data_sums`], and [`ColumnSums::new`] for one set).
+fn accumulate_data<L: Lane>(db: &mut [L; 3], (b, wd): (L, L), [g1, g2]: [L; 2]) {
+    let t = b * wd;
+    db[0] = db[0] + t;
+    db[1] = db[1] + t * g1;
+    db[2] = db[2] + t * g2;
 }
 
 /// `vectors` interleaved: per whole group of four measurements, the group
@@ -398,10 +402,8 @@ fn data_sums(
         for (acc, wd) in acc.iter_mut().zip(wds) {
             let w = &wd[..len].as_chunks::<4>().0[start..end];
             for i in 0..b.len() {
-                let t = f64x4::from(b[i]) * f64x4::from(w[i]);
-                acc[0] += t;
-                acc[1] += t * f64x4::from(x1[i]);
-                acc[2] += t * f64x4::from(x2[i]);
+                let (x1, x2) = (f64x4::from(x1[i]), f64x4::from(x2[i]));
+                accumulate_data(acc, (f64x4::from(b[i]), f64x4::from(w[i])), [x1, x2]);
             }
         }
     }
@@ -409,10 +411,7 @@ fn data_sums(
     for ((out, acc), wd) in out.iter_mut().zip(acc.iter()).zip(wds) {
         *out = acc.map(total);
         for k in body..len {
-            let t = base[k] * wd[k];
-            out[0] += t;
-            out[1] += t * g1[k];
-            out[2] += t * g2[k];
+            accumulate_data(out, (base[k], wd[k]), [g1[k], g2[k]]);
         }
     }
 }
