@@ -358,7 +358,24 @@ fn fit_from(
         .into_iter()
         .map(|(indices, _)| layout.theta(&indices))
         .collect();
-    let refined = refine(&problem, &starts).point;
+    // The grid's basins and the corner at n = 1 (`corner_start`), side by
+    // side; the corner's minimum is taken only when lower by more than the
+    // screening tolerance, so a fit whose corner leads back to its own
+    // basin is unchanged.
+    let free = vec![true; problem.dim()];
+    let (refined, corner) = rayon::join(
+        || refine(&problem, &starts).point,
+        || {
+            corner_start(&problem, layout, &values)
+                .map(|start| minimise(&problem, &start, &free, problem.beta, SCREENING).point)
+        },
+    );
+    let refined = match corner {
+        Some(c) if c.sse < refined.sse * (1.0 - SCREENING) => {
+            minimise(&problem, &c.theta, &free, problem.beta, TOLERANCE).point
+        }
+        _ => refined,
+    };
     let analysed = if analysis.uncertainty == Uncertainty::Off {
         Analysed {
             minimum: refined,
@@ -437,6 +454,46 @@ fn adequacy(
 
 /// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
 /// a = 0 slice's best grid point, refined with a held at 0 when `refine`.
+/// How far above the face n = 1 [`corner_start`] starts, as a
+/// fraction of the least `cos²` of the measurements' directions: the
+/// refracted cosine `√(n² − 1 + cos²θ)/n` of that direction has moved by
+/// about 1% of itself there. The lower points found in the valley lay at
+/// 0.5% to 2.6% of it (docs/conventions.md §11b).
+const CORNER: f64 = 0.01;
+
+/// A start just above the face n = 1 (docs/conventions.md §11b), for the
+/// layered models on a box whose n reaches 1. At n = 1 and a = 0 the
+/// layer's term is the surface's own; just above, it moves fastest near
+/// grazing, so a narrow valley with β near 1 runs from that face between
+/// the grid's columns, and a minimisation that reaches the face stays
+/// there. The start is the σ/T of the grid's best point on that face
+/// (a at its lower face), a at its lower face and n at [`CORNER`] of the
+/// least `cos²` above 1.
+fn corner_start(problem: &Problem, layout: &Layout, values: &GridValues) -> Option<Vec<f64>> {
+    let (lo, hi) = *problem.bounds.get(1)?;
+    let (cos2_i, cos2_s) = problem.basis.cosines();
+    let least = cos2_i
+        .iter()
+        .chain(cos2_s)
+        .filter(|c| **c > 0.0)
+        .fold(f64::INFINITY, |m, &c| m.min(c));
+    if !problem.basis.has_balance() || lo != 1.0 || !least.is_finite() {
+        return None;
+    }
+    let axes = &layout.axes.axes;
+    let n_at = axes[1].iter().position(|&v| v == lo)?;
+    let (a_len, a_at) = match (axes.get(2), problem.bounds.get(2)) {
+        (Some(a), Some(&(a_lo, _))) => (a.len(), a.iter().position(|&v| v == a_lo)?),
+        _ => (1, 0),
+    };
+    let face = (0..axes[0].len())
+        .map(|s| (s * axes[1].len() + n_at) * a_len + a_at)
+        .min_by(|&f, &g| values.sse[f].total_cmp(&values.sse[g]))?;
+    let mut start = layout.theta(&values.indices(face));
+    start[1] = (1.0 + CORNER * least).min(hi);
+    Some(start)
+}
+
 fn ragheb_hancock(
     scene: &Scene,
     problem: &Problem,
