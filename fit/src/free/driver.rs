@@ -452,8 +452,6 @@ fn adequacy(
     Adequacy::in_order(runs_order, &e, problem.parameter_count(), problem.weighted)
 }
 
-/// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
-/// a = 0 slice's best grid point, refined with a held at 0 when `refine`.
 /// How far above the face n = 1 [`corner_start`] starts, as a
 /// fraction of the least `cos²` of the measurements' directions: the
 /// refracted cosine `√(n² − 1 + cos²θ)/n` of that direction has moved by
@@ -494,6 +492,8 @@ fn corner_start(problem: &Problem, layout: &Layout, values: &GridValues) -> Opti
     Some(start)
 }
 
+/// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
+/// a = 0 slice's best grid point, refined with a held at 0 when `refine`.
 fn ragheb_hancock(
     scene: &Scene,
     problem: &Problem,
