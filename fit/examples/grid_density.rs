@@ -13,11 +13,10 @@
 //! CUReT sample 21's geometry is used besides the built-in one.
 
 use laminar_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
-use laminar_fit::synthetic;
-use laminar_fit::{Axis, Fit, Fitter, Grid, Model, Objective};
-use laminar_io::curet::CuretDir;
-use std::path::{Path, PathBuf};
+use laminar_fit::{Axis, Fitter, Grid, Model, Objective};
 use std::time::Instant;
+
+mod common;
 
 /// The grid of `SLOPES:NS:AS`, n's axis ending at `n_max`.
 fn grid(spec: &str, n_max: f64) -> Result<Grid, Box<dyn std::error::Error>> {
@@ -33,19 +32,6 @@ fn grid(spec: &str, n_max: f64) -> Result<Grid, Box<dyn std::error::Error>> {
     Ok(grid)
 }
 
-/// The largest change of a refined value between two fits of one set, as a
-/// fraction of the first fit's 68.27% interval.
-fn moved(first: &Fit, second: &Fit) -> f64 {
-    let mut largest = 0.0f64;
-    for (p, q) in first.parameters.iter().zip(&second.parameters) {
-        assert_eq!(p.name, q.name);
-        if let Some(width) = p.interval68.map(|i| i.hi - i.lo).filter(|w| *w > 0.0) {
-            largest = largest.max((p.value() - q.value()).abs() / width);
-        }
-    }
-    largest
-}
-
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let spec = args
@@ -56,15 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let other = Fitter::new(grid(&spec, n_max)?)?.objective(Objective::Free);
     let default = Fitter::new(Grid::user())?.objective(Objective::Free);
 
-    let mut geometries = vec![("built-in", synthetic::geometries())];
-    if let Some(dir) = std::env::var_os("CURET_DIR") {
-        let scene = CuretDir::open(Path::new(&dir))?
-            .samples(&[PathBuf::from("abrdf.dat")], Some(&[21]))?
-            .remove(0)
-            .set
-            .scene("avg")?;
-        geometries.push(("CUReT 21", scene.angles().to_vec()));
-    }
+    let geometries = common::geometries()?;
     // Noise-free sets are left out: their intervals have no width.
     let noises = [SETTINGS[0], SETTINGS[1], NoiseModel::Every(1e-3)];
     println!("default grid 40:11:21 against {spec} (n up to {n_max}), {count} sets per row");
@@ -78,7 +56,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let second = other.fit_batch(&sets, model);
                 let (mut shifted, mut lower_other, mut lower_default) = (0, Vec::new(), 0);
                 for (trial, (a, b)) in first.iter().zip(&second).enumerate() {
-                    if moved(a, b) <= 1e-3 {
+                    if common::changes(a, b).1 <= 1e-3 {
                         continue;
                     }
                     shifted += 1;

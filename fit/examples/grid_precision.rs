@@ -8,44 +8,13 @@
 //! built-in one).
 
 use laminar_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
-use laminar_fit::synthetic;
-use laminar_fit::{Fit, Fitter, Grid, Model, Objective, Precision};
-use laminar_io::curet::CuretDir;
-use std::path::{Path, PathBuf};
+use laminar_fit::{Fitter, Grid, Model, Objective, Precision};
 
-/// The largest changes between two fits of one set, as fractions of the
-/// `f64` fit's 68.27% intervals: (grid point moved, refined value, an
-/// interval's end).
-fn changes(wide: &Fit, narrow: &Fit) -> (bool, f64, f64) {
-    let mut moved = false;
-    let (mut value, mut end) = (0.0f64, 0.0f64);
-    for (p, q) in wide.parameters.iter().zip(&narrow.parameters) {
-        assert_eq!(p.name, q.name);
-        moved |= p.grid != q.grid;
-        let Some(width) = p.interval68.map(|i| i.hi - i.lo).filter(|w| *w > 0.0) else {
-            continue;
-        };
-        value = value.max((p.value() - q.value()).abs() / width);
-        for (a, b) in [(p.interval68, q.interval68), (p.interval95, q.interval95)] {
-            if let (Some(a), Some(b)) = (a, b) {
-                end = end.max((a.lo - b.lo).abs().max((a.hi - b.hi).abs()) / width);
-            }
-        }
-    }
-    (moved, value, end)
-}
+mod common;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let count: usize = std::env::args().nth(1).map_or(Ok(200), |a| a.parse())?;
-    let mut geometries = vec![("built-in", synthetic::geometries())];
-    if let Some(dir) = std::env::var_os("CURET_DIR") {
-        let scene = CuretDir::open(Path::new(&dir))?
-            .samples(&[PathBuf::from("abrdf.dat")], Some(&[21]))?
-            .remove(0)
-            .set
-            .scene("avg")?;
-        geometries.push(("CUReT 21", scene.angles().to_vec()));
-    }
+    let geometries = common::geometries()?;
     let noises = [
         SETTINGS[0],
         SETTINGS[1],
@@ -64,7 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 let narrow = single.fit_batch(&sets, model);
                 let (mut moved, mut value, mut end) = (0, 0.0f64, 0.0f64);
                 for (a, b) in wide.iter().zip(&narrow) {
-                    let (m, v, e) = changes(a, b);
+                    let (m, v, e) = common::changes(a, b);
                     moved += usize::from(m);
                     value = value.max(v);
                     end = end.max(e);
