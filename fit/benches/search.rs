@@ -9,8 +9,9 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use laminar_core::Correlation;
-use laminar_fit::paper::search::{search, Method, SearchPath};
+use laminar_fit::paper::search::search;
 use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
+use laminar_fit::{Method, SearchPath};
 use laminar_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::PathBuf;

@@ -3,9 +3,14 @@
 //! every front end read these settings.
 
 use crate::error::{find_named, UnknownName};
-pub use crate::free::bootstrap::{DEFAULT_RESAMPLES, MOST_RESAMPLES};
 use std::fmt;
 use std::str::FromStr;
+
+/// Resamples a bootstrap draws unless told otherwise.
+pub const DEFAULT_RESAMPLES: usize = 200;
+
+/// Most resamples a fit takes.
+pub const MOST_RESAMPLES: usize = 100_000;
 
 /// Which uncertainty a fit computes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -7,14 +7,14 @@ use crate::analysis::Analysis;
 use crate::error::FitError;
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
-use crate::free::search::Precision;
 use crate::grid::Grid;
 use crate::model::Model;
 use crate::objective::Objective;
 use crate::paper::profiles::ProfileCurve;
-use crate::paper::search::SearchPath;
 use crate::report::Fit;
 use crate::scene::Scene;
+use crate::settings::Precision;
+use crate::settings::SearchPath;
 use crate::{choice, free, paper};
 use std::sync::Arc;
 

@@ -202,6 +202,17 @@ impl Grid {
     /// list them.
     pub const PARAMS: [Param; 4] = [Param::Slope, Param::Beta, Param::N, Param::A];
 
+    /// The axis of parameter `p` (`None` for a baseline's parameter).
+    pub fn axis(&self, p: Param) -> Option<&Axis> {
+        match p {
+            Param::Slope => Some(&self.slope),
+            Param::Beta => Some(&self.beta),
+            Param::N => Some(&self.n),
+            Param::A => Some(&self.a),
+            _ => None,
+        }
+    }
+
     /// The axis of parameter `p` to change (`None` for a baseline's parameter).
     pub fn axis_mut(&mut self, p: Param) -> Option<&mut Axis> {
         match p {

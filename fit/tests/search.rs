@@ -3,11 +3,12 @@
 //! SIMD/scalar parity, and (with `CURET_DIR`) the paper's 13 samples.
 
 use laminar_core::{Correlation, Params};
-use laminar_fit::paper::search::{error_surface, point, search, Arith, Method, SearchPath, Twins};
+use laminar_fit::paper::search::{error_surface, point, search, Twins};
 use laminar_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Objective,
     Scene,
 };
+use laminar_fit::{Arith, Method, SearchPath};
 
 mod common;
 

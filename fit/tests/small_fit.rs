@@ -7,8 +7,9 @@
 use laminar_core::measures::DataFault;
 use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
 use laminar_core::{Correlation, Geometry, Param};
-use laminar_fit::paper::search::{self, Arith, Method};
+use laminar_fit::paper::search;
 use laminar_fit::{synthetic, Grid, SearchPath};
+use laminar_fit::{Arith, Method};
 
 #[test]
 fn small_fit_is_the_library_search() {

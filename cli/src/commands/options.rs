@@ -9,7 +9,7 @@ use laminar_cli::selection::{
 };
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::paper::search::SearchPath;
+use laminar_fit::SearchPath;
 use laminar_fit::{
     Analysis, Axis, Fitter, Model, Objective, Param, Precision, Quantity, Settings, Uncertainty,
     UnknownName,

@@ -7,7 +7,8 @@ use super::options::{
 use clap::Args;
 use laminar_cli::CliError;
 use laminar_fit::paper::search::batch::search_batch;
-use laminar_fit::paper::search::{search, Arith, Method, SearchPath, SearchResult, Twins};
+use laminar_fit::paper::search::{search, SearchResult, Twins};
+use laminar_fit::{Arith, Method, SearchPath};
 use laminar_fit::{Grid, Model, Scene};
 use std::time::Instant;
 

@@ -11,8 +11,8 @@ use laminar_cli::selection::synthetic_jobs;
 use laminar_cli::speed::speed_vs_error;
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::paper::search::SearchPath;
 use laminar_fit::Scene;
+use laminar_fit::SearchPath;
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -1,31 +1,35 @@
-//! The free pipeline's driver (docs/conventions.md §4b, §11b): the box
-//! and grid from the [`Grid`] ([`super::layout`]), the grid stage, the
-//! refinement from the grid's basins, the intervals (restarted from any
-//! lower point they find), what releasing a face of the box gives, and the
-//! record ([`super::record`]). The paper objective's driver is
-//! [`crate::paper::driver`]; [`crate::Fitter`] dispatches to one or the other.
+//! The free pipeline's driver (docs/conventions.md §4b, §11b): it only
+//! sequences the stages, each once, for the model's implementation
+//! ([`dispatch`]): the layout ([`Layout`]), the grid stage
+//! ([`FreeModel::grid_values`]), the refinement from the grid's basins with
+//! the model's corner start beside it ([`refinement`]), the statistics of
+//! the solution ([`super::statistics`]) and the record ([`super::record`]).
+//! The paper objective's driver is [`crate::paper::driver`];
+//! [`crate::Fitter`] dispatches to one or the other.
 
-use super::basis::{Basis, Columns};
-use super::bootstrap::bootstrap;
-use super::cross_validation::cross_validate;
-use super::intervals::{Coordinate, JacobianCovariance, Levels, Side, Walk};
-use super::layout::{domain_of, estimate, params_of, raw_terms, Layout};
-use super::problem::{Point, Problem};
-use super::record::{correlations, parameters};
-use super::refine::{minimise, refine, SCREENING, TOLERANCE};
-use super::search::{
-    grid_starts, grid_values, grid_values_many, GridValues, ModelSide, Precision, SETS_PER_PASS,
-};
-use crate::adequacy::{Adequacy, RunsOrder};
+use super::estimate::estimate_at;
+use super::layout::Layout;
+use super::model::{dispatch, FreeModel, WithModel};
+use super::problem::Problem;
+use super::record::{correlations, parameters, Statistics};
+use super::refine::refinement;
+use super::search::{grid_starts, GridValues};
+use super::slice::ragheb_hancock;
+use super::statistics::adequacy::{adequacy, chi2_weighted, information};
+use super::statistics::bootstrap::bootstrap;
+use super::statistics::cross_validation::cross_validate;
+use super::statistics::intervals::{intervals, Analysed};
+use super::statistics::release::{releasable_face, release};
+use super::statistics::Solution;
+use crate::adequacy::RunsOrder;
 use crate::analysis::{Analysis, Uncertainty};
-use crate::choice::Information;
 use crate::estimate::Estimate;
-use crate::fitted::FittedModel;
 use crate::grid::Grid;
 use crate::model::Model;
 use crate::objective::Objective;
-use crate::report::{Fit, Parameter, Released};
+use crate::report::{Fit, Parameter};
 use crate::scene::Scene;
+use crate::settings::Precision;
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
 
@@ -33,172 +37,15 @@ use std::sync::{Arc, OnceLock};
 /// best basins.
 pub const MOST_STARTS: usize = 8;
 
-/// Most restarts of the refinement from a lower point an interval's walk
-/// found.
-pub const MOST_RESTARTS: usize = 3;
-
-/// The best grid point (the first on ties).
-fn grid_best(values: &GridValues) -> usize {
-    let mut best = 0;
-    for (i, &e) in values.sse.iter().enumerate() {
-        if e < values.sse[best] {
-            best = i;
-        }
-    }
-    best
-}
-
-/// One parameter's profile ends, `[below, above]`, each at the 68.27% and
-/// 95% levels as (value, stopped at the face of the box).
-pub(super) type Ends = [[(f64, bool); 2]; 2];
-
-/// Intervals and covariance at a minimum.
-pub(super) struct Analysed {
-    pub(super) minimum: Point,
-    pub(super) levels: Option<Levels>,
-    pub(super) covariance: Option<JacobianCovariance>,
-    /// Per reported parameter, `[below, above]` ends of both levels.
-    pub(super) profile: Option<Vec<Ends>>,
-    /// True when the data are fitted to rounding: the residuals say
-    /// nothing of the noise, so no misfit-robust interval is formed.
-    pub(super) rounding: bool,
-}
-
-/// Intervals at `minimum`, refining again from any lower point a walk
-/// finds (at most [`MOST_RESTARTS`] times).
-fn analyse(problem: &Problem, layout: &Layout, mut minimum: Point, analysis: Analysis) -> Analysed {
-    let free = vec![true; problem.dim()];
-    let mut restarts = 0;
-    loop {
-        let Some(levels) = Levels::new(problem, minimum.sse) else {
-            return Analysed {
-                minimum,
-                levels: None,
-                covariance: None,
-                profile: None,
-                rounding: false,
-            };
-        };
-        let covariance = JacobianCovariance::new(problem, &minimum, &layout.coordinates, levels.s2);
-        let wants_profile = analysis.uncertainty.profile();
-        let rounding = fitted_to_rounding(problem, &levels);
-        if !wants_profile || rounding {
-            return Analysed {
-                minimum,
-                levels: Some(levels),
-                covariance,
-                profile: None,
-                rounding,
-            };
-        }
-        let sides: Vec<(usize, f64)> = (0..layout.coordinates.len())
-            .flat_map(|i| [(i, -1.0), (i, 1.0)])
-            .collect();
-        let walks: Vec<Walk> = sides
-            .par_iter()
-            .map(|&(index, direction)| {
-                Side {
-                    problem,
-                    minimum: &minimum,
-                    coordinate: layout.coordinates[index],
-                    index,
-                    covariance: covariance.as_ref(),
-                    coordinates: &layout.coordinates,
-                    direction,
-                    levels,
-                }
-                .walk()
-            })
-            .collect();
-        let lower = walks
-            .iter()
-            .filter_map(|w| match w {
-                Walk::NewMinimum(p) => Some(p),
-                Walk::Ends(_) => None,
-            })
-            .min_by(|a, b| a.sse.total_cmp(&b.sse));
-        if let Some(lower) = lower {
-            if restarts < MOST_RESTARTS {
-                restarts += 1;
-                let again = minimise(problem, &lower.theta, &free, problem.beta, TOLERANCE).point;
-                if again.sse < minimum.sse {
-                    minimum = again;
-                    continue;
-                }
-            }
-        }
-        let mut profile = Vec::new();
-        for pair in walks.chunks(2) {
-            let end = |w: &Walk| match w {
-                Walk::Ends(e) => *e,
-                // A lower point that refinement could not improve on: the
-                // walk's ends are unknown on this side, the face closes it.
-                Walk::NewMinimum(_) => [(f64::NAN, true); 2],
-            };
-            profile.push([end(&pair[0]), end(&pair[1])]);
-        }
-        return Analysed {
-            minimum,
-            levels: Some(levels),
-            covariance,
-            profile: Some(profile),
-            rounding,
-        };
-    }
-}
-
-/// One local fit from `minimum` with the box's bound on the side where
-/// `value` sits released to the model's domain.
-fn release(
-    scene: &Scene,
-    problem: &Problem,
-    model: Model,
-    layout: &Layout,
-    (index, at_upper): (usize, bool),
-    minimum: &Point,
-    rms_in_box: f64,
-) -> Released {
-    let coordinate = layout.coordinates[index];
-    let mut wider = problem.clone();
-    match coordinate {
-        Coordinate::Nonlinear { j, .. } => {
-            let (dlo, dhi) = layout.domain[j];
-            let (rlo, rhi) = domain_of(layout, index);
-            if at_upper {
-                wider.bounds[j].1 = dhi;
-                wider.reported[j].1 = rhi;
-            } else {
-                wider.bounds[j].0 = dlo;
-                wider.reported[j].0 = rlo;
-            }
-        }
-        Coordinate::Beta => {
-            if at_upper {
-                wider.beta.1 = 1.0;
-            } else {
-                wider.beta.0 = 0.0;
-            }
-        }
-    }
-    let free = vec![true; problem.dim()];
-    let point = minimise(&wider, &minimum.theta, &free, wider.beta, SCREENING).point;
-    let e = estimate(
-        scene,
-        &wider,
-        model,
-        &point,
-        &wider.basis.columns(&point.theta),
-    );
-    Released {
-        value: coordinate.value(&point, &wider),
-        rms: e.rms,
-        rms_in_box,
-    }
-}
+/// Sets whose grid stage one pass over a shared model side serves
+/// ([`FreeModel::grid_values_shared`]): the model side (K × 440 values
+/// with the default grid, 80 MB at K = 22,801) is read from memory once
+/// per this many sets.
+pub const SETS_PER_PASS: usize = 8;
 
 /// Fits `model` to `scene` under the free-amplitude objective in the box of
 /// `grid` (its axes' ranges; the layered models' grid over σ/T, n and a,
-/// the baselines' their own grids), the grid stage's bases in `precision`,
+/// the baselines' their own grids), the grid stage's terms in `precision`,
 /// with `analysis` after the grid stage.
 pub fn fit(
     scene: &Scene,
@@ -206,27 +53,47 @@ pub fn fit(
     (grid, precision): (&Grid, Precision),
     analysis: Analysis,
 ) -> Fit {
-    let layout = Layout::new(model, grid);
-    let problem = problem_of(scene, model, &layout, None);
-    let values = grid_values(&problem, &layout.axes, precision);
-    let runs_order = OnceLock::new();
-    fit_from(
-        scene,
+    struct One<'a> {
+        scene: &'a Scene,
+        grid: &'a Grid,
+        precision: Precision,
+        analysis: Analysis,
+    }
+    impl WithModel for One<'_> {
+        type Output = Fit;
+        fn run<M: FreeModel>(self, model: Model) -> Fit {
+            let built = Arc::new(M::new(model, self.scene.angles()));
+            let layout = Layout::new(&*built, self.grid);
+            let problem = problem_of(self.scene, &layout, built);
+            let values = M::grid_values(&problem, &layout.axes, self.precision);
+            let runs_order = OnceLock::new();
+            fit_from(
+                self.scene,
+                &layout,
+                problem,
+                &runs_order,
+                values,
+                self.analysis,
+            )
+        }
+    }
+    dispatch(
         model,
-        &layout,
-        problem,
-        &runs_order,
-        values,
-        analysis,
+        One {
+            scene,
+            grid,
+            precision,
+            analysis,
+        },
     )
 }
 
-/// The objective of `model` on `scene` in the box of `layout`, on `basis`
-/// (the model's at the scene's measurements; `None` to build it).
-fn problem_of(scene: &Scene, model: Model, layout: &Layout, basis: Option<Arc<Basis>>) -> Problem {
+/// The objective on `scene` in the box of `layout`, of `model` built at
+/// the scene's measurements.
+fn problem_of<M: FreeModel>(scene: &Scene, layout: &Layout, model: Arc<M>) -> Problem<M> {
     Problem::new(
         scene,
-        (model, basis),
+        (model.model(), Some(model)),
         (layout.bounds.clone(), layout.reported.clone()),
         layout.domain.clone(),
         layout.beta,
@@ -234,9 +101,10 @@ fn problem_of(scene: &Scene, model: Model, layout: &Layout, basis: Option<Arc<Ba
 }
 
 /// [`fit`] of every scene of `scenes` (in order, in parallel), calling
-/// `progress` after each. Scenes on one geometry without uncertainties
-/// share the model side of the grid stage ([`ModelSide`]), which one pass
-/// serves [`SETS_PER_PASS`] of them; every fit is bit for bit [`fit`]'s.
+/// `progress` after each. Scenes on one geometry share the model, and
+/// without uncertainties the grid stage's model side
+/// ([`FreeModel::shared`]), which one pass serves [`SETS_PER_PASS`] of
+/// them; every fit is bit for bit [`fit`]'s.
 pub fn fit_batch(
     scenes: &[Scene],
     model: Model,
@@ -244,364 +112,252 @@ pub fn fit_batch(
     analysis: Analysis,
     progress: &(dyn Fn() + Sync),
 ) -> Vec<Fit> {
-    let layout = Layout::new(model, grid);
-    let Some(first) = scenes.first() else {
-        return Vec::new();
-    };
-    // Scenes on one geometry share the basis, and without uncertainties
-    // the model side of the grid stage too.
-    let one_geometry = scenes.iter().all(|s| s.angles() == first.angles());
-    let basis = one_geometry.then(|| Arc::new(Basis::new(model, first.angles())));
-    let shared_runs_order = OnceLock::new();
-    let first = problem_of(first, model, &layout, basis.clone());
-    let shared = (one_geometry && scenes.iter().all(|s| ModelSide::shareable(&first, s)))
-        .then(|| ModelSide::new(&first, &layout.axes, precision));
-    // [`SETS_PER_PASS`] sets at a time: their grid stage in one pass over
-    // the shared model side, then each set's fit.
-    scenes
-        .par_chunks(SETS_PER_PASS)
-        .flat_map(|chunk| {
-            let problems: Vec<Problem> = chunk
-                .iter()
-                .map(|scene| problem_of(scene, model, &layout, basis.clone()))
-                .collect();
-            let values = match &shared {
-                Some(side) => {
-                    let refs: Vec<&Problem> = problems.iter().collect();
-                    grid_values_many(&refs, &layout.axes, side)
-                }
-                None => problems
-                    .iter()
-                    .map(|p| grid_values(p, &layout.axes, precision))
-                    .collect(),
+    struct Batch<'a> {
+        scenes: &'a [Scene],
+        grid: &'a Grid,
+        precision: Precision,
+        analysis: Analysis,
+        progress: &'a (dyn Fn() + Sync),
+    }
+    impl WithModel for Batch<'_> {
+        type Output = Vec<Fit>;
+        fn run<M: FreeModel>(self, model: Model) -> Vec<Fit> {
+            let Some(first) = self.scenes.first() else {
+                return Vec::new();
             };
-            problems
-                .into_par_iter()
-                .zip(values)
-                .zip(chunk)
-                .map(|((problem, values), scene)| {
-                    let own_runs_order = OnceLock::new();
-                    let runs_order = if one_geometry {
-                        &shared_runs_order
-                    } else {
-                        &own_runs_order
-                    };
-                    let fit =
-                        fit_from(scene, model, &layout, problem, runs_order, values, analysis);
-                    progress();
-                    fit
+            let built = Arc::new(M::new(model, first.angles()));
+            let layout = Layout::new(&*built, self.grid);
+            let one_geometry = self.scenes.iter().all(|s| s.angles() == first.angles());
+            let model_of = |scene: &Scene| {
+                if one_geometry {
+                    Arc::clone(&built)
+                } else {
+                    Arc::new(M::new(model, scene.angles()))
+                }
+            };
+            let unweighted = self.scenes.iter().all(|s| s.sigma().is_none());
+            let shared = (one_geometry && unweighted)
+                .then(|| {
+                    let first = problem_of(first, &layout, Arc::clone(&built));
+                    M::shared(&first, &layout.axes, self.precision)
                 })
-                .collect::<Vec<Fit>>()
-        })
-        .collect()
+                .flatten();
+            let shared_runs_order = OnceLock::new();
+            self.scenes
+                .par_chunks(SETS_PER_PASS)
+                .flat_map(|chunk| {
+                    let problems: Vec<Problem<M>> = chunk
+                        .iter()
+                        .map(|scene| problem_of(scene, &layout, model_of(scene)))
+                        .collect();
+                    let values = match &shared {
+                        Some(side) => {
+                            let refs: Vec<&Problem<M>> = problems.iter().collect();
+                            M::grid_values_shared(&refs, &layout.axes, side)
+                        }
+                        None => problems
+                            .iter()
+                            .map(|p| M::grid_values(p, &layout.axes, self.precision))
+                            .collect(),
+                    };
+                    problems
+                        .into_par_iter()
+                        .zip(values)
+                        .zip(chunk)
+                        .map(|((problem, values), scene)| {
+                            let own_runs_order = OnceLock::new();
+                            let runs_order = if one_geometry {
+                                &shared_runs_order
+                            } else {
+                                &own_runs_order
+                            };
+                            let fit = fit_from(
+                                scene,
+                                &layout,
+                                problem,
+                                runs_order,
+                                values,
+                                self.analysis,
+                            );
+                            (self.progress)();
+                            fit
+                        })
+                        .collect::<Vec<Fit>>()
+                })
+                .collect()
+        }
+    }
+    dispatch(
+        model,
+        Batch {
+            scenes,
+            grid,
+            precision,
+            analysis,
+            progress,
+        },
+    )
 }
 
 /// A fit from its grid stage's values on; `runs_order`, the adequacy
 /// test's order of the measurements, is formed at the first fit that
 /// needs it (shared by the fits of a batch on one geometry).
-fn fit_from(
+fn fit_from<M: FreeModel>(
     scene: &Scene,
-    model: Model,
     layout: &Layout,
-    problem: Problem,
+    problem: Problem<M>,
     runs_order: &OnceLock<RunsOrder>,
     values: GridValues,
     analysis: Analysis,
 ) -> Fit {
-    let grid_flat = grid_best(&values);
-    let grid_theta = layout.theta(&values.indices(grid_flat));
+    let grid_theta = layout.axes.theta(&values.indices(values.best()));
     let (grid_point, grid_columns) = problem.evaluate(&grid_theta, problem.beta);
-    let best = estimate(scene, &problem, model, &grid_point, &grid_columns);
+    let model = (problem.model.model(), problem.parameter_count());
+    let best = estimate_at(scene, (&problem, layout), model, &grid_point, &grid_columns);
+    let rh = ragheb_hancock(scene, (&problem, layout), &values, analysis.refine);
+    let grid = Solution {
+        problem: &problem,
+        layout,
+        minimum: grid_point,
+    };
+    let grid_values: Vec<f64> = (0..layout.coordinates.len())
+        .map(|i| grid.value(i))
+        .collect();
+    let mut record = record_of(scene, &grid, best, values.sse.len());
+    record.rh = rh;
+    if !analysis.refine {
+        record.parameters = parameters(&grid, &grid_values, None);
+        record.chi2_weighted = chi2_weighted(&problem, &grid.minimum);
+        return record;
+    }
+    let starts: Vec<Vec<f64>> = grid_starts(&values, MOST_STARTS)
+        .into_iter()
+        .map(|(indices, _)| layout.axes.theta(&indices))
+        .collect();
+    let corner = M::corner_start(&problem, &layout.axes, &values);
+    let refined = refinement(&problem, &starts, corner);
+    let analysed = if analysis.uncertainty == Uncertainty::Off {
+        Analysed::none(refined)
+    } else {
+        let refined = Solution {
+            problem: &problem,
+            layout,
+            minimum: refined,
+        };
+        intervals(refined, analysis)
+    };
+    let solution = Solution {
+        problem: &problem,
+        layout,
+        minimum: analysed.minimum.clone(),
+    };
+    record_statistics(
+        &mut record,
+        scene,
+        &solution,
+        (&analysed, &grid_values),
+        (analysis, runs_order),
+    );
+    record
+}
 
-    let rh = ragheb_hancock(scene, &problem, layout, &values, model, analysis.refine);
-
-    let mut record = Fit {
+/// The record of a fit of `scene` whose grid's best point is `grid`
+/// (estimate `best`) among `evaluated` grid points; the analysis fills the
+/// rest.
+fn record_of<M: FreeModel>(
+    scene: &Scene,
+    grid: &Solution<'_, M>,
+    best: Estimate,
+    evaluated: usize,
+) -> Fit {
+    Fit {
         sample: scene.sample().to_string(),
         channel: scene.channel().to_string(),
-        model,
+        model: grid.problem.model.model(),
         search_rms: best.rms,
-        rh,
+        rh: None,
         measurements: scene.len(),
         nonpositive: scene.nonpositive(),
-        evaluated: values.sse.len(),
+        evaluated,
         refined: None,
         parameters: Vec::new(),
         covariance: None,
         objective: Objective::Free,
-        amplitude: Some(grid_point.linear.amplitude()),
+        amplitude: Some(grid.minimum.linear.amplitude()),
         chi2_weighted: None,
         adequacy: None,
         information: None,
         rank: None,
         cross_validation: None,
-        best: best.clone(),
-    };
-    let grid_values_of: Vec<f64> = layout
-        .coordinates
-        .iter()
-        .map(|c| c.value(&grid_point, &problem))
-        .collect();
-    if !analysis.refine {
-        record.parameters = parameters(
-            layout,
-            &problem,
-            &grid_values_of,
-            None,
-            &grid_point,
-            None,
-            None,
-        );
-        record.chi2_weighted = chi2_weighted(&problem, &grid_point);
-        return record;
+        best,
     }
-    let starts: Vec<Vec<f64>> = grid_starts(&values, MOST_STARTS)
-        .into_iter()
-        .map(|(indices, _)| layout.theta(&indices))
-        .collect();
-    // The grid's basins and the corner at n = 1 (`corner_start`), side by
-    // side; the corner's minimum is taken only when lower by more than the
-    // screening tolerance, so a fit whose corner leads back to its own
-    // basin is unchanged.
-    let free = vec![true; problem.dim()];
-    let (refined, corner) = rayon::join(
-        || refine(&problem, &starts).point,
-        || {
-            corner_start(&problem, layout, &values)
-                .map(|start| minimise(&problem, &start, &free, problem.beta, SCREENING).point)
-        },
-    );
-    let refined = match corner {
-        Some(c) if c.sse < refined.sse * (1.0 - SCREENING) => {
-            minimise(&problem, &c.theta, &free, problem.beta, TOLERANCE).point
-        }
-        _ => refined,
-    };
-    let analysed = if analysis.uncertainty == Uncertainty::Off {
-        Analysed {
-            minimum: refined,
-            levels: None,
-            covariance: None,
-            profile: None,
-            rounding: false,
-        }
-    } else {
-        analyse(&problem, layout, refined, analysis)
-    };
-    let minimum = &analysed.minimum;
-    let minimum_columns = problem.basis.columns(&minimum.theta);
-    let refined_estimate = estimate(scene, &problem, model, minimum, &minimum_columns);
+}
+
+/// The statistics of the refined `solution` (its intervals `analysed`; the
+/// grid's values `grid_values`) in `record`: the parameters with their
+/// intervals and released faces, the covariance, χ²/ν, adequacy,
+/// information criteria and cross-validation.
+fn record_statistics<M: FreeModel>(
+    record: &mut Fit,
+    scene: &Scene,
+    solution: &Solution<'_, M>,
+    (analysed, grid_values): (&Analysed, &[f64]),
+    (analysis, runs_order): (Analysis, &OnceLock<RunsOrder>),
+) {
+    let (problem, layout, minimum) = (solution.problem, solution.layout, &solution.minimum);
+    let columns = problem.model.columns(&minimum.theta);
+    let model = (problem.model.model(), problem.parameter_count());
+    let refined = estimate_at(scene, (problem, layout), model, minimum, &columns);
     let resampled = (analysis.uncertainty == Uncertainty::Bootstrap)
-        .then(|| {
-            bootstrap(
-                &problem,
-                layout,
-                minimum,
-                (analysis.resamples, analysis.seed),
-                |i| domain_of(layout, i),
-            )
-        })
+        .then(|| bootstrap(solution, (analysis.resamples, analysis.seed)))
         .flatten();
-    let mut parameters = parameters(
-        layout,
-        &problem,
-        &grid_values_of,
-        Some(&analysed),
-        minimum,
-        Some(analysis.uncertainty),
-        resampled.as_ref(),
-    );
-    release_faces(
-        scene,
-        &problem,
-        model,
-        layout,
-        (minimum, refined_estimate.rms),
-        &mut parameters,
-    );
+    let statistics = Statistics {
+        analysed,
+        uncertainty: analysis.uncertainty,
+        bootstrap: resampled.as_ref(),
+    };
+    let mut parameters = parameters(solution, grid_values, Some(&statistics));
+    release_faces(solution, scene, refined.rms, &mut parameters);
     record.covariance = analysed
         .covariance
         .as_ref()
         .filter(|_| analysis.uncertainty.jacobian())
-        .and_then(|c| correlations(layout, c));
+        .and_then(|c| correlations(layout.names, c));
     record.amplitude = Some(minimum.linear.amplitude());
-    record.chi2_weighted = chi2_weighted(&problem, minimum);
+    record.chi2_weighted = chi2_weighted(problem, minimum);
     let runs_order = runs_order.get_or_init(|| RunsOrder::new(scene.angles()));
-    record.adequacy = Some(adequacy(runs_order, &problem, minimum, &minimum_columns));
-    record.information = Information::new(
-        minimum.sse,
-        problem.data.len(),
-        problem.parameter_count(),
-        problem.weighted,
-    );
-    record.cross_validation = cross_validate(&problem, minimum, (analysis.folds, analysis.seed));
+    record.adequacy = Some(adequacy(solution, runs_order, &columns));
+    record.information = information(solution);
+    record.cross_validation = cross_validate(solution, (analysis.folds, analysis.seed));
     record.parameters = parameters;
-    record.refined = Some(refined_estimate);
-    record
+    record.refined = Some(refined);
 }
 
-/// The adequacy tests of the residuals at `point`, whose columns are
-/// `columns` ([`crate::adequacy`]; `runs_order` the scene's measurements
-/// in the runs test's order).
-fn adequacy(
-    runs_order: &RunsOrder,
-    problem: &Problem,
-    point: &Point,
-    columns: &Columns,
-) -> Adequacy {
-    let e = problem.residuals(columns, &point.linear);
-    Adequacy::in_order(runs_order, &e, problem.parameter_count(), problem.weighted)
-}
-
-/// How far above the face n = 1 [`corner_start`] starts, as a
-/// fraction of the least `cos²` of the measurements' directions: the
-/// refracted cosine `√(n² − 1 + cos²θ)/n` of that direction has moved by
-/// about 1% of itself there. The lower points found in the valley lay at
-/// 0.5% to 2.6% of it (docs/conventions.md §11b).
-const CORNER: f64 = 0.01;
-
-/// A start just above the face n = 1 (docs/conventions.md §11b), for the
-/// layered models on a box whose n reaches 1. At n = 1 and a = 0 the
-/// layer's term is the surface's own; just above, it moves fastest near
-/// grazing, so a narrow valley with β near 1 runs from that face between
-/// the grid's columns, and a minimisation that reaches the face stays
-/// there. The start is the σ/T of the grid's best point on that face
-/// (a at its lower face), a at its lower face and n at [`CORNER`] of the
-/// least `cos²` above 1.
-fn corner_start(problem: &Problem, layout: &Layout, values: &GridValues) -> Option<Vec<f64>> {
-    let (lo, hi) = *problem.bounds.get(1)?;
-    let (cos2_i, cos2_s) = problem.basis.cosines();
-    let least = cos2_i
-        .iter()
-        .chain(cos2_s)
-        .filter(|c| **c > 0.0)
-        .fold(f64::INFINITY, |m, &c| m.min(c));
-    if !problem.basis.has_balance() || lo != 1.0 || !least.is_finite() {
-        return None;
-    }
-    let axes = &layout.axes.axes;
-    let n_at = axes[1].iter().position(|&v| v == lo)?;
-    let (a_len, a_at) = match (axes.get(2), problem.bounds.get(2)) {
-        (Some(a), Some(&(a_lo, _))) => (a.len(), a.iter().position(|&v| v == a_lo)?),
-        _ => (1, 0),
-    };
-    let face = (0..axes[0].len())
-        .map(|s| (s * axes[1].len() + n_at) * a_len + a_at)
-        .min_by(|&f, &g| values.sse[f].total_cmp(&values.sse[g]))?;
-    let mut start = layout.theta(&values.indices(face));
-    start[1] = (1.0 + CORNER * least).min(hi);
-    Some(start)
-}
-
-/// The Ragheb–Hancock best of the box (a = 0), when 0 is on the a axis: the
-/// a = 0 slice's best grid point, refined with a held at 0 when `refine`.
-fn ragheb_hancock(
+/// Each parameter on a face of the box that is not a bound of its domain
+/// gets the fit with that bound released ([`release`]), a diagnostic
+/// beside the estimate.
+fn release_faces<M: FreeModel>(
+    solution: &Solution<'_, M>,
     scene: &Scene,
-    problem: &Problem,
-    layout: &Layout,
-    values: &GridValues,
-    model: Model,
-    refine: bool,
-) -> Option<Estimate> {
-    let rh_model = model.ragheb_hancock()?;
-    let zero_a = layout.axes.axes.get(2)?.iter().position(|&v| v == 0.0)?;
-    let a_len = values.lens[2];
-    let slice =
-        (zero_a..values.sse.len())
-            .step_by(a_len)
-            .fold(None, |b: Option<usize>, f| match b {
-                Some(g) if values.sse[g] <= values.sse[f] => Some(g),
-                _ => Some(f),
-            })?;
-    let theta = layout.theta(&values.indices(slice));
-    let (mut point, mut columns) = problem.evaluate(&theta, problem.beta);
-    if refine {
-        // A side result reported by its rms: the screening tolerance (10⁻⁶
-        // of the objective) fixes that to about 5·10⁻⁷ of itself.
-        point = minimise(
-            problem,
-            &point.theta,
-            &[true, true, false],
-            problem.beta,
-            SCREENING,
-        )
-        .point;
-        columns = problem.basis.columns(&point.theta);
-    }
-    let fitted = FittedModel::with_amplitude(
-        rh_model,
-        params_of(problem, model, &point),
-        point.linear.amplitude(),
-        scene.data_scale(),
-    );
-    Some(
-        Estimate::of_raw(
-            scene,
-            fitted,
-            &raw_terms(&columns),
-            problem.parameter_count() - 1,
-        )
-        .expect("the box lies inside the model's domain"),
-    )
-}
-
-/// For each estimate on a face of the box that is not a bound of the
-/// model's domain: the fit with that bound released ([`release`]), a
-/// diagnostic beside the estimate.
-fn release_faces(
-    scene: &Scene,
-    problem: &Problem,
-    model: Model,
-    layout: &Layout,
-    (minimum, rms_in_box): (&Point, f64),
+    rms_in_box: f64,
     parameters: &mut [Parameter],
 ) {
     for (i, p) in parameters.iter_mut().enumerate() {
-        let (lo, hi) = p.bounds.expect("free fits state their box");
-        let v = p.value();
-        let (dlo, dhi) = domain_of(layout, i);
-        let side = if v <= lo && lo > dlo {
-            Some(false)
-        } else if v >= hi && hi < dhi {
-            Some(true)
-        } else {
-            None
-        };
-        if let Some(at_upper) = side {
-            p.released = Some(release(
-                scene,
-                problem,
-                model,
-                layout,
-                (i, at_upper),
-                minimum,
-                rms_in_box,
-            ));
+        if let Some(at_upper) = releasable_face(solution, i) {
+            p.released = Some(release(solution, scene, (i, at_upper), rms_in_box));
         }
     }
-}
-
-/// `Σ w r² / (K − p)`, when there are degrees of freedom.
-fn chi2_weighted(problem: &Problem, point: &Point) -> Option<f64> {
-    let nu = problem.data.len().checked_sub(problem.parameter_count())?;
-    (nu > 0).then(|| point.sse / nu as f64)
-}
-
-/// Below this fraction of `Σ w D²`, a level's height is too close to the
-/// objective's rounding (about 10⁻¹⁶ of it) for a profile to resolve.
-const RESOLVABLE_LEVEL: f64 = 1e-13;
-
-/// True when the data are fitted to rounding (noise-free data): the 68%
-/// level lies below [`RESOLVABLE_LEVEL`] of `Σ w D²`, where the profile's
-/// heights are rounding noise (its walks would end at the box's faces). The
-/// intervals then come from the Jacobian (docs/conventions.md §11b).
-fn fitted_to_rounding(problem: &Problem, levels: &Levels) -> bool {
-    levels.heights[0] < RESOLVABLE_LEVEL * problem.dd
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::coverage::{draw, noisy_scene, NoiseModel};
+    use crate::free::coordinate::Coordinate;
+    use crate::free::model::LayeredModel;
+    use crate::free::refine::minimise;
+    use crate::free::statistics::levels::Levels;
+    use crate::model::Param;
     use crate::report::Source;
     use crate::synthetic::{self, Noise};
 
@@ -610,22 +366,24 @@ mod tests {
     /// minimised to 10⁻¹² from every fourth σ/T and every n of the grid and
     /// from `minimum`.
     fn profile_at(
-        problem: &Problem,
+        problem: &Problem<LayeredModel>,
         layout: &Layout,
         minimum: &[f64],
         j: usize,
         value: f64,
     ) -> f64 {
-        let axes = &layout.axes.axes;
+        let axes = &layout.axes;
+        let at = |p: Param| axes.position(p).expect("a layered parameter");
+        let (slope_at, n_at) = (at(Param::Slope), at(Param::N));
         let mut starts = vec![minimum.to_vec()];
-        for &slope in axes[0].iter().step_by(4) {
-            for &n in &axes[1] {
+        for &slope in axes.axes[slope_at].iter().step_by(4) {
+            for &n in &axes.axes[n_at] {
                 let mut start = minimum.to_vec();
-                (start[0], start[1]) = (libm::log(slope), n);
+                (start[slope_at], start[n_at]) = (libm::log(slope), n);
                 starts.push(start);
             }
         }
-        let mut free = vec![true; problem.dim()];
+        let mut free = problem.all_free();
         free[j] = false;
         starts
             .par_iter_mut()
@@ -661,9 +419,10 @@ mod tests {
             })
             .last()
             .unwrap();
-        let layout = Layout::new(model, &grid);
+        let built = Arc::new(LayeredModel::new(model, scene.angles()));
+        let layout = Layout::new(&*built, &grid);
         let fit = fit(&scene, model, (&grid, Precision::F64), Analysis::FULL);
-        let problem = problem_of(&scene, model, &layout, None);
+        let problem = problem_of(&scene, &layout, built);
         let mut minimum = vec![0.0; problem.dim()];
         for (p, c) in fit.parameters.iter().zip(&layout.coordinates) {
             if let Coordinate::Nonlinear { j, log } = *c {

@@ -6,17 +6,17 @@
 //! `M = (1 − β) S + β U` (eq. 8's raw mix) for the layered models and
 //! `M = L` for the baselines, `w_k = 1/σ_k²` when the scene has
 //! uncertainties and 1 otherwise. `θ` are the nonlinear parameters in the
-//! internal coordinates of [`Basis`]; the linear part is solved in closed
-//! form ([`crate::free::linear`]).
+//! internal coordinates of the model's table ([`FreeModel::table`]); the
+//! linear part is solved in closed form ([`crate::free::linear`]).
 
-use super::basis::{Basis, Columns, Evaluated, Held};
+use super::jacobian::{normal_equations, Normal};
 use super::linear::{Linear, Moments};
+use super::model::{Columns, Evaluated, FreeModel};
 use super::pool;
-use super::sums::{dots, gram, total};
+use super::sums::{dots, total};
 use crate::model::Model;
 use crate::scene::Scene;
 use laminar_core::f64x4;
-use nalgebra::DMatrix;
 use std::sync::Arc;
 
 /// A `[lo, hi]` range per parameter.
@@ -33,12 +33,12 @@ pub struct Point {
     pub sse: f64,
 }
 
-/// The objective of one fit.
-#[derive(Debug, Clone)]
-pub struct Problem {
-    /// The basis at the scene's measurements (shared by the sets of a
+/// The objective of one fit of the model `M`.
+#[derive(Debug)]
+pub struct Problem<M> {
+    /// The model at the scene's measurements (shared by the sets of a
     /// batch on one geometry).
-    pub basis: Arc<Basis>,
+    pub model: Arc<M>,
     /// `D_k`.
     pub data: Vec<f64>,
     /// `√w_k`.
@@ -62,24 +62,42 @@ pub struct Problem {
     pub beta: (f64, f64),
 }
 
-impl Problem {
+impl<M> Clone for Problem<M> {
+    fn clone(&self) -> Self {
+        Self {
+            model: Arc::clone(&self.model),
+            data: self.data.clone(),
+            root_weight: self.root_weight.clone(),
+            weight: self.weight.clone(),
+            weighted_data: self.weighted_data.clone(),
+            dd: self.dd,
+            weighted: self.weighted,
+            bounds: self.bounds.clone(),
+            reported: self.reported.clone(),
+            domain: self.domain.clone(),
+            beta: self.beta,
+        }
+    }
+}
+
+impl<M: FreeModel> Problem<M> {
     /// The objective of `model` on `scene` in the box `bounds` (nonlinear
     /// parameters, internal coordinates, with `reported`, the same box in
-    /// the parameters' units) and `beta`, on `basis`: the model's basis at
-    /// the scene's measurements (`None` to build it).
+    /// the parameters' units) and `beta`, on `built`: the model at the
+    /// scene's measurements (`None` to build it).
     pub fn new(
         scene: &Scene,
-        (model, basis): (Model, Option<Arc<Basis>>),
+        (model, built): (Model, Option<Arc<M>>),
         (bounds, reported): (Ranges, Ranges),
         domain: Vec<(f64, f64)>,
         beta: (f64, f64),
     ) -> Self {
-        let basis = basis.unwrap_or_else(|| Arc::new(Basis::new(model, scene.angles())));
+        let model = built.unwrap_or_else(|| Arc::new(M::new(model, scene.angles())));
         let (root_weight, weighted) = match scene.sigma() {
             Some(sigma) => (sigma.iter().map(|s| 1.0 / s).collect(), true),
             None => (vec![1.0; scene.len()], false),
         };
-        let beta = if basis.has_balance() {
+        let beta = if model.has_balance() {
             beta
         } else {
             (0.0, 0.0)
@@ -89,7 +107,7 @@ impl Problem {
         let weighted_data: Vec<f64> = weight.iter().zip(&data).map(|(w, d)| w * d).collect();
         let [dd] = dots(&weighted_data, [&data]);
         Self {
-            basis,
+            model,
             data,
             root_weight,
             weight,
@@ -111,7 +129,12 @@ impl Problem {
     /// Number of fitted parameters: the nonlinear ones, the amplitude and,
     /// for the layered models, β.
     pub fn parameter_count(&self) -> usize {
-        self.dim() + 1 + usize::from(self.basis.has_balance())
+        self.dim() + 1 + usize::from(self.model.has_balance())
+    }
+
+    /// Every nonlinear parameter free.
+    pub fn all_free(&self) -> Vec<bool> {
+        self.model.table().all_free()
     }
 
     /// The weighted moments of `columns`.
@@ -165,7 +188,7 @@ impl Problem {
     /// profile of β), and the columns there (what an estimate's prediction
     /// needs).
     pub fn evaluate(&self, theta: &[f64], beta: (f64, f64)) -> (Point, Columns) {
-        let columns = self.basis.columns(theta);
+        let columns = self.model.columns(theta);
         (self.point(theta, &columns, beta), columns)
     }
 
@@ -175,9 +198,9 @@ impl Problem {
         &self,
         theta: &[f64],
         beta: (f64, f64),
-        held: &Held,
-    ) -> (Point, Evaluated) {
-        let evaluated = self.basis.evaluate_held(theta, held);
+        held: &M::Held,
+    ) -> (Point, Evaluated<M::Kept>) {
+        let evaluated = self.model.evaluate(theta, held);
         (self.point(theta, &evaluated.columns, beta), evaluated)
     }
 
@@ -223,7 +246,7 @@ impl Problem {
         &self,
         theta: &[f64],
         beta: (f64, f64),
-        held: &Held,
+        held: &M::Held,
         free: &[bool],
     ) -> (Point, Normal) {
         let (point, evaluated) = self.evaluate_keeping(theta, beta, held);
@@ -232,185 +255,29 @@ impl Problem {
     }
 
     /// [`Problem::jacobian`] at a point already evaluated: `point` and
-    /// `at`, its columns ([`Problem::evaluate_keeping`]).
-    ///
-    /// The Jacobian is Golub and Pereyra's: with `F` the weighted columns
-    /// whose coefficient moves freely at this point (both inside the cone,
-    /// the active ray's mix on its edge, none at c = 0), `P` the projection
-    /// onto them, `r` the weighted residuals and `A_j = √w (p ∂_j S + q ∂_j U)`
-    /// the derivative at the fixed coefficients,
-    ///
-    /// `J_j = −(I − P) A_j − F (FᵀF)⁻¹ v_j`, `v_j = (∂_j F)ᵀ r`:
-    ///
-    /// Kaufman's part, and the term of the coefficients' own change that the
-    /// large residuals of a misfitting model make matter. `JᵀJ` and `Jᵀr`
-    /// follow from the weighted inner products of the columns, the residuals
-    /// and the derivatives (the cross terms vanish, as `(I − P) F = 0`):
-    ///
-    /// `J_iᵀJ_j = A_iᵀA_j − (FᵀA_i)ᵀ(FᵀF)⁻¹(FᵀA_j) + v_iᵀ(FᵀF)⁻¹v_j`,
-    /// `J_jᵀr = −A_jᵀr + ((FᵀA_j) − v_j)ᵀ(FᵀF)⁻¹Fᵀr`,
-    ///
-    /// so one pass over the measurements ([`gram`]) gives them, and no
-    /// column of `J` is formed.
+    /// `at`, its columns ([`Problem::evaluate_keeping`]); the Jacobian is
+    /// Golub and Pereyra's ([`super::jacobian`]).
     pub fn jacobian_at(
         &self,
         point: &Point,
-        at: Evaluated,
+        at: Evaluated<M::Kept>,
         beta: (f64, f64),
         free: &[bool],
     ) -> Normal {
         let (columns, derivatives) =
-            self.basis
+            self.model
                 .derivatives_at(&point.theta, &self.domain, false, at, free);
-        let Linear { p, q, .. } = point.linear;
-        let has_u = !columns.u.is_empty();
         let residuals = self.misfit(&columns, &point.linear);
-        // The vectors whose inner products are needed, and where each is:
-        // S, U (layered), the residuals, then each derivative that is not
-        // zero (∂S is zero in n and a).
-        let mut vectors: Vec<&[f64]> = vec![&columns.s];
-        fn place<'a>(v: &'a [f64], vectors: &mut Vec<&'a [f64]>) -> Option<usize> {
-            (!v.is_empty()).then(|| {
-                vectors.push(v);
-                vectors.len() - 1
-            })
-        }
-        let u_at = place(&columns.u, &mut vectors);
-        let r_at = place(&residuals, &mut vectors).unwrap_or(0);
-        let places: Vec<Option<(Option<usize>, Option<usize>)>> = derivatives
-            .iter()
-            .map(|d| {
-                d.as_ref()
-                    .map(|d| (place(&d.s, &mut vectors), place(&d.u, &mut vectors)))
-            })
-            .collect();
-        let n = vectors.len();
-        let g = gram(&self.weight[..residuals.len()], &vectors);
-        drop(vectors);
+        let weight = &self.weight[..residuals.len()];
+        let normal = normal_equations(
+            weight,
+            (&columns, &residuals, &derivatives),
+            &point.linear,
+            beta,
+        );
         pool::release(residuals);
-        // A combination of at most two of the vectors, and the inner product
-        // of two combinations.
-        type Combination = [(Option<usize>, f64); 2];
-        let product = |x: &Combination, y: &Combination| -> f64 {
-            let mut sum = 0.0;
-            for &(a, ca) in x {
-                for &(b, cb) in y {
-                    if let (Some(a), Some(b)) = (a, b) {
-                        sum += ca * cb * g[a * n + b];
-                    }
-                }
-            }
-            sum
-        };
-        let e_r: Combination = [(Some(r_at), 1.0), (None, 0.0)];
-        // The free columns as mixes `(weight of S, weight of U)`.
-        let mixes: Vec<(f64, f64)> = if point.linear.amplitude() <= 0.0 {
-            Vec::new()
-        } else if !has_u {
-            vec![(1.0, 0.0)]
-        } else {
-            let b = point.linear.beta(beta.0);
-            if beta.0 < beta.1 && b > beta.0 && b < beta.1 {
-                vec![(1.0, 0.0), (0.0, 1.0)]
-            } else {
-                vec![(1.0 - b, b)]
-            }
-        };
-        let f: Vec<Combination> = mixes
-            .iter()
-            .map(|&(ws, wu)| [(Some(0), ws), (u_at, wu)])
-            .collect();
-        let ff = |l: usize, m: usize| product(&f[l], &f[m]);
-        // `(FᵀF)⁻¹` when the free columns are independent (`back`), and the
-        // inverse the projection uses: onto the first nonzero column alone
-        // when the two are dependent.
-        let (projection, back): (Option<[[f64; 2]; 2]>, bool) = match f.len() {
-            0 => (None, false),
-            1 => {
-                let a = ff(0, 0);
-                ((a > 0.0).then(|| [[1.0 / a, 0.0], [0.0, 0.0]]), a > 0.0)
-            }
-            _ => {
-                let [a, b, d] = [ff(0, 0), ff(0, 1), ff(1, 1)];
-                let det = a * d - b * b;
-                if det > 1e-12 * a * d {
-                    (Some([[d / det, -b / det], [-b / det, a / det]]), true)
-                } else if a > 0.0 {
-                    (Some([[1.0 / a, 0.0], [0.0, 0.0]]), false)
-                } else {
-                    ((d > 0.0).then(|| [[0.0, 0.0], [0.0, 1.0 / d]]), false)
-                }
-            }
-        };
-        // `xᵀ M y` of two vectors of the free columns' length.
-        let form = |m: &[[f64; 2]; 2], x: &[f64; 2], y: &[f64; 2]| -> f64 {
-            (0..2)
-                .map(|l| x[l] * (0..2).map(|k| m[l][k] * y[k]).sum::<f64>())
-                .sum()
-        };
-        let over_free = |each: &dyn Fn(usize) -> f64| -> [f64; 2] {
-            std::array::from_fn(|l| if l < f.len() { each(l) } else { 0.0 })
-        };
-        let f_r = over_free(&|l| product(&f[l], &e_r));
-        // Per parameter: A_j, FᵀA_j and v_j.
-        struct Parts {
-            a: Combination,
-            fa: [f64; 2],
-            v: [f64; 2],
-        }
-        let parts: Vec<Option<Parts>> = places
-            .iter()
-            .map(|place| {
-                let (ds, du) = (*place)?;
-                let a = [(ds, p), (du, q)];
-                let fa = over_free(&|l| product(&f[l], &a));
-                let v = over_free(&|l| {
-                    let (ws, wu) = mixes[l];
-                    product(&[(ds, ws), (du, wu)], &e_r)
-                });
-                Some(Parts { a, fa, v })
-            })
-            .collect();
-        let m = parts.len();
-        let mut normal = Normal {
-            jtj: DMatrix::zeros(m, m),
-            jtr: vec![0.0; m],
-        };
-        for (i, pi) in parts.iter().enumerate() {
-            let Some(pi) = pi else { continue };
-            let mut jtr = -product(&pi.a, &e_r);
-            if let Some(inverse) = &projection {
-                jtr += form(inverse, &pi.fa, &f_r);
-                if back {
-                    jtr -= form(inverse, &pi.v, &f_r);
-                }
-            }
-            normal.jtr[i] = jtr;
-            for (j, pj) in parts.iter().enumerate() {
-                let Some(pj) = pj else { continue };
-                let mut h = product(&pi.a, &pj.a);
-                if let Some(inverse) = &projection {
-                    h -= form(inverse, &pi.fa, &pj.fa);
-                    if back {
-                        h += form(inverse, &pi.v, &pj.v);
-                    }
-                }
-                normal.jtj[(i, j)] = h;
-            }
-        }
         normal
     }
-}
-
-/// The Gauss–Newton normal equations of the variable-projection residual
-/// `r` at one point ([`Problem::jacobian_at`]): zero in the rows and
-/// columns of the parameters held.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Normal {
-    /// `JᵀJ`.
-    pub jtj: DMatrix<f64>,
-    /// `Jᵀr`: half the objective's gradient.
-    pub jtr: Vec<f64>,
 }
 
 /// `Σ w s²`, `Σ w s u` and `Σ w u²`, four partial sums each in the fixed
@@ -467,6 +334,7 @@ mod tests {
     use super::*;
     use crate::coverage::{noisy_scene, noisy_scene_on, NoiseModel};
     use crate::fitted::ModelParams;
+    use crate::free::model::LayeredModel;
     use crate::free::sums::dot;
     use crate::objective::Objective;
     use crate::synthetic::Noise;
@@ -507,7 +375,7 @@ mod tests {
             let scene = noisy_scene_on(angles, model, Objective::Free, truth, noise, &mut rng);
             assert_ne!(scene.len() % 4, 0);
             let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
-            let problem = Problem::new(
+            let problem = Problem::<LayeredModel>::new(
                 &scene,
                 (model, None),
                 (bounds.clone(), bounds),
@@ -518,11 +386,9 @@ mod tests {
             // the sums would show at some of them.
             for i in 0..32 {
                 let shift = f64::from(i) / 32.0;
-                let at = [
-                    theta[0] + shift,
-                    theta[1] + 0.5 * shift,
-                    theta[2] + 0.1 * shift,
-                ];
+                // σ/T's logarithm, n and a moved by their own steps.
+                let steps = [1.0, 0.5, 0.1];
+                let at: [f64; 3] = std::array::from_fn(|j| theta[j] + steps[j] * shift);
                 let (point, columns) = problem.evaluate(&at, problem.beta);
                 let r = problem.residuals(&columns, &point.linear);
                 assert_eq!(point.sse.to_bits(), dot(&r, &r).to_bits(), "{model} {at:?}");
@@ -549,7 +415,7 @@ mod tests {
                 &mut rng,
             );
             let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
-            let problem = Problem::new(
+            let problem = Problem::<LayeredModel>::new(
                 &scene,
                 (model, None),
                 (bounds.clone(), bounds.clone()),
@@ -565,10 +431,10 @@ mod tests {
                 ([libm::log(0.4), 1.6, 0.2], (0.05, 0.05)),
                 ([libm::log(0.3), 1.2, 0.4], (0.6, 0.6)),
             ] {
-                let held = problem.basis.held(&theta, &free);
+                let held = problem.model.held(&theta, &free);
                 let (_, normal) = problem.jacobian(&theta, beta, &held, &free);
                 let residuals = |t: &[f64]| {
-                    let c = problem.basis.columns(t);
+                    let c = problem.model.columns(t);
                     let l = problem.moments(&c).solve(beta);
                     problem.residuals(&c, &l)
                 };

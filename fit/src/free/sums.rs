@@ -39,10 +39,11 @@ pub fn total(a: f64x4) -> f64 {
     (a[0] + a[1]) + (a[2] + a[3])
 }
 
-/// The weighted Gram matrix `G_ab = Σ_k w_k x_ak x_bk` of up to eight
-/// `vectors` (each at least as long as `w`), row-major `n × n`: each
-/// entry's four partial sums in the fixed order of [`dots`], `(w_k x_ak)
-/// x_bk` per term, and the lower triangle the upper's mirror.
+/// The weighted Gram matrix `G_ab = Σ_k w_k x_ak x_bk` of `vectors` (each
+/// at least as long as `w`), row-major `n × n`: each entry's four partial
+/// sums in the fixed order of [`dots`], `(w_k x_ak) x_bk` per term, and the
+/// lower triangle the upper's mirror. Up to eight vectors (the layered
+/// models' Jacobians) unrolled; more the same sums, bit for bit, in a loop.
 pub fn gram(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
     match vectors.len() {
         0 => Vec::new(),
@@ -54,8 +55,46 @@ pub fn gram(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
         6 => gram_of::<6>(w, vectors),
         7 => gram_of::<7>(w, vectors),
         8 => gram_of::<8>(w, vectors),
-        n => unreachable!("{n} vectors: the Jacobian has at most 8"),
+        _ => gram_any(w, vectors),
     }
+}
+
+/// [`gram`] of any number of vectors: the same sums as [`gram_of`], in
+/// the same order, with the accumulators on the heap.
+fn gram_any(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
+    let (len, n) = (w.len(), vectors.len());
+    let (ws, w_tail) = w.as_chunks::<4>();
+    let body = len - w_tail.len();
+    let fours: Vec<&[[f64; 4]]> = vectors
+        .iter()
+        .map(|v| v[..len].as_chunks::<4>().0)
+        .collect();
+    let mut acc = vec![f64x4::ZERO; n * n];
+    let mut here = vec![f64x4::ZERO; n];
+    for (k, &wk) in ws.iter().enumerate() {
+        let wk = f64x4::from(wk);
+        for (h, four) in here.iter_mut().zip(&fours) {
+            *h = f64x4::from(four[k]);
+        }
+        for a in 0..n {
+            let wxa = wk * here[a];
+            for b in a..n {
+                acc[a * n + b] += wxa * here[b];
+            }
+        }
+    }
+    let mut out = vec![0.0; n * n];
+    for a in 0..n {
+        for b in a..n {
+            let mut sum = total(acc[a * n + b]);
+            for k in body..len {
+                sum += w[k] * vectors[a][k] * vectors[b][k];
+            }
+            out[a * n + b] = sum;
+            out[b * n + a] = sum;
+        }
+    }
+    out
 }
 
 /// [`gram`] of exactly `N` vectors (so that the products unroll).
@@ -127,6 +166,34 @@ mod tests {
                     assert_eq!(g[a * 3 + b], want, "{len} ({a}, {b})");
                 }
             }
+        }
+    }
+
+    /// More than eight vectors (an untied or joint model's Jacobian) take
+    /// the loop: bit for bit the unrolled sums, on values whose sums round.
+    #[test]
+    fn any_number_of_vectors_gives_the_unrolled_bits() {
+        let mut rng = crate::synthetic::Noise::new(5);
+        for len in [0, 3, 4, 13, 101] {
+            let w: Vec<f64> = (0..len).map(|_| rng.uniform()).collect();
+            let vectors: Vec<Vec<f64>> = (0..8)
+                .map(|_| (0..len).map(|_| rng.uniform() - 0.3).collect())
+                .collect();
+            let refs: Vec<&[f64]> = vectors.iter().map(|v| &v[..]).collect();
+            for n in 1..=8 {
+                let unrolled = gram(&w, &refs[..n]);
+                let looped = gram_any(&w, &refs[..n]);
+                assert_eq!(
+                    unrolled.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    looped.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    "{len} measurements, {n} vectors"
+                );
+            }
+            let mut more = refs.clone();
+            more.extend_from_slice(&refs[..3]);
+            let g = gram(&w, &more);
+            assert_eq!(g.len(), 121);
+            assert_eq!(g[10 * 11 + 2].to_bits(), g[2 * 11 + 2].to_bits());
         }
     }
 }

@@ -29,12 +29,15 @@ use crate::analysis::{parse_folds, parse_resamples, parse_seed, Analysis};
 use crate::error::{choices, FitError, GridError, UnknownName};
 use crate::fit::Fitter;
 use crate::fitted::param_names;
-use crate::free::search::Precision;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::objective::Objective;
-use crate::paper::search::SearchPath;
 use thiserror::Error;
+
+mod precision;
+mod search_path;
+pub use precision::Precision;
+pub use search_path::{Arith, Method, SearchPath};
 
 /// A fit's settings: `laminar fit`'s defaults unless set.
 #[derive(Debug, Clone, PartialEq)]

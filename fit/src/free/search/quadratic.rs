@@ -1,52 +1,23 @@
-//! The grid stage of the free-amplitude fit: the objective at every grid
-//! point of the nonlinear parameters, with the linear part (β and the
-//! amplitude) in closed form at each, and the grid's basins as the starts
-//! of the refinement.
-//!
-//! Layered models: per (σ/T, n) the weighted inner products of the data,
-//! the surface term `S` and the three coefficients of `U` as a quadratic in
-//! a (`U = B0 + a B1 + a² B2`, `B0 = B`, `B1 = −B (cos²θi + cos²θs)`,
-//! `B2 = B cos²θi cos²θs`) are formed once; every a of the axis is then a
-//! 2×2 solve from polynomials in a, with no pass over the measurements.
+//! The layered models' grid stage: per (σ/T, n) the weighted inner
+//! products of the data, the surface term `S` and the three coefficients
+//! of `U` as a quadratic in a (`U = B0 + a B1 + a² B2`, `B0 = B`,
+//! `B1 = −B (cos²θi + cos²θs)`, `B2 = B cos²θi cos²θs`) are formed once;
+//! every a of the axis is then a 2×2 solve from polynomials in a, with no
+//! pass over the measurements.
 
-use super::basis::Packed;
-use super::boundary::BoundaryGroup;
-use super::linear::Quadratic;
-use super::problem::Problem;
-use super::sums::{dots, total};
-use crate::scene::Scene;
+use super::{GridAxes, GridValues};
+use crate::free::boundary::BoundaryGroup;
+use crate::free::linear::Quadratic;
+use crate::free::model::{LayeredModel, Packed};
+use crate::free::problem::Problem;
+use crate::free::sums::{dots, total};
+use crate::model::Param;
+use crate::settings::Precision;
 use laminar_core::{f32x8, f64x4, Lane};
 use rayon::prelude::*;
 
-/// The grid axes of the nonlinear parameters, in the model's values (σ/T,
-/// not its logarithm).
-#[derive(Debug, Clone, PartialEq)]
-pub struct GridAxes {
-    /// One axis per nonlinear parameter.
-    pub axes: Vec<Vec<f64>>,
-}
-
-/// The grid's objective in row-major order over [`GridAxes`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct GridValues {
-    /// Axis lengths.
-    pub lens: Vec<usize>,
-    /// Objective at each grid point (moments form).
-    pub sse: Vec<f64>,
-}
-
-impl GridValues {
-    /// The axis indices of a flat index.
-    pub fn indices(&self, flat: usize) -> Vec<usize> {
-        let mut out = vec![0; self.lens.len()];
-        let mut rest = flat;
-        for (i, &len) in self.lens.iter().enumerate().rev() {
-            out[i] = rest % len;
-            rest /= len;
-        }
-        out
-    }
-}
+/// The layered objective of one set.
+type Layered = Problem<LayeredModel>;
 
 /// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
 /// four at a time (the last group padded with its last a): bit for bit
@@ -216,49 +187,10 @@ fn interleave<const N: usize>(vectors: [&[f64]; N]) -> (Vec<[f64x4; N]>, Vec<[f6
     (groups, tail)
 }
 
-/// The arithmetic of the grid stage's model side: each column's base `B`
-/// (eqs. 3–7) at every grid point of σ/T and n. Its sums, the data's and
-/// every later stage run in `f64` either way.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Precision {
-    /// `f64x4` lanes (the default): the grid values are the objective
-    /// evaluated in `f64` at each grid point.
-    #[default]
-    F64,
-    /// `f32x8` lanes (the core's single-precision path, bitwise its scalar
-    /// `f32` on every target), widened exactly to `f64` for the sums: each
-    /// `B` within a few `f32` ulps, so a grid value moves by about 10⁻⁷ of
-    /// `Σ w D²`, which can change the grid's best point only among
-    /// near-ties; the refinement then runs in `f64` from the grid's basins
-    /// (the measured differences: docs/speed.md).
-    F32,
-}
-
-impl Precision {
-    /// Both, the default first.
-    pub const ALL: [Precision; 2] = [Self::F64, Self::F32];
-}
-
-impl std::fmt::Display for Precision {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Self::F64 => "f64",
-            Self::F32 => "f32",
-        })
-    }
-}
-
-impl std::str::FromStr for Precision {
-    type Err = crate::error::UnknownName;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        crate::error::find_named("precision", &Self::ALL, |p| p.to_string(), s)
-    }
-}
-
 impl ModelSide {
     /// The model side of `problem` (a layered model) on `axes`, its bases
     /// in `precision`.
-    pub fn new(problem: &Problem, axes: &GridAxes, precision: Precision) -> Self {
+    pub fn new(problem: &Layered, axes: &GridAxes, precision: Precision) -> Self {
         Self::formed(problem, axes, precision, false)
     }
 
@@ -266,13 +198,12 @@ impl ModelSide {
     /// sums formed in its pass, bit for bit those of a shared model side,
     /// and no base kept (one pass over the measurements per column where
     /// sharing takes two).
-    fn for_one_set(problem: &Problem, axes: &GridAxes, precision: Precision) -> Self {
+    fn for_one_set(problem: &Layered, axes: &GridAxes, precision: Precision) -> Self {
         Self::formed(problem, axes, precision, true)
     }
 
-    fn formed(problem: &Problem, axes: &GridAxes, precision: Precision, one_set: bool) -> Self {
-        let basis = &problem.basis;
-        let (ci, cs) = basis.cosines();
+    fn formed(problem: &Layered, axes: &GridAxes, precision: Precision, one_set: bool) -> Self {
+        let (ci, cs) = problem.model.cosines();
         let k = problem.data.len();
         // Per measurement, the factors that turn B into B1 and B2, and the
         // products of the quadratic's coefficients: B_i B_j = B² g_ij.
@@ -297,32 +228,31 @@ impl ModelSide {
     /// factors `[g1, g2, g1², g1 g2, g2²]` of each measurement; with
     /// `one_set`, `problem`'s data's sums in place of the bases.
     fn rows<L: Packed>(
-        problem: &Problem,
+        problem: &Layered,
         axes: &GridAxes,
         g: [&[f64]; 5],
         one_set: bool,
     ) -> Vec<SlopeRow> {
-        let basis = &problem.basis;
+        let model = &problem.model;
         let k = problem.data.len();
-        let boundaries: Vec<Vec<BoundaryGroup<L>>> = axes.axes[1]
-            .par_iter()
-            .map(|&n| basis.boundary(n))
-            .collect();
+        let (slopes, ns) = (slope_axis(axes), n_axis(axes));
+        let boundaries: Vec<Vec<BoundaryGroup<L>>> =
+            ns.par_iter().map(|&n| model.boundary(n)).collect();
         let w = &problem.weight;
         let [g1, g2, g11, g12, g22] = g;
         // What every σ/T row shares, interleaved once.
         let (coefficients, tail) = interleave([w, g1, g2, g11, g12, g22]);
-        axes.axes[0]
+        slopes
             .par_iter()
             .map(|&slope| {
-                let s = basis.surface(slope);
+                let s = model.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
                 let ws_groups = ws.as_chunks::<4>();
                 let columns = boundaries
                     .iter()
                     .map(|b| {
-                        let groups = L::widened(basis.base_groups(slope, b));
+                        let groups = L::widened(model.base_groups(slope, b));
                         let wd = one_set.then(|| problem.weighted_data.as_chunks::<4>());
                         ColumnSums::new(groups, k, (&coefficients, &tail), ws_groups, wd)
                     })
@@ -331,53 +261,34 @@ impl ModelSide {
             })
             .collect()
     }
-
-    /// True when `problem`'s model side serves `scene` (on its geometry):
-    /// a layered model, and no uncertainties (weights 1).
-    pub fn shareable(problem: &Problem, scene: &Scene) -> bool {
-        problem.basis.has_balance() && !problem.weighted && scene.sigma().is_none()
-    }
 }
 
-/// The objective at every grid point of `axes` (layered: σ/T, n and, for
-/// the absorptive models, a, their bases in `precision`; baselines: their
-/// two parameters, in `f64`).
-pub fn grid_values(problem: &Problem, axes: &GridAxes, precision: Precision) -> GridValues {
-    if problem.basis.has_balance() {
-        let side = ModelSide::for_one_set(problem, axes, precision);
-        let mut values = grid_values_many(&[problem], axes, &side);
-        values.pop().expect("one set, one grid")
-    } else {
-        let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
-        let (outer, inner) = (&axes.axes[0], &axes.axes[1]);
-        let rows: Vec<Vec<f64>> = outer
-            .par_iter()
-            .map(|&x| {
-                inner
-                    .iter()
-                    .map(|&y| {
-                        let columns = problem.basis.columns(&[x, y]);
-                        problem.moments(&columns).solve(problem.beta).sse
-                    })
-                    .collect()
-            })
-            .collect();
-        GridValues {
-            lens,
-            sse: rows.concat(),
-        }
-    }
+/// The objective at every grid point of `axes` (σ/T, n and, for the
+/// absorptive models, a, in the layered table's order), the bases in
+/// `precision`: one set's model side, its data's sums formed in the same
+/// pass.
+pub fn grid_values(problem: &Layered, axes: &GridAxes, precision: Precision) -> GridValues {
+    let side = ModelSide::for_one_set(problem, axes, precision);
+    let mut values = grid_values_many(&[problem], axes, &side);
+    values.pop().expect("one set, one grid")
+}
+
+/// The σ/T axis of a layered model's grid.
+fn slope_axis(axes: &GridAxes) -> &[f64] {
+    axes.of(Param::Slope)
+        .expect("a layered model's grid has a σ/T axis")
+}
+
+/// The n axis of a layered model's grid.
+fn n_axis(axes: &GridAxes) -> &[f64] {
+    axes.of(Param::N)
+        .expect("a layered model's grid has an n axis")
 }
 
 /// Measurements per block of the data's sums ([`data_sums`]): a block of
 /// `B` and of its factors (6 KB) stays in the first-level cache while each
 /// set of a pass runs over it.
 const BLOCK: usize = 256;
-
-/// Sets whose data's sums one pass over the model side forms
-/// ([`grid_values_many`]): the model side (K × 440 values with the default
-/// grid, 80 MB at K = 22,801) is read from memory once per this many sets.
-pub const SETS_PER_PASS: usize = 8;
 
 /// `[Σ w D B, Σ w D B g1, Σ w D B g2]` of each set's weighted data `wds`
 /// against one column `B` with the factors `g` of B1 and B2, in blocks of
@@ -423,7 +334,7 @@ fn data_sums(
 /// values are bit for bit those of its own pass. A model side formed for
 /// one set ([`ModelSide::for_one_set`]) serves that set alone.
 pub fn grid_values_many(
-    problems: &[&Problem],
+    problems: &[&Layered],
     axes: &GridAxes,
     model: &ModelSide,
 ) -> Vec<GridValues> {
@@ -431,12 +342,13 @@ pub fn grid_values_many(
         !model.one_set || problems.len() == 1,
         "a model side formed for one set serves that set alone"
     );
-    let lens: Vec<usize> = axes.axes.iter().map(Vec::len).collect();
-    let a_axis: Vec<f64> = axes.axes.get(2).cloned().unwrap_or_else(|| vec![0.0]);
+    let lens = axes.lens();
+    // Ragheb–Hancock's a is 0.
+    let a_axis = axes.of(Param::A).map_or_else(|| vec![0.0], <[f64]>::to_vec);
     let g = [&model.g[0][..], &model.g[1][..]];
     let wds: Vec<&[f64]> = problems.iter().map(|p| &p.weighted_data[..]).collect();
-    let row_len = lens[1] * a_axis.len();
-    let mut sse = vec![vec![0.0; lens[0] * row_len]; problems.len()];
+    let row_len = n_axis(axes).len() * a_axis.len();
+    let mut sse = vec![vec![0.0; slope_axis(axes).len() * row_len]; problems.len()];
     // Per σ/T row, each set's objectives along (n, a).
     let mut rows: Vec<Vec<&mut [f64]>> = model.rows.iter().map(|_| Vec::new()).collect();
     for set in &mut sse {
@@ -482,52 +394,13 @@ pub fn grid_values_many(
         .collect()
 }
 
-/// The best point of each of the grid's basins (no axis neighbour lower;
-/// on ties the smaller flat index is lower), best first, at most `most`,
-/// as axis indices with their objective.
-pub fn grid_starts(values: &GridValues, most: usize) -> Vec<(Vec<usize>, f64)> {
-    let lens = &values.lens;
-    let e = &values.sse;
-    let strides: Vec<usize> = (0..lens.len())
-        .map(|i| lens[i + 1..].iter().product())
-        .collect();
-    let lower = |g: usize, f: usize| e[g] < e[f] || (e[g] == e[f] && g < f);
-    // A point's neighbours along the last axis are beside it in memory and
-    // rule out most points; the survivors are checked along every axis.
-    let last = lens.last().copied().unwrap_or(1).max(1);
-    let mut minima: Vec<(usize, f64)> = Vec::new();
-    for (row, values_of_row) in e.chunks(last).enumerate() {
-        for (j, &value) in values_of_row.iter().enumerate() {
-            let f = row * last + j;
-            if !value.is_finite()
-                || (j > 0 && lower(f - 1, f))
-                || (j + 1 < values_of_row.len() && lower(f + 1, f))
-            {
-                continue;
-            }
-            let basin = lens.iter().zip(&strides).all(|(&len, &stride)| {
-                let i = (f / stride) % len;
-                let below = i > 0 && lower(f - stride, f);
-                let above = i + 1 < len && lower(f + stride, f);
-                !(below || above)
-            });
-            if basin {
-                minima.push((f, value));
-            }
-        }
-    }
-    minima.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.cmp(&q.0)));
-    minima.truncate(most);
-    minima
-        .into_iter()
-        .map(|(flat, e)| (values.indices(flat), e))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::coverage::{noisy_sets, NoiseModel};
+    use crate::free::layout::Layout;
+    use crate::free::model::FreeModel;
+    use crate::grid::Grid;
     use crate::model::Model;
     use crate::objective::Objective;
     use crate::synthetic;
@@ -535,67 +408,6 @@ mod tests {
     /// Several sets' grids from one pass over the model side are, bit for
     /// bit, each set's grid alone, over several blocks of measurements and a
     /// tail shorter than four.
-    /// The basins are the points no axis neighbour is lower than (on ties
-    /// the smaller flat index is lower), best first: against that
-    /// definition checked point by point, on grids of one to three axes
-    /// whose values are drawn from a few levels (so ties are common) with
-    /// some not finite.
-    #[test]
-    fn the_starts_are_the_grids_basins_best_first() {
-        let mut rng = crate::synthetic::Noise::new(11);
-        for trial in 0..300 {
-            let dims = 1 + trial % 3;
-            let lens: Vec<usize> = (0..dims)
-                .map(|_| 1 + (rng.uniform() * 6.0) as usize)
-                .collect();
-            let total: usize = lens.iter().product();
-            let sse: Vec<f64> = (0..total)
-                .map(|_| match (rng.uniform() * 8.0) as usize {
-                    0 => f64::NAN,
-                    1 => f64::INFINITY,
-                    level => level as f64,
-                })
-                .collect();
-            let values = GridValues { lens, sse };
-            let lower = |g: usize, f: usize| {
-                let e = &values.sse;
-                e[g] < e[f] || (e[g] == e[f] && g < f)
-            };
-            let mut want: Vec<(usize, f64)> = (0..total)
-                .filter(|&f| values.sse[f].is_finite())
-                .filter(|&f| {
-                    let at = values.indices(f);
-                    (0..dims).all(|axis| {
-                        [-1i64, 1].iter().all(|&step| {
-                            let i = at[axis] as i64 + step;
-                            if i < 0 || i >= values.lens[axis] as i64 {
-                                return true;
-                            }
-                            let mut moved = at.clone();
-                            moved[axis] = i as usize;
-                            let g = moved
-                                .iter()
-                                .zip(&values.lens)
-                                .fold(0, |flat, (&i, &len)| flat * len + i);
-                            !lower(g, f)
-                        })
-                    })
-                })
-                .map(|f| (f, values.sse[f]))
-                .collect();
-            want.sort_by(|p, q| p.1.total_cmp(&q.1).then(p.0.cmp(&q.0)));
-            for most in [1, 3, 100] {
-                let got = grid_starts(&values, most);
-                let expected: Vec<(Vec<usize>, f64)> = want
-                    .iter()
-                    .take(most)
-                    .map(|&(f, e)| (values.indices(f), e))
-                    .collect();
-                assert_eq!(got, expected, "trial {trial}, {values:?}");
-            }
-        }
-    }
-
     #[test]
     fn one_pass_over_several_sets_gives_each_sets_own_grid() {
         let mut angles = synthetic::geometries();
@@ -611,7 +423,7 @@ mod tests {
             1,
         );
         let bounds = vec![(libm::log(0.02), libm::log(20.0)), (1.0, 2.5), (0.0, 1.0)];
-        let problems: Vec<Problem> = scenes
+        let problems: Vec<Layered> = scenes
             .iter()
             .map(|scene| {
                 Problem::new(
@@ -623,14 +435,16 @@ mod tests {
                 )
             })
             .collect();
+        let table = LayeredModel::new(Model::Exp, &angles).table().clone();
         let axes = GridAxes {
+            params: table.entries().to_vec(),
             axes: vec![
                 vec![0.05, 0.4, 3.0],
                 vec![1.0, 1.5, 2.5],
                 vec![0.0, 0.3, 1.0],
             ],
         };
-        let refs: Vec<&Problem> = problems.iter().collect();
+        let refs: Vec<&Layered> = problems.iter().collect();
         // One set's own grid stage forms its data's sums in the model
         // side's pass, a batch's in a pass of their own: the same bits.
         for precision in Precision::ALL {
@@ -649,8 +463,7 @@ mod tests {
         for (problem, values) in problems.iter().zip(&together) {
             for (flat, &sse) in values.sse.iter().enumerate() {
                 let at = values.indices(flat);
-                let theta: Vec<f64> = (0..3).map(|p| axes.axes[p][at[p]]).collect();
-                let theta = [libm::log(theta[0]), theta[1], theta[2]];
+                let theta = axes.theta(&at);
                 let direct = problem.evaluate(&theta, problem.beta).0.sse;
                 assert!(
                     (sse - direct).abs() <= 1e-10 * problem.dd,
@@ -668,12 +481,10 @@ mod tests {
     /// group of eight that is partly padding.
     #[test]
     fn single_precision_grid_values_are_the_f64_ones_to_its_rounding() {
-        use super::super::layout::Layout;
-        use crate::grid::Grid;
         let mut angles = synthetic::geometries();
         angles.truncate(angles.len() / 8 * 8 - 3);
         for model in [Model::Exp, Model::Gauss] {
-            let layout = Layout::new(model, &Grid::user());
+            let layout = Layout::new(&LayeredModel::new(model, &angles), &Grid::user());
             let scene = &noisy_sets(
                 &angles,
                 model,
@@ -682,7 +493,7 @@ mod tests {
                 1,
                 3,
             )[0];
-            let problem = Problem::new(
+            let problem = Layered::new(
                 scene,
                 (model, None),
                 (layout.bounds.clone(), layout.reported.clone()),

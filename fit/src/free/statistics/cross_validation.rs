@@ -12,9 +12,10 @@
 //! the error does not depend on the thread count.
 
 use super::bootstrap::reweighted;
-use super::problem::{Point, Problem};
-use super::refine::{minimise, SCREENING};
+use super::Solution;
 use crate::choice::CrossValidation;
+use crate::free::model::FreeModel;
+use crate::free::refine::{minimise, SCREENING};
 use crate::synthetic::Noise;
 use rayon::prelude::*;
 
@@ -34,28 +35,30 @@ fn assignment(k: usize, folds: usize, seed: u64) -> Vec<usize> {
     fold
 }
 
-/// The `folds`-fold cross-validation of `problem` around its minimum
-/// `minimum`, the folds dealt by `seed`. `None` with fewer than two folds,
+/// The `folds`-fold cross-validation of `solution`'s problem around its
+/// minimum, the folds dealt by `seed`. `None` with fewer than two folds,
 /// or when a training set would not outnumber the fitted parameters.
-pub(super) fn cross_validate(
-    problem: &Problem,
-    minimum: &Point,
+pub fn cross_validate<M: FreeModel>(
+    solution: &Solution<'_, M>,
     (folds, seed): (usize, u64),
 ) -> Option<CrossValidation> {
+    let Solution {
+        problem, minimum, ..
+    } = solution;
     let k = problem.data.len();
     let training = k - k.div_ceil(folds.max(1));
     if folds < 2 || training <= problem.parameter_count() {
         return None;
     }
     let fold = assignment(k, folds, seed);
-    let free = vec![true; problem.dim()];
+    let free = problem.all_free();
     let held_out: Vec<f64> = (0..folds)
         .into_par_iter()
         .map(|f| {
             let keep: Vec<f64> = fold.iter().map(|&g| f64::from(g != f)).collect();
             let train = reweighted(problem, &keep);
             let point = minimise(&train, &minimum.theta, &free, train.beta, SCREENING).point;
-            let columns = problem.basis.columns(&point.theta);
+            let columns = problem.model.columns(&point.theta);
             let r = problem.residuals(&columns, &point.linear);
             (0..k).filter(|&i| fold[i] == f).map(|i| r[i] * r[i]).sum()
         })

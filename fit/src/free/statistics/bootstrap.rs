@@ -11,19 +11,13 @@
 //! `(seed, b)`, and the resamples run in parallel, collected in order: the
 //! intervals do not depend on the thread count.
 
-use super::intervals::Coordinate;
-use super::layout::Layout;
-use super::problem::{Point, Problem};
-use super::refine::{minimise, SCREENING};
+use super::Solution;
+use crate::free::model::FreeModel;
+use crate::free::problem::Problem;
+use crate::free::refine::{minimise, SCREENING};
 use crate::profile::Interval;
 use crate::synthetic::Noise;
 use rayon::prelude::*;
-
-/// Resamples a bootstrap draws unless told otherwise.
-pub const DEFAULT_RESAMPLES: usize = 200;
-
-/// Most resamples a fit takes.
-pub const MOST_RESAMPLES: usize = 100_000;
 
 /// The two-sided levels' lower quantiles (68.27%, 95%).
 const LOWER: [f64; 2] = [0.158_655_253_931_457, 0.025];
@@ -31,9 +25,9 @@ const LOWER: [f64; 2] = [0.158_655_253_931_457, 0.025];
 /// Each reported parameter's bootstrap intervals (68.27%, 95%) and the
 /// largest Monte Carlo standard deviation of their four ends.
 #[derive(Debug, Clone, PartialEq)]
-pub(super) struct Bootstrapped {
+pub struct Bootstrapped {
     /// Per reported parameter, in the layout's order.
-    pub(super) intervals: Vec<([Interval; 2], f64)>,
+    pub intervals: Vec<([Interval; 2], f64)>,
 }
 
 /// The generator of resample `b` of a bootstrap seeded `seed`.
@@ -42,7 +36,7 @@ fn generator(seed: u64, b: usize) -> Noise {
 }
 
 /// `problem` with each measurement's weight times its count in a resample.
-fn resampled(problem: &Problem, rng: &mut Noise) -> Problem {
+fn resampled<M>(problem: &Problem<M>, rng: &mut Noise) -> Problem<M> {
     let k = problem.data.len();
     let mut counts = vec![0.0; k];
     for _ in 0..k {
@@ -54,7 +48,7 @@ fn resampled(problem: &Problem, rng: &mut Noise) -> Problem {
 
 /// `problem` with measurement `k`'s weight times `counts[k]` (a resample's
 /// count, or 0 for a measurement held out of a fold).
-pub(super) fn reweighted(problem: &Problem, counts: &[f64]) -> Problem {
+pub fn reweighted<M>(problem: &Problem<M>, counts: &[f64]) -> Problem<M> {
     let mut out = problem.clone();
     for (i, &c) in counts.iter().enumerate() {
         out.weight[i] *= c;
@@ -87,21 +81,23 @@ fn quantile_error(sorted: &[f64], q: f64) -> f64 {
     0.5 * (quantile(sorted, (q + spread).min(1.0)) - quantile(sorted, (q - spread).max(0.0)))
 }
 
-/// The bootstrap of `problem` around its minimum `minimum`: `resamples`
-/// refits seeded by `seed`; `domain(i)` is reported parameter `i`'s domain
-/// (a face of the box that is not one of its bounds leaves an end open).
-/// `None` with fewer than two resamples.
-pub(super) fn bootstrap(
-    problem: &Problem,
-    layout: &Layout,
-    minimum: &Point,
+/// The bootstrap of `solution`'s problem around its minimum: `resamples`
+/// refits seeded by `seed` (a face of the box that is not a bound of the
+/// parameter's domain leaves an end open). `None` with fewer than two
+/// resamples.
+pub fn bootstrap<M: FreeModel>(
+    solution: &Solution<'_, M>,
     (resamples, seed): (usize, u64),
-    domain: impl Fn(usize) -> (f64, f64),
 ) -> Option<Bootstrapped> {
     if resamples < 2 {
         return None;
     }
-    let free = vec![true; problem.dim()];
+    let Solution {
+        problem,
+        layout,
+        minimum,
+    } = solution;
+    let free = problem.all_free();
     let values: Vec<Vec<f64>> = (0..resamples)
         .into_par_iter()
         .map(|b| {
@@ -114,31 +110,42 @@ pub(super) fn bootstrap(
                 .collect()
         })
         .collect();
-    let intervals = layout
-        .coordinates
-        .iter()
-        .enumerate()
-        .map(|(i, &c): (usize, &Coordinate)| {
+    let intervals = (0..layout.coordinates.len())
+        .map(|i| {
             let mut sorted: Vec<f64> = values.iter().map(|v| v[i]).collect();
             sorted.sort_by(f64::total_cmp);
-            let (lo, hi) = c.bounds(problem);
-            let (dlo, dhi) = domain(i);
-            let value = c.value(minimum, problem);
-            let mut error = 0.0f64;
-            let levels = LOWER.map(|q| {
-                let (a, b) = (quantile(&sorted, q), quantile(&sorted, 1.0 - q));
-                error = error
-                    .max(quantile_error(&sorted, q))
-                    .max(quantile_error(&sorted, 1.0 - q));
-                Interval {
-                    lo: a.min(value).max(lo),
-                    hi: b.max(value).min(hi),
-                    open_below: a <= lo && lo > dlo,
-                    open_above: b >= hi && hi < dhi,
-                }
-            });
-            (levels, error)
+            percentile_intervals(
+                &sorted,
+                solution.value(i),
+                solution.bounds(i),
+                solution.domain(i),
+            )
         })
         .collect();
     Some(Bootstrapped { intervals })
+}
+
+/// The percentile intervals (68.27%, 95%) of one parameter's `sorted`
+/// resampled values around its estimate `value`, in its box, and the
+/// largest Monte Carlo standard deviation of their four ends.
+fn percentile_intervals(
+    sorted: &[f64],
+    value: f64,
+    (lo, hi): (f64, f64),
+    (dlo, dhi): (f64, f64),
+) -> ([Interval; 2], f64) {
+    let mut error = 0.0f64;
+    let levels = LOWER.map(|q| {
+        let (a, b) = (quantile(sorted, q), quantile(sorted, 1.0 - q));
+        error = error
+            .max(quantile_error(sorted, q))
+            .max(quantile_error(sorted, 1.0 - q));
+        Interval {
+            lo: a.min(value).max(lo),
+            hi: b.max(value).min(hi),
+            open_below: a <= lo && lo > dlo,
+            open_above: b >= hi && hi < dhi,
+        }
+    });
+    (levels, error)
 }

@@ -1,0 +1,590 @@
+//! The layered models' columns (eqs. 1–8, 12–13) under the free
+//! amplitude: `S` and `U` at (σ/T, n, a), four measurements at a time, and
+//! their derivatives, analytic in every parameter. The grid stage's model
+//! side is [`crate::free::search::quadratic`].
+
+use super::table::{Nonlinear, Table};
+use super::{Columns, Evaluated, FreeModel};
+use crate::free::boundary::{boundary, BoundaryGroup};
+use crate::free::pool::{self, Free};
+use crate::free::problem::Problem;
+use crate::free::search::quadratic::{self, ModelSide};
+use crate::free::search::{GridAxes, GridValues};
+use crate::grid::{Axis, Grid};
+use crate::model::{Family, Model, Param};
+use crate::settings::Precision;
+use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
+use laminar_core::{
+    f32x8, f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
+};
+use std::sync::OnceLock;
+
+/// Where each parameter of a layered model is in θ.
+#[derive(Debug, Clone, Copy)]
+struct Positions {
+    slope: usize,
+    n: usize,
+    /// `None` for Ragheb–Hancock (a = 0).
+    a: Option<usize>,
+}
+
+/// A layered model at the measurements' directions.
+#[derive(Debug, Clone)]
+pub struct LayeredModel {
+    model: Model,
+    table: Table,
+    at: Positions,
+    /// The correlation function (eqs. 1–2).
+    corr: Correlation,
+    /// Their geometry four at a time (`pack`, the last group padded),
+    /// which the columns are computed from: lane by lane the same bits as
+    /// one at a time (the core's f64x4 path is bitwise its scalar f64
+    /// path).
+    packed: Vec<Geometry<f64x4>>,
+    /// The same eight at a time in single precision (the last group padded
+    /// likewise), for the grid stage's `f32x8` path: built from `angles`
+    /// when first asked for.
+    packed8: OnceLock<Vec<Geometry<f32x8>>>,
+    /// The measurements' directions.
+    angles: Vec<Angles>,
+    /// `cos²θi` of each measurement.
+    cos2_i: Vec<f64>,
+    /// `cos²θs` of each measurement.
+    cos2_s: Vec<f64>,
+}
+
+/// What a minimisation keeps while some parameters are held: the boundary
+/// (eqs. 5–7, [`crate::free::boundary`]) at a held n, which the columns at
+/// every σ/T and a reuse.
+#[derive(Debug, Clone, Default)]
+pub struct Held {
+    boundary: Option<(f64, Vec<BoundaryGroup>)>,
+}
+
+impl Held {
+    /// The held boundary, when it is the one at `n`.
+    fn at(&self, n: f64) -> Option<&[BoundaryGroup]> {
+        match &self.boundary {
+            Some((at, groups)) if *at == n => Some(groups),
+            _ => None,
+        }
+    }
+}
+
+/// The surface term, the boundary and the Ragheb–Hancock base `B` of four
+/// measurements at one (σ/T, n).
+#[derive(Debug, Clone, Copy)]
+struct LayerGroup {
+    surface: f64x4,
+    boundary: BoundaryGroup,
+    base: f64x4,
+}
+
+impl LayerGroup {
+    /// The terms of the measurements `g` on `boundary` at `(T/σ)²` `t`.
+    /// Inlined into the loop that collects them, so that each group is
+    /// written in place in its Vec, not returned and then copied (a
+    /// `memcpy` per group: 7.7% of the defaults' profile at K = 22,801, and
+    /// 3.5% more sets per second without it).
+    #[inline(always)]
+    fn new(g: &Geometry<f64x4>, boundary: BoundaryGroup, corr: Correlation, t: f64x4) -> Self {
+        Self {
+            surface: surface_radiance(g, corr, t),
+            base: boundary.base(corr, t),
+            boundary,
+        }
+    }
+}
+
+/// A layered model's terms at one (σ/T, n), four measurements at a time
+/// (the packing), with what their derivatives need.
+#[derive(Debug, Clone)]
+pub struct LayeredTerms {
+    groups: Vec<LayerGroup>,
+    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`,
+    /// the base's `x′ = (T/σ)² · ratio`.
+    t: f64,
+}
+
+thread_local! {
+    /// The vectors of [`LayeredTerms`] released on this thread ([`pool`]).
+    static GROUPS: Free<LayerGroup, 3> = const { Free::new() };
+}
+
+impl Drop for LayeredTerms {
+    fn drop(&mut self) {
+        let groups = std::mem::take(&mut self.groups);
+        let _ = GROUPS.try_with(|f| f.give(groups));
+    }
+}
+
+/// `∂ ln B/∂n` of the Ragheb–Hancock base at four measurements `g` (eqs.
+/// 3–7), analytically, from the refracted cosines of their boundary `b`;
+/// `x_refracted` is eq. 1–2's argument below the boundary.
+///
+/// Snell's `cos θ′ = √(n² − sin²θ)/n` gives `∂cos θ′/∂n = sin²θ/(n³ cos θ′)`.
+/// The leading factor `cos θi′/v_z′²`, the solid angle
+/// `cos θi/(n² cos θi′)` (eq. 5) and the shape's argument
+/// `x′ ∝ v_xy²/(n² v_z′²)` all vary as `n⁻² v_z′⁻²` (the `cos θi′` cancel),
+/// whose logarithmic derivative is `ℓ = −2/n − 2 ∂v_z′/∂n / v_z′`; the shape
+/// adds its elasticity `∂ ln shape/∂ ln x′` times `ℓ`. Each transmission
+/// (eq. 7) is `t = 2 n c c′ (1/s² + 1/p²)` with `s = c + n c′`,
+/// `p = n c + c′`. Where `B = 0` the caller uses 0.
+fn log_n_derivative(
+    corr: Correlation,
+    g: &Geometry<f64x4>,
+    b: &BoundaryGroup,
+    n: f64,
+    x_refracted: f64x4,
+) -> f64x4 {
+    let c = f64x4::c;
+    let (n, inv_n) = (f64x4::splat(n), f64x4::splat(1.0 / n));
+    let (ci, cs) = (b.cos_i, b.cos_s);
+    // `∂cos θ′/∂n / cos θ′ = sin²θ/(n³ cos²θ′)`, and the derivative itself.
+    let rel = |sin2: f64x4, c: f64x4| sin2 * inv_n * inv_n * inv_n / (c * c);
+    let (ri, rs) = (rel(g.sin2_i, ci), rel(g.sin2_s, cs));
+    let (dci, dcs) = (ri * ci, rs * cs);
+    let ell = c(-2.0) * inv_n - c(2.0) * (dci + dcs) / (ci + cs);
+    // The elasticity of the shape in x′ is half that in σ/T with the sign
+    // turned, as x ∝ (σ/T)⁻².
+    let elasticity = c(-0.5) * corr.log_slope_derivative(x_refracted);
+    // `∂ ln t/∂n = 1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`,
+    // the last term as `2 (s_n p³ + p_n s³)/(s p (s² + p²))`.
+    let transmission = |c1: f64x4, c2: f64x4, dc2: f64x4, rel2: f64x4| {
+        let (s, p) = (c1 + n * c2, n * c1 + c2);
+        let (ds, dp) = (c2 + n * dc2, c1 + dc2);
+        let (s2, p2) = (s * s, p * p);
+        inv_n + rel2 - c(2.0) * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
+    };
+    (c(1.0) + elasticity) * ell
+        + transmission(g.cos_i, ci, dci, ri)
+        + transmission(g.cos_s, cs, dcs, rs)
+}
+
+/// `angles` a lane's width at a time, the last group padded with its last
+/// measurement (whose lanes [`unpack`] drops).
+fn pack<L: Lane>(angles: &[Angles]) -> Vec<Geometry<L>> {
+    angles
+        .chunks(L::LANES)
+        .map(|group| Geometry::from_lanes(|i| group[i.min(group.len() - 1)]))
+        .collect()
+}
+
+/// A lane type the layered model keeps the measurements' geometry packed
+/// in: `f64x4` (every stage) and `f32x8` (the grid stage in single
+/// precision).
+pub trait Packed: Lane {
+    /// The packed geometry of `model`.
+    fn packed(model: &LayeredModel) -> &[Geometry<Self>];
+
+    /// Groups of this lane's values as groups of four `f64`, exactly and in
+    /// order (the grid stage's sums run in `f64x4`).
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4>;
+}
+
+impl Packed for f64x4 {
+    fn packed(model: &LayeredModel) -> &[Geometry<Self>] {
+        &model.packed
+    }
+
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4> {
+        groups
+    }
+}
+
+impl Packed for f32x8 {
+    fn packed(model: &LayeredModel) -> &[Geometry<Self>] {
+        model.packed8.get_or_init(|| pack(&model.angles))
+    }
+
+    fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4> {
+        groups.flat_map(|v| {
+            let v = v.to_array();
+            [0, 4].map(|h| f64x4::from_f64_lanes(|i| f64::from(v[h + i])))
+        })
+    }
+}
+
+/// The first `len` lanes of `groups`, in measurement order.
+fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
+    let mut out = pool::vector(len.next_multiple_of(4));
+    groups.for_each(|v| out.extend_from_slice(&v.to_array()));
+    out.truncate(len);
+    out
+}
+
+/// The absorption factor `(1 − a cos²θi)(1 − a cos²θs)` of four
+/// measurements `g` (eqs. 10–14), and the two `cos²`.
+fn attenuation(g: &Geometry<f64x4>, a: f64x4) -> (f64x4, [f64x4; 2]) {
+    let one = f64x4::c(1.0);
+    let (ci, cs) = (one - g.sin2_i, one - g.sin2_s);
+    ((one - a * ci) * (one - a * cs), [ci, cs])
+}
+
+impl LayeredModel {
+    /// The boundary at refractive index `n` ([`crate::free::boundary`]), a
+    /// lane's width of measurements at a time.
+    pub fn boundary<L: Packed>(&self, n: f64) -> Vec<BoundaryGroup<L>> {
+        boundary(L::packed(self), n)
+    }
+
+    /// The raw surface term at σ/T.
+    pub fn surface(&self, slope: f64) -> Vec<f64> {
+        let t = f64x4::splat(inverse_slope_squared(slope));
+        let groups = self
+            .packed
+            .iter()
+            .map(|g| surface_radiance(g, self.corr, t));
+        unpack(groups, self.len())
+    }
+
+    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on the boundary at
+    /// one n ([`LayeredModel::boundary`]), a lane's width of measurements
+    /// at a time (the last group padded as the boundary's is).
+    pub fn base_groups<'a, L: Lane + 'a>(
+        &self,
+        slope: f64,
+        boundary: &'a [BoundaryGroup<L>],
+    ) -> impl Iterator<Item = L> + 'a {
+        let (corr, t) = (self.corr, L::c(inverse_slope_squared(slope)));
+        boundary.iter().map(move |b| b.base(corr, t))
+    }
+
+    /// `cos²θi` and `cos²θs` of each measurement.
+    pub fn cosines(&self) -> (&[f64], &[f64]) {
+        (&self.cos2_i, &self.cos2_s)
+    }
+
+    /// σ/T, n and a at the nonlinear values `theta` (a = 0 for
+    /// Ragheb–Hancock).
+    pub fn slope_n_a(&self, theta: &[f64]) -> (f64, f64, f64) {
+        let a = self.at.a.map_or(0.0, |j| theta[j]);
+        // exp(ln x) can miss x by an ulp: kept inside the model's domain.
+        let slope = libm::exp(theta[self.at.slope]).clamp(SLOPE_MIN, SLOPE_MAX);
+        (slope, theta[self.at.n], a)
+    }
+
+    /// The [`LayeredTerms`] at (σ/T, n): one pass over the measurements,
+    /// each group's boundary built (or taken from `held`) and used at once.
+    fn terms(&self, slope: f64, n: f64, held: &Held) -> LayeredTerms {
+        let t = inverse_slope_squared(slope);
+        let t4 = f64x4::splat(t);
+        let corr = self.corr;
+        let group =
+            |g: &Geometry<f64x4>, boundary: BoundaryGroup| LayerGroup::new(g, boundary, corr, t4);
+        let mut groups = GROUPS.with(|f| f.take(self.packed.len()));
+        match held.at(n) {
+            Some(boundaries) => groups.extend(
+                self.packed
+                    .iter()
+                    .zip(boundaries)
+                    .map(|(g, b)| group(g, *b)),
+            ),
+            None => {
+                let inv_n = 1.0 / n;
+                groups.extend(
+                    self.packed
+                        .iter()
+                        .map(|g| group(g, BoundaryGroup::new(g, n, inv_n))),
+                )
+            }
+        }
+        LayeredTerms { groups, t }
+    }
+
+    /// Each wanted derivative of the columns from the terms at one point:
+    /// `[∂S/∂ ln σ/T, ∂U/∂ ln σ/T, ∂U/∂n, ∂U/∂a]`, each a group of four
+    /// written in place per group of measurements (an unwanted one empty).
+    fn derivative_vectors(
+        &self,
+        terms: &LayeredTerms,
+        (n, a): (f64, f64),
+        [slope, index, absorption]: [bool; 3],
+    ) -> [Vec<f64>; 4] {
+        let corr = self.corr;
+        let (t, a) = (f64x4::splat(terms.t), f64x4::splat(a));
+        let zero = f64x4::ZERO;
+        let filled = [slope, slope, index, absorption];
+        let mut d: [Vec<f64>; 4] = filled.map(|f| {
+            if !f {
+                return Vec::new();
+            }
+            let mut v = pool::vector(4 * terms.groups.len());
+            v.resize(4 * terms.groups.len(), 0.0);
+            v
+        });
+        {
+            let [d_s, d_u, d_n, d_a] = d.each_mut().map(|v| v.as_chunks_mut::<4>().0);
+            for (i, (l, g)) in terms.groups.iter().zip(&self.packed).enumerate() {
+                // U again (the same bits as the column).
+                let (attenuation, [ci, cs]) = attenuation(g, a);
+                let u = l.base * attenuation;
+                let x_refracted = l.boundary.ratio * t;
+                if slope {
+                    let ds = l.surface * corr.log_slope_derivative(g.ratio * t);
+                    d_s[i] = ds.to_array();
+                    d_u[i] = (u * corr.log_slope_derivative(x_refracted)).to_array();
+                }
+                if index {
+                    let log = log_n_derivative(corr, g, &l.boundary, n, x_refracted);
+                    d_n[i] = f64x4::select(u.eq(zero), zero, u * log).to_array();
+                }
+                if absorption {
+                    let da = l.base * (f64x4::c(2.0) * a * ci * cs - ci - cs);
+                    d_a[i] = da.to_array();
+                }
+            }
+        }
+        let len = self.len();
+        d.map(|mut v| {
+            v.truncate(len);
+            v
+        })
+    }
+}
+
+impl FreeModel for LayeredModel {
+    type Kept = LayeredTerms;
+    type Held = Held;
+    type Shared = ModelSide;
+
+    fn new(model: Model, angles: &[Angles]) -> Self {
+        let Family::Layered {
+            correlation,
+            absorption,
+        } = model.family()
+        else {
+            panic!("{model} is not a layered model");
+        };
+        let mut entries = vec![Nonlinear::log(Param::Slope), Nonlinear::linear(Param::N)];
+        if absorption {
+            entries.push(Nonlinear::linear(Param::A));
+        }
+        let table = Table::new(entries);
+        let position = |p: Param| table.position(p).expect("a layered model's parameter");
+        let at = Positions {
+            slope: position(Param::Slope),
+            n: position(Param::N),
+            a: table.position(Param::A),
+        };
+        let geometry: Vec<Geometry<f64>> = angles.iter().map(Geometry::<f64>::splat).collect();
+        Self {
+            model,
+            table,
+            at,
+            corr: correlation,
+            packed: pack(angles),
+            packed8: OnceLock::new(),
+            angles: angles.to_vec(),
+            cos2_i: geometry.iter().map(|g| 1.0 - g.sin2_i).collect(),
+            cos2_s: geometry.iter().map(|g| 1.0 - g.sin2_s).collect(),
+        }
+    }
+
+    fn model(&self) -> Model {
+        self.model
+    }
+
+    fn table(&self) -> &Table {
+        &self.table
+    }
+
+    fn axes(&self, grid: &Grid) -> Vec<Axis> {
+        let axis = |p: Param| {
+            grid.axis(p)
+                .expect("the grid has every layered parameter's axis")
+        };
+        self.table
+            .entries()
+            .iter()
+            .map(|e| axis(e.name).clone())
+            .collect()
+    }
+
+    fn has_balance(&self) -> bool {
+        true
+    }
+
+    fn len(&self) -> usize {
+        self.angles.len()
+    }
+
+    /// The boundary when n is held (a profile of n).
+    fn held(&self, theta: &[f64], free: &[bool]) -> Held {
+        let n = theta[self.at.n];
+        Held {
+            boundary: (!free[self.at.n]).then(|| (n, self.boundary::<f64x4>(n))),
+        }
+    }
+
+    fn evaluate(&self, theta: &[f64], held: &Held) -> Evaluated<LayeredTerms> {
+        let (slope, n, a) = self.slope_n_a(theta);
+        let terms = self.terms(slope, n, held);
+        let a = f64x4::splat(a);
+        let s = unpack(terms.groups.iter().map(|l| l.surface), self.len());
+        let u = unpack(
+            (terms.groups.iter().zip(&self.packed)).map(|(l, g)| l.base * attenuation(g, a).0),
+            self.len(),
+        );
+        Evaluated {
+            columns: Columns { s, u },
+            kept: terms,
+        }
+    }
+
+    /// Analytic in every parameter (`ln σ/T`, n, a).
+    fn derivatives_at(
+        &self,
+        theta: &[f64],
+        _domain: &[(f64, f64)],
+        _central: bool,
+        at: Evaluated<LayeredTerms>,
+        wanted: &[bool],
+    ) -> (Columns, Vec<Option<Columns>>) {
+        let (_, n, a) = self.slope_n_a(theta);
+        let wanted_a = self.at.a.is_some_and(|j| wanted[j]);
+        let which = [wanted[self.at.slope], wanted[self.at.n], wanted_a];
+        let [s_slope, u_slope, u_n, u_a] = self.derivative_vectors(&at.kept, (n, a), which);
+        let mut out: Vec<Option<Columns>> = vec![None; self.table.len()];
+        out[self.at.slope] = which[0].then_some(Columns {
+            s: s_slope,
+            u: u_slope,
+        });
+        out[self.at.n] = which[1].then_some(Columns {
+            s: Vec::new(),
+            u: u_n,
+        });
+        if let Some(j) = self.at.a {
+            out[j] = wanted_a.then_some(Columns {
+                s: Vec::new(),
+                u: u_a,
+            });
+        }
+        (at.columns, out)
+    }
+
+    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> GridValues {
+        quadratic::grid_values(problem, axes, precision)
+    }
+
+    fn shared(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> Option<ModelSide> {
+        Some(ModelSide::new(problem, axes, precision))
+    }
+
+    fn grid_values_shared(
+        problems: &[&Problem<Self>],
+        axes: &GridAxes,
+        shared: &ModelSide,
+    ) -> Vec<GridValues> {
+        quadratic::grid_values_many(problems, axes, shared)
+    }
+
+    fn corner_start(
+        problem: &Problem<Self>,
+        axes: &GridAxes,
+        values: &GridValues,
+    ) -> Option<Vec<f64>> {
+        corner_start(problem, axes, values)
+    }
+}
+
+/// How far above the face n = 1 [`corner_start`] starts, as a fraction of
+/// the least `cos²` of the measurements' directions: the refracted cosine
+/// `√(n² − 1 + cos²θ)/n` of that direction has moved by about 1% of itself
+/// there. The lower points found in the valley lay at 0.5% to 2.6% of it
+/// (docs/conventions.md §11b).
+const CORNER: f64 = 0.01;
+
+/// A start just above the face n = 1 (docs/conventions.md §11b), on a box
+/// whose n reaches 1. At n = 1 and a = 0 the layer's term is the surface's
+/// own; just above, it moves fastest near grazing, so a narrow valley with
+/// β near 1 runs from that face between the grid's columns, and a
+/// minimisation that reaches the face stays there. The start is the σ/T of
+/// the grid's best point on that face (a at its lower face), a at its
+/// lower face and n at [`CORNER`] of the least `cos²` above 1.
+fn corner_start(
+    problem: &Problem<LayeredModel>,
+    axes: &GridAxes,
+    values: &GridValues,
+) -> Option<Vec<f64>> {
+    let at = problem.model.at;
+    let (lo, hi) = problem.bounds[at.n];
+    let (cos2_i, cos2_s) = problem.model.cosines();
+    let least = cos2_i
+        .iter()
+        .chain(cos2_s)
+        .filter(|c| **c > 0.0)
+        .fold(f64::INFINITY, |m, &c| m.min(c));
+    if lo != 1.0 || !least.is_finite() {
+        return None;
+    }
+    // The grid indices of the face: n at 1, a (when fitted) at its lower face.
+    let mut face = vec![0; axes.axes.len()];
+    face[at.n] = axes.axes[at.n].iter().position(|&v| v == lo)?;
+    if let Some(j) = at.a {
+        let a_lo = problem.bounds[j].0;
+        face[j] = axes.axes[j].iter().position(|&v| v == a_lo)?;
+    }
+    let best = (0..axes.axes[at.slope].len())
+        .map(|s| {
+            let mut point = face.clone();
+            point[at.slope] = s;
+            values.flat(&point)
+        })
+        .min_by(|&f, &g| values.sse[f].total_cmp(&values.sse[g]))?;
+    let mut start = axes.theta(&values.indices(best));
+    start[at.n] = (1.0 + CORNER * least).min(hi);
+    Some(start)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Model;
+    use crate::synthetic;
+
+    #[test]
+    fn derivatives_agree_with_differences() {
+        let angles = synthetic::geometries();
+        for model in [Model::Exp, Model::Gauss] {
+            let basis = LayeredModel::new(model, &angles);
+            // n near 1 (refraction barely bends), typical, and large.
+            for theta in [
+                [libm::log(0.7), 1.45, 0.3],
+                [libm::log(0.2), 1.01, 0.0],
+                [libm::log(3.0), 2.4, 0.9],
+            ] {
+                let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
+                let (at, d) = basis.derivatives(&theta, &domain, true);
+                assert_eq!(at, basis.columns(&theta));
+                for j in 0..3 {
+                    let h = 1e-6;
+                    let mut up = theta;
+                    up[j] += h;
+                    let mut down = theta;
+                    down[j] -= h;
+                    let (cu, cd) = (basis.columns(&up), basis.columns(&down));
+                    for k in 0..angles.len() {
+                        let fd_s = (cu.s[k] - cd.s[k]) / (2.0 * h);
+                        let fd_u = (cu.u[k] - cd.u[k]) / (2.0 * h);
+                        // Relative to the column or its derivative, whichever
+                        // is larger (a Gaussian tail changes ~x′ times faster
+                        // than its size).
+                        let scale = at.s[k]
+                            .abs()
+                            .max(at.u[k].abs())
+                            .max(fd_s.abs())
+                            .max(fd_u.abs())
+                            .max(1e-300);
+                        let d_s = d[j].s.get(k).copied().unwrap_or(0.0);
+                        assert!((d_s - fd_s).abs() <= 1e-8 * scale, "{model} {j} {k}");
+                        assert!(
+                            (d[j].u[k] - fd_u).abs() <= 1e-6 * scale,
+                            "{model} {j} {k} {theta:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
