@@ -13,8 +13,8 @@ use crate::objective::Objective;
 use crate::paper::profiles::ProfileCurve;
 use crate::report::Fit;
 use crate::scene::Scene;
-use crate::settings::Precision;
-use crate::settings::SearchPath;
+use crate::settings::precision::Precision;
+use crate::settings::search_path::SearchPath;
 use crate::{choice, free, paper};
 use std::sync::Arc;
 

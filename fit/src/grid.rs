@@ -3,8 +3,8 @@
 //! limit before anything is allocated.
 
 use crate::error::GridError;
-use crate::model::Param;
 use laminar_core::small_fit::{stepped, Axes, AxisError, PAPER};
+use laminar_core::Param;
 use std::fmt;
 
 /// Most values one axis may hold. [`Axis::parse`] refuses longer axes before

@@ -1,19 +1,20 @@
 //! The free pipeline's driver (docs/conventions.md §4b, §11b): it only
 //! sequences the stages, each once, for the model's implementation
 //! ([`dispatch`]): the layout ([`Layout`]), the grid stage
-//! ([`FreeModel::grid_values`]), the refinement from the grid's basins with
+//! ([`GridStage::grid_values`]), the refinement from the grid's basins with
 //! the model's corner start beside it ([`refinement`]), the statistics of
 //! the solution ([`super::statistics`]) and the record ([`super::record`]).
 //! The paper objective's driver is [`crate::paper::driver`];
 //! [`crate::Fitter`] dispatches to one or the other.
 
+use super::dispatch::{dispatch, WithModel};
 use super::estimate::estimate_at;
 use super::layout::Layout;
-use super::model::{dispatch, FreeModel, WithModel};
+use super::model::FreeModel;
 use super::problem::Problem;
 use super::record::{correlations, parameters, Statistics};
 use super::refine::refinement;
-use super::search::{grid_starts, GridValues};
+use super::search::{grid_starts, GridStage, GridValues};
 use super::slice::ragheb_hancock;
 use super::statistics::adequacy::{adequacy, chi2_weighted, information};
 use super::statistics::bootstrap::bootstrap;
@@ -38,7 +39,7 @@ use std::sync::{Arc, OnceLock};
 pub const MOST_STARTS: usize = 8;
 
 /// Sets whose grid stage one pass over a shared model side serves
-/// ([`FreeModel::grid_values_shared`]): the model side (K × 440 values
+/// ([`GridStage::grid_values_shared`]): the model side (K × 440 values
 /// with the default grid, 80 MB at K = 22,801) is read from memory once
 /// per this many sets.
 pub const SETS_PER_PASS: usize = 8;
@@ -61,7 +62,7 @@ pub fn fit(
     }
     impl WithModel for One<'_> {
         type Output = Fit;
-        fn run<M: FreeModel>(self, model: Model) -> Fit {
+        fn run<M: GridStage>(self, model: Model) -> Fit {
             let built = Arc::new(M::new(model, self.scene.angles()));
             let layout = Layout::new(&*built, self.grid);
             let problem = problem_of(self.scene, &layout, built);
@@ -103,7 +104,7 @@ fn problem_of<M: FreeModel>(scene: &Scene, layout: &Layout, model: Arc<M>) -> Pr
 /// [`fit`] of every scene of `scenes` (in order, in parallel), calling
 /// `progress` after each. Scenes on one geometry share the model, and
 /// without uncertainties the grid stage's model side
-/// ([`FreeModel::shared`]), which one pass serves [`SETS_PER_PASS`] of
+/// ([`GridStage::shared`]), which one pass serves [`SETS_PER_PASS`] of
 /// them; every fit is bit for bit [`fit`]'s.
 pub fn fit_batch(
     scenes: &[Scene],
@@ -121,7 +122,7 @@ pub fn fit_batch(
     }
     impl WithModel for Batch<'_> {
         type Output = Vec<Fit>;
-        fn run<M: FreeModel>(self, model: Model) -> Vec<Fit> {
+        fn run<M: GridStage>(self, model: Model) -> Vec<Fit> {
             let Some(first) = self.scenes.first() else {
                 return Vec::new();
             };
@@ -202,7 +203,7 @@ pub fn fit_batch(
 /// A fit from its grid stage's values on; `runs_order`, the adequacy
 /// test's order of the measurements, is formed at the first fit that
 /// needs it (shared by the fits of a batch on one geometry).
-fn fit_from<M: FreeModel>(
+fn fit_from<M: GridStage>(
     scene: &Scene,
     layout: &Layout,
     problem: Problem<M>,

@@ -24,6 +24,7 @@
 
 pub(crate) mod boundary;
 pub(crate) mod coordinate;
+pub(crate) mod dispatch;
 pub(crate) mod driver;
 pub(crate) mod estimate;
 pub(crate) mod jacobian;

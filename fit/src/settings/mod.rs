@@ -34,8 +34,8 @@ use crate::model::Param;
 use crate::objective::Objective;
 use thiserror::Error;
 
-mod precision;
-mod search_path;
+pub mod precision;
+pub mod search_path;
 pub use precision::Precision;
 pub use search_path::{Arith, Method, SearchPath};
 

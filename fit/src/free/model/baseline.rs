@@ -6,11 +6,8 @@
 use super::table::{Nonlinear, Table};
 use super::{Columns, Evaluated, FreeModel};
 use crate::baseline::BaselineGeometry;
-use crate::free::problem::Problem;
-use crate::free::search::{point_by_point, GridAxes, GridValues};
 use crate::grid::{Axis, Grid};
 use crate::model::{baseline_grid, Model};
-use crate::settings::Precision;
 use laminar_core::Angles;
 
 /// Central difference step of the baselines' parameters: relative error
@@ -26,11 +23,6 @@ pub struct BaselineModel {
     geometry: BaselineGeometry,
 }
 
-/// A baseline's grid stage shares nothing between sets: there is no value
-/// of this type.
-#[derive(Debug)]
-pub enum NothingShared {}
-
 impl BaselineModel {
     /// The baseline's two parameters at `theta` ([`laminar_core::Baseline`]'s order).
     fn params(theta: &[f64]) -> [f64; 2] {
@@ -41,7 +33,6 @@ impl BaselineModel {
 impl FreeModel for BaselineModel {
     type Kept = ();
     type Held = ();
-    type Shared = NothingShared;
 
     fn new(model: Model, angles: &[Angles]) -> Self {
         let baseline = model
@@ -130,23 +121,6 @@ impl FreeModel for BaselineModel {
             })
             .collect();
         (at, out)
-    }
-
-    /// Point by point, in `f64` whatever `precision`.
-    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, _precision: Precision) -> GridValues {
-        point_by_point(problem, axes)
-    }
-
-    fn shared(_: &Problem<Self>, _: &GridAxes, _: Precision) -> Option<NothingShared> {
-        None
-    }
-
-    fn grid_values_shared(
-        _: &[&Problem<Self>],
-        _: &GridAxes,
-        shared: &NothingShared,
-    ) -> Vec<GridValues> {
-        match *shared {}
     }
 }
 

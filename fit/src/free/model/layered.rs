@@ -1,18 +1,14 @@
 //! The layered models' columns (eqs. 1–8, 12–13) under the free
 //! amplitude: `S` and `U` at (σ/T, n, a), four measurements at a time, and
-//! their derivatives, analytic in every parameter. The grid stage's model
-//! side is [`crate::free::search::quadratic`].
+//! their derivatives, analytic in every parameter. Its grid stage is
+//! [`crate::free::search::quadratic`].
 
 use super::table::{Nonlinear, Table};
 use super::{Columns, Evaluated, FreeModel};
 use crate::free::boundary::{boundary, BoundaryGroup};
 use crate::free::pool::{self, Free};
-use crate::free::problem::Problem;
-use crate::free::search::quadratic::{self, ModelSide};
-use crate::free::search::{GridAxes, GridValues};
 use crate::grid::{Axis, Grid};
 use crate::model::{Family, Model, Param};
-use crate::settings::Precision;
 use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
 use laminar_core::{
     f32x8, f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
@@ -346,7 +342,6 @@ impl LayeredModel {
 impl FreeModel for LayeredModel {
     type Kept = LayeredTerms;
     type Held = Held;
-    type Shared = ModelSide;
 
     fn new(model: Model, angles: &[Angles]) -> Self {
         let Family::Layered {
@@ -462,79 +457,6 @@ impl FreeModel for LayeredModel {
         }
         (at.columns, out)
     }
-
-    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> GridValues {
-        quadratic::grid_values(problem, axes, precision)
-    }
-
-    fn shared(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> Option<ModelSide> {
-        Some(ModelSide::new(problem, axes, precision))
-    }
-
-    fn grid_values_shared(
-        problems: &[&Problem<Self>],
-        axes: &GridAxes,
-        shared: &ModelSide,
-    ) -> Vec<GridValues> {
-        quadratic::grid_values_many(problems, axes, shared)
-    }
-
-    fn corner_start(
-        problem: &Problem<Self>,
-        axes: &GridAxes,
-        values: &GridValues,
-    ) -> Option<Vec<f64>> {
-        corner_start(problem, axes, values)
-    }
-}
-
-/// How far above the face n = 1 [`corner_start`] starts, as a fraction of
-/// the least `cos²` of the measurements' directions: the refracted cosine
-/// `√(n² − 1 + cos²θ)/n` of that direction has moved by about 1% of itself
-/// there. The lower points found in the valley lay at 0.5% to 2.6% of it
-/// (docs/conventions.md §11b).
-const CORNER: f64 = 0.01;
-
-/// A start just above the face n = 1 (docs/conventions.md §11b), on a box
-/// whose n reaches 1. At n = 1 and a = 0 the layer's term is the surface's
-/// own; just above, it moves fastest near grazing, so a narrow valley with
-/// β near 1 runs from that face between the grid's columns, and a
-/// minimisation that reaches the face stays there. The start is the σ/T of
-/// the grid's best point on that face (a at its lower face), a at its
-/// lower face and n at [`CORNER`] of the least `cos²` above 1.
-fn corner_start(
-    problem: &Problem<LayeredModel>,
-    axes: &GridAxes,
-    values: &GridValues,
-) -> Option<Vec<f64>> {
-    let at = problem.model.at;
-    let (lo, hi) = problem.bounds[at.n];
-    let (cos2_i, cos2_s) = problem.model.cosines();
-    let least = cos2_i
-        .iter()
-        .chain(cos2_s)
-        .filter(|c| **c > 0.0)
-        .fold(f64::INFINITY, |m, &c| m.min(c));
-    if lo != 1.0 || !least.is_finite() {
-        return None;
-    }
-    // The grid indices of the face: n at 1, a (when fitted) at its lower face.
-    let mut face = vec![0; axes.axes.len()];
-    face[at.n] = axes.axes[at.n].iter().position(|&v| v == lo)?;
-    if let Some(j) = at.a {
-        let a_lo = problem.bounds[j].0;
-        face[j] = axes.axes[j].iter().position(|&v| v == a_lo)?;
-    }
-    let best = (0..axes.axes[at.slope].len())
-        .map(|s| {
-            let mut point = face.clone();
-            point[at.slope] = s;
-            values.flat(&point)
-        })
-        .min_by(|&f, &g| values.sse[f].total_cmp(&values.sse[g]))?;
-    let mut start = axes.theta(&values.indices(best));
-    start[at.n] = (1.0 + CORNER * least).min(hi);
-    Some(start)
 }
 
 #[cfg(test)]

@@ -16,8 +16,9 @@
 //! * [`BaselineModel`] (§7): one column, the raw radiance `L_k` (Jensen's at
 //!   (σa, σs′), Oren–Nayar's at (σ, ρ)).
 //!
-//! Every stage of the pipeline is written once over [`FreeModel`];
-//! [`dispatch`] picks the implementation of a [`Model`].
+//! Every stage of the pipeline is written once over [`FreeModel`] (and
+//! the grid stage's [`super::search::GridStage`]);
+//! [`super::dispatch::dispatch`] picks the implementation of a [`Model`].
 
 mod baseline;
 mod layered;
@@ -28,11 +29,8 @@ pub use layered::{LayeredModel, Packed};
 pub use table::{Nonlinear, Scale, Table};
 
 use super::pool;
-use super::problem::Problem;
-use super::search::{GridAxes, GridValues};
 use crate::grid::{Axis, Grid};
-use crate::model::{Family, Model};
-use crate::settings::Precision;
+use crate::model::Model;
 use laminar_core::Angles;
 
 /// The columns of a model at one point: `s` always, `u` for a model with
@@ -66,16 +64,13 @@ pub struct Evaluated<K> {
 }
 
 /// A model of the free objective: its nonlinear parameters, its columns
-/// and their derivatives at a point of them, and its grid stage.
+/// and their derivatives at a point of them.
 pub trait FreeModel: Sized + Send + Sync + 'static {
     /// What an evaluation keeps for the derivatives at its point.
     type Kept: Send;
     /// What a minimisation keeps while some parameters are held
     /// ([`FreeModel::held`]).
     type Held: Default + Send + Sync;
-    /// The grid stage's work that sets on one geometry without
-    /// uncertainties share ([`FreeModel::shared`]).
-    type Shared: Send + Sync;
 
     /// `model` at the measurements' directions `angles`.
     fn new(model: Model, angles: &[Angles]) -> Self;
@@ -135,53 +130,5 @@ pub trait FreeModel: Sized + Send + Sync + 'static {
         let at = self.evaluate(theta, &Self::Held::default());
         let (columns, derivatives) = self.derivatives_at(theta, domain, central, at, &wanted);
         (columns, derivatives.into_iter().flatten().collect())
-    }
-
-    /// The objective at every grid point of `axes`, the model's terms in
-    /// `precision` where the model has a single-precision path.
-    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> GridValues;
-
-    /// The grid stage's work that the sets on `problem`'s geometry share
-    /// when none has uncertainties (`None` when the model shares none).
-    fn shared(
-        problem: &Problem<Self>,
-        axes: &GridAxes,
-        precision: Precision,
-    ) -> Option<Self::Shared>;
-
-    /// [`FreeModel::grid_values`] of each of `problems` from `shared`
-    /// ([`FreeModel::shared`]): bit for bit each set's own.
-    fn grid_values_shared(
-        problems: &[&Problem<Self>],
-        axes: &GridAxes,
-        shared: &Self::Shared,
-    ) -> Vec<GridValues>;
-
-    /// A start of the refinement beside the grid's basins, where the
-    /// model has one the grid misses (the layered models' corner above the
-    /// face n = 1, docs/conventions.md §11b).
-    fn corner_start(
-        _problem: &Problem<Self>,
-        _axes: &GridAxes,
-        _values: &GridValues,
-    ) -> Option<Vec<f64>> {
-        None
-    }
-}
-
-/// Work on one model's implementation, whichever it is ([`dispatch`]).
-pub trait WithModel {
-    /// What the work returns.
-    type Output;
-    /// The work, on `model`'s implementation `M`.
-    fn run<M: FreeModel>(self, model: Model) -> Self::Output;
-}
-
-/// `work` run on the implementation of `model`: the one place that maps a
-/// [`Model`] to its [`FreeModel`].
-pub fn dispatch<W: WithModel>(model: Model, work: W) -> W::Output {
-    match model.family() {
-        Family::Layered { .. } => work.run::<LayeredModel>(model),
-        Family::Baseline(_) => work.run::<BaselineModel>(model),
     }
 }

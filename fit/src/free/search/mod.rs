@@ -4,13 +4,81 @@
 //! point, or the layered models' [`quadratic`] stage), and the grid's
 //! basins as the starts of the refinement ([`grid_starts`]).
 
+pub mod corner;
 pub mod quadratic;
 
-use super::model::{FreeModel, Nonlinear, Table};
+use super::model::{BaselineModel, FreeModel, Nonlinear, Table};
 use super::problem::Problem;
 use crate::grid::Axis;
 use crate::model::Param;
+use crate::settings::precision::Precision;
 use rayon::prelude::*;
+
+/// A model's grid stage: the objective at every point of its grid, the
+/// work sets on one geometry share, and a start of the refinement beside
+/// the grid's basins.
+pub trait GridStage: FreeModel {
+    /// The grid stage's work that sets on one geometry without
+    /// uncertainties share ([`GridStage::shared`]).
+    type Shared: Send + Sync;
+
+    /// The objective at every grid point of `axes`, the model's terms in
+    /// `precision` where the model has a single-precision path.
+    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, precision: Precision) -> GridValues;
+
+    /// The grid stage's work that the sets on `problem`'s geometry share
+    /// when none has uncertainties (`None` when the model shares none).
+    fn shared(
+        problem: &Problem<Self>,
+        axes: &GridAxes,
+        precision: Precision,
+    ) -> Option<Self::Shared>;
+
+    /// [`GridStage::grid_values`] of each of `problems` from `shared`
+    /// ([`GridStage::shared`]): bit for bit each set's own.
+    fn grid_values_shared(
+        problems: &[&Problem<Self>],
+        axes: &GridAxes,
+        shared: &Self::Shared,
+    ) -> Vec<GridValues>;
+
+    /// A start of the refinement beside the grid's basins, where the
+    /// model has one the grid misses (the layered models' [`corner`]).
+    fn corner_start(
+        _problem: &Problem<Self>,
+        _axes: &GridAxes,
+        _values: &GridValues,
+    ) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+/// A baseline's grid stage shares nothing between sets: there is no value
+/// of this type.
+#[derive(Debug)]
+pub enum NothingShared {}
+
+/// The baselines' grid stage: point by point, in `f64` whatever the
+/// precision asked for.
+impl GridStage for BaselineModel {
+    type Shared = NothingShared;
+
+    fn grid_values(problem: &Problem<Self>, axes: &GridAxes, _: Precision) -> GridValues {
+        point_by_point(problem, axes)
+    }
+
+    fn shared(_: &Problem<Self>, _: &GridAxes, _: Precision) -> Option<NothingShared> {
+        None
+    }
+
+    fn grid_values_shared(
+        _: &[&Problem<Self>],
+        _: &GridAxes,
+        shared: &NothingShared,
+    ) -> Vec<GridValues> {
+        match *shared {}
+    }
+}
 
 /// The grid axes of the nonlinear parameters, in the model's values (σ/T,
 /// not its logarithm), in θ's order.

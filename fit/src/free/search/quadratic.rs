@@ -5,14 +5,15 @@
 //! every a of the axis is then a 2×2 solve from polynomials in a, with no
 //! pass over the measurements.
 
-use super::{GridAxes, GridValues};
+use super::corner::corner_start;
+use super::{GridAxes, GridStage, GridValues};
 use crate::free::boundary::BoundaryGroup;
 use crate::free::linear::Quadratic;
 use crate::free::model::{LayeredModel, Packed};
 use crate::free::problem::Problem;
 use crate::free::sums::{dots, total};
 use crate::model::Param;
-use crate::settings::Precision;
+use crate::settings::precision::Precision;
 use laminar_core::{f32x8, f64x4, Lane};
 use rayon::prelude::*;
 
@@ -260,6 +261,32 @@ impl ModelSide {
                 SlopeRow { s, ss, columns }
             })
             .collect()
+    }
+}
+
+/// The layered models' grid stage: the model side per (σ/T, n), then a
+/// closed-form solve per a.
+impl GridStage for LayeredModel {
+    type Shared = ModelSide;
+
+    fn grid_values(problem: &Layered, axes: &GridAxes, precision: Precision) -> GridValues {
+        grid_values(problem, axes, precision)
+    }
+
+    fn shared(problem: &Layered, axes: &GridAxes, precision: Precision) -> Option<ModelSide> {
+        Some(ModelSide::new(problem, axes, precision))
+    }
+
+    fn grid_values_shared(
+        problems: &[&Layered],
+        axes: &GridAxes,
+        shared: &ModelSide,
+    ) -> Vec<GridValues> {
+        grid_values_many(problems, axes, shared)
+    }
+
+    fn corner_start(problem: &Layered, axes: &GridAxes, values: &GridValues) -> Option<Vec<f64>> {
+        corner_start(problem, axes, values)
     }
 }
 

@@ -28,7 +28,7 @@ use crate::error::GridError;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::scene::Scene;
-pub use crate::settings::{Arith, Method, SearchPath};
+pub use crate::settings::search_path::{Arith, Method, SearchPath};
 use laminar_core::{f32x8, Correlation, Lane};
 use packed::{Packed, Tables};
 use rayon::prelude::*;
