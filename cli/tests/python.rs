@@ -6,7 +6,9 @@
 //! Needs `python3` (or `$LAMINAR_PYTHON`) with `venv`, and the package
 //! index for `python/requirements-test.txt` the first time. When either is
 //! missing the test says `SKIPPED` on the terminal and passes, unless
-//! `LAMINAR_REQUIRE_PYTHON=1` (set by `.ci/run`), when it fails.
+//! `LAMINAR_REQUIRE_PYTHON=1` (set by `.ci/run`), when it fails. It runs
+//! only when asked (`LAMINAR_REQUIRE_PYTHON` or `LAMINAR_INTEGRATION`): its
+//! first build takes minutes.
 
 mod common;
 
@@ -21,6 +23,12 @@ fn skip_or_fail(why: &str) {
 
 #[test]
 fn python_package() {
+    if let Err(why) = common::integration(
+        "LAMINAR_REQUIRE_PYTHON",
+        "cargo test -p laminar-cli --test python",
+    ) {
+        return skip_or_fail(&why);
+    }
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let package = root.join("python");
     let python = std::env::var("LAMINAR_PYTHON").unwrap_or_else(|_| "python3".into());

@@ -15,7 +15,9 @@
 //! `web/package.json`'s typescript and playwright-core), and for the page
 //! `/usr/bin/chromium` (or `$CHROMIUM`). When one is missing the tests say
 //! `SKIPPED` on the terminal and pass, unless `LAMINAR_REQUIRE_WEB=1` (set
-//! by `.ci/run`), when they fail.
+//! by `.ci/run`), when they fail. They run only when asked
+//! (`LAMINAR_REQUIRE_WEB` or `LAMINAR_INTEGRATION`): building the package
+//! takes minutes.
 
 mod common;
 
@@ -54,6 +56,10 @@ fn package() -> Result<&'static Package, String> {
     static PACKAGE: OnceLock<Result<Package, String>> = OnceLock::new();
     PACKAGE
         .get_or_init(|| {
+            common::integration(
+                "LAMINAR_REQUIRE_WEB",
+                "cargo test -p laminar-cli --test web",
+            )?;
             for tool in ["node", "npm", "wasm-bindgen"] {
                 run(Command::new(tool).arg("--version"))
                     .map_err(|e| format!("`{tool}` is not available ({e})"))?;
@@ -95,6 +101,10 @@ fn package() -> Result<&'static Package, String> {
 /// `web/node_modules` (typescript, playwright-core), installed by `npm ci`
 /// when missing.
 fn web_tools() -> Result<PathBuf, String> {
+    common::integration(
+        "LAMINAR_REQUIRE_WEB",
+        "cargo test -p laminar-cli --test web",
+    )?;
     let web = root().join("web");
     let modules = web.join("node_modules");
     let tools = ["typescript", "playwright-core", "@types/node"];

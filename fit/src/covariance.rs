@@ -3,7 +3,7 @@
 //! at a bound of its domain (there the linearisation does not hold and only
 //! the profile intervals apply). Each objective builds its own Jacobian
 //! (the paper's by central differences, [`crate::paper::intervals`]; the
-//! free-amplitude one analytically, [`crate::free::intervals`]); this is
+//! free-amplitude one analytically, [`crate::free::statistics::covariance`]); this is
 //! what a fit reports of it.
 
 use crate::model::Param;

@@ -4,7 +4,7 @@
 //! bound of the model's domain ([`crate::model::domain`]; `domain_bound`: the data
 //! push the parameter as far as it can go). A value with a flag is not a
 //! measurement of that parameter in the way an interior value is. The
-//! intervals ([`crate::paper::intervals`], [`crate::free::intervals`]) add
+//! intervals ([`crate::paper::intervals`], [`crate::free::statistics`]) add
 //! the flags of intervals that stay open.
 
 use crate::grid::Axis;

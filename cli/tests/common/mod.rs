@@ -17,6 +17,22 @@ pub fn skip_or_fail(require: &str, what: &str, why: &str) {
     );
 }
 
+/// `Ok` when a slow integration test (one that builds a package for
+/// minutes: the Python package, the npm package and page) runs here: its
+/// variable `require` or `LAMINAR_INTEGRATION` is set. Otherwise why it
+/// does not, and how to run it alone (`alone`, the cargo command) or with
+/// the others: the README's test command then ends in minutes, and
+/// `.ci/run` runs every integration (it sets each `require`).
+pub fn integration(require: &str, alone: &str) -> Result<(), String> {
+    if std::env::var_os(require).is_some() || std::env::var_os("LAMINAR_INTEGRATION").is_some() {
+        return Ok(());
+    }
+    Err(format!(
+        "a slow integration (it builds its package for minutes); run it alone with \
+         `{require}=1 {alone}`, or every integration with `LAMINAR_INTEGRATION=1`"
+    ))
+}
+
 /// Runs `cmd`: its stdout and stderr together, or an error with both.
 pub fn run(cmd: &mut Command) -> Result<String, String> {
     let out = cmd.output().map_err(|e| format!("{cmd:?}: {e}"))?;
