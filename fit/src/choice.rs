@@ -56,11 +56,6 @@ impl Information {
             bic: deviance + k * libm::log(n),
         })
     }
-
-    /// The criterion models are ranked by: AICc, else AIC.
-    pub fn score(&self) -> f64 {
-        self.aicc.unwrap_or(self.aic)
-    }
 }
 
 /// A fit's K-fold cross-validated error (`crate::free`'s
@@ -85,16 +80,22 @@ pub struct CrossValidation {
 pub struct Rank {
     /// 1 for the best (lowest AICc).
     pub rank: usize,
-    /// Its AICc (else AIC) above the best's.
+    /// Its AICc above the best's (AIC when a fit of the set has no AICc:
+    /// every fit of a set is ranked by one criterion).
     pub delta: f64,
     /// Its Akaike weight among the models ranked.
     pub weight: f64,
 }
 
 /// The ranks of fits with criteria `criteria` (in their order; `None` for
-/// a fit without criteria, which is not ranked).
+/// a fit without criteria, which is not ranked), all by one criterion:
+/// AICc when every fit ranked has one, else AIC for every fit (a model
+/// with too many parameters for its AICc, `K ≤ k + 1`, would otherwise
+/// pay AIC's penalty where the others pay AICc's larger one).
 pub fn rank(criteria: &[Option<Information>]) -> Vec<Option<Rank>> {
-    let scores: Vec<Option<f64>> = criteria.iter().map(|c| c.map(|c| c.score())).collect();
+    let by_aicc = criteria.iter().flatten().all(|c| c.aicc.is_some());
+    let score = |c: &Information| c.aicc.filter(|_| by_aicc).unwrap_or(c.aic);
+    let scores: Vec<Option<f64>> = criteria.iter().map(|c| c.as_ref().map(score)).collect();
     let best = scores
         .iter()
         .flatten()
@@ -142,5 +143,32 @@ mod tests {
         assert_eq!(w.aic, 218.0);
         assert!((w.bic - (210.0 + 4.0 * 200f64.ln())).abs() < 1e-12);
         assert!(Information::new(0.0, 200, 4, false).is_none());
+    }
+
+    /// On 7 measurements a model with 5 fitted parameters (k = 6 with the
+    /// noise variance) has no AICc: the set is then ranked by AIC alone.
+    /// Before, its AIC stood against the other's AICc, and the same fit
+    /// with a parameter more ranked first (issue 55, item 1).
+    #[test]
+    fn a_set_is_ranked_by_one_criterion() {
+        let bigger = Information::new(1.0, 7, 5, false).unwrap();
+        let smaller = Information::new(1.0, 7, 4, false).unwrap();
+        assert!(bigger.aicc.is_none() && smaller.aicc.is_some());
+        let r = rank(&[Some(bigger), Some(smaller)]);
+        let (b, s) = (r[0].unwrap(), r[1].unwrap());
+        assert_eq!((s.rank, b.rank), (1, 2));
+        // AIC's penalty of one parameter more: exp(−1) of the weight.
+        assert_eq!(b.delta, bigger.aic - smaller.aic);
+        assert!((b.weight / s.weight - (-1.0f64).exp()).abs() < 1e-12);
+        // With AICc for both, AICc ranks them.
+        let (x, y) = (
+            Information::new(1.0, 9, 5, false),
+            Information::new(0.9, 9, 4, false),
+        );
+        let r = rank(&[x, y]);
+        assert_eq!(
+            r[0].unwrap().delta,
+            x.unwrap().aicc.unwrap() - y.unwrap().aicc.unwrap()
+        );
     }
 }

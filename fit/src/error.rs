@@ -290,6 +290,23 @@ pub enum FitError {
     /// The model or its parameters.
     #[error(transparent)]
     Model(#[from] ModelError),
+    /// A model named twice among the models to compare (each would take
+    /// half of its Akaike weight).
+    #[error("model {model} is named twice: name each model once")]
+    ModelTwice {
+        /// The model's name.
+        model: &'static str,
+    },
+    /// An uncertainty the objective does not compute.
+    #[error("uncertainty {uncertainty} is not computed under the {objective} objective: {hint}")]
+    UncertaintyOfObjective {
+        /// The uncertainty's name.
+        uncertainty: &'static str,
+        /// The objective's name.
+        objective: &'static str,
+        /// What to ask for instead.
+        hint: &'static str,
+    },
     /// The worker threads.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {

@@ -236,13 +236,21 @@ impl Fitter {
     /// [`Analysis::folds`] folds).
     ///
     /// # Errors
-    /// [`FitError::Model`] when given parameters are outside their domain or not the model's.
+    /// [`FitError::Model`] when given parameters are outside their domain or
+    /// not the model's; [`FitError::ModelTwice`] when `models` names a model
+    /// twice.
     pub fn fit_all(
         &self,
         scenes: &[Scene],
         models: &[Model],
         given: impl Fn(usize, Model) -> Option<ModelParams>,
     ) -> Result<Vec<Fit>, FitError> {
+        let twice = (models.iter().enumerate()).find(|&(i, m)| models[..i].contains(m));
+        if let Some((_, &model)) = twice {
+            return Err(FitError::ModelTwice {
+                model: model.name(),
+            });
+        }
         let analysis = match models.len() {
             0 | 1 => self.analysis.alone(),
             _ => self.analysis,

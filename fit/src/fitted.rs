@@ -62,32 +62,108 @@ impl Serialize for ModelParams {
     }
 }
 
-impl<'de> Deserialize<'de> for ModelParams {
+/// A `params` object as written, in order: each value by its name, each name once
+/// (a name written twice is an error, as every other field of the file's
+/// is); a value that is not a number is kept as absent.
+struct WrittenParams(Vec<(String, Option<f64>)>);
+
+impl<'de> Deserialize<'de> for WrittenParams {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        // Every value by its name; names no model has are ignored, as
-        // before the parameters were read by name.
-        #[derive(Deserialize)]
-        #[serde(untagged)]
-        enum Entry {
-            Number(f64),
-            Other(serde::de::IgnoredAny),
+        struct Visitor;
+        impl<'de> serde::de::Visitor<'de> for Visitor {
+            type Value = WrittenParams;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an object of parameters by name")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<Self::Value, A::Error> {
+                #[derive(Deserialize)]
+                #[serde(untagged)]
+                enum Entry {
+                    Number(f64),
+                    Other(serde::de::IgnoredAny),
+                }
+                let mut out: Vec<(String, Option<f64>)> = Vec::new();
+                while let Some((name, entry)) = map.next_entry::<String, Entry>()? {
+                    if out.iter().any(|(n, _)| *n == name) {
+                        return Err(serde::de::Error::custom(format!(
+                            "params: parameter `{name}` is written twice"
+                        )));
+                    }
+                    let value = match entry {
+                        Entry::Number(v) => Some(v),
+                        Entry::Other(_) => None,
+                    };
+                    out.push((name, value));
+                }
+                Ok(WrittenParams(out))
+            }
         }
-        let given = std::collections::BTreeMap::<String, Entry>::deserialize(d)?;
-        let number = |p: Param| match given.get(p.name()) {
-            Some(Entry::Number(v)) => Some(*v),
-            Some(Entry::Other(_)) | None => None,
-        };
-        let all = |params: &[Param]| params.iter().all(|&p| number(p).is_some());
+        d.deserialize_map(Visitor)
+    }
+}
+
+impl WrittenParams {
+    /// The number named as parameter `p`.
+    fn number(&self, p: Param) -> Option<f64> {
+        self.0
+            .iter()
+            .find(|(n, _)| n == p.name())
+            .and_then(|(_, v)| *v)
+    }
+
+    /// The parameters of `model`: each of its own a number, and none of
+    /// another model's (names no model has are ignored, as before the
+    /// parameters were read by name).
+    fn of(&self, model: Model) -> Result<ModelParams, String> {
+        let own = model.params();
+        let foreign: Vec<&str> = (self.0.iter())
+            .filter_map(|(name, _)| Param::from_name(name))
+            .filter(|p| !own.contains(p))
+            .map(|p| p.name())
+            .collect();
+        if !foreign.is_empty() {
+            return Err(format!(
+                "params of {model}: {} not {model}'s (its parameters: {})",
+                foreign.join(", "),
+                param_names(own)
+            ));
+        }
+        let missing: Vec<&str> = (own.iter())
+            .filter(|&&p| self.number(p).is_none())
+            .map(|p| p.name())
+            .collect();
+        if !missing.is_empty() {
+            return Err(format!(
+                "params of {model}: no number for {} (its parameters: {})",
+                missing.join(", "),
+                param_names(own)
+            ));
+        }
+        Ok(ModelParams::from_values(model, |p| {
+            self.number(p).unwrap_or(f64::NAN)
+        }))
+    }
+}
+
+impl<'de> Deserialize<'de> for ModelParams {
+    /// Without its model: the layered models' when all four of theirs are
+    /// present, else the first baseline's whose parameters all are.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let given = WrittenParams::deserialize(d)?;
+        let all = |params: &[Param]| params.iter().all(|&p| given.number(p).is_some());
         let layered = Model::Exp.params();
         if all(layered) {
             return Ok(Self::from_values(Model::Exp, |p| {
-                number(p).unwrap_or(f64::NAN)
+                given.number(p).unwrap_or(f64::NAN)
             }));
         }
         if let Some(b) = Baseline::ALL.into_iter().find(|b| all(b.params())) {
             return Ok(Self::baseline(
                 b,
-                b.params().map(|p| number(p).unwrap_or(f64::NAN)),
+                b.params().map(|p| given.number(p).unwrap_or(f64::NAN)),
             ));
         }
         let sets: Vec<String> = std::iter::once(layered)
@@ -376,7 +452,7 @@ impl<'de> Deserialize<'de> for NormalisationConstants {
 /// assert!(elsewhere[0] > 0.0);
 /// # Ok::<(), laminar_fit::ModelError>(())
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
 pub struct FittedModel {
     /// The model.
@@ -394,6 +470,31 @@ pub struct FittedModel {
     /// The max of the measured radiance that the fit's data were divided by:
     /// a prediction times `data_scale` is radiance in the input's units.
     pub data_scale: f64,
+}
+
+impl<'de> Deserialize<'de> for FittedModel {
+    /// Its `params` read as its `model`'s ([`WrittenParams::of`]): each of
+    /// the model's parameters once, none of another model's.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        struct Written {
+            model: Model,
+            params: WrittenParams,
+            normalisation: NormalisationConstants,
+            beta_eq8: Option<f64>,
+            eq8_scale: Option<f64>,
+            data_scale: f64,
+        }
+        let w = Written::deserialize(d)?;
+        Ok(Self {
+            model: w.model,
+            params: w.params.of(w.model).map_err(serde::de::Error::custom)?,
+            normalisation: w.normalisation,
+            beta_eq8: w.beta_eq8,
+            eq8_scale: w.eq8_scale,
+            data_scale: w.data_scale,
+        })
+    }
 }
 
 /// The measurements' geometry in the form a model evaluates it, built once
@@ -737,6 +838,67 @@ mod tests {
             .to_string();
         assert!(
             err.contains("{sigma, rho}") && err.contains("{slope, beta, n, a}"),
+            "{err}"
+        );
+    }
+
+    /// A fitted model's `params` are read as its model's: a parameter
+    /// written twice is refused (as every other field written twice is),
+    /// and so are another model's parameters, named, whatever the models'
+    /// order (issue 55, items 4 and 5).
+    #[test]
+    fn a_fitted_models_params_are_its_models_once_each() {
+        let fitted = FittedModel::with_amplitude(
+            Model::Exp,
+            ModelParams::Layered {
+                slope: 0.4,
+                beta: 0.3,
+                n: 1.5,
+                a: 0.2,
+            },
+            2.0,
+            1.0,
+        );
+        let json = serde_json::to_string(&fitted).unwrap();
+        let back: FittedModel = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, fitted);
+        let with = |params: &str| {
+            let text = json.replace(
+                r#""params":{"slope":0.4,"beta":0.3,"n":1.5,"a":0.2}"#,
+                params,
+            );
+            assert_ne!(text, json, "the fixture's params: {json}");
+            serde_json::from_str::<FittedModel>(&text)
+                .unwrap_err()
+                .to_string()
+        };
+        let twice = with(r#""params":{"slope":0.4,"beta":0.3,"n":1.5,"n":1.7,"a":0.2}"#);
+        assert!(twice.contains("`n` is written twice"), "{twice}");
+        let foreign =
+            with(r#""params":{"slope":0.4,"beta":0.3,"n":1.5,"a":0.2,"sigma":0.1,"rho":0.5}"#);
+        assert!(
+            foreign.contains("params of exp: sigma, rho not exp's (its parameters: slope,"),
+            "{foreign}"
+        );
+        let missing = with(r#""params":{"slope":0.4,"beta":0.3,"n":1.5}"#);
+        assert!(missing.contains("no number for a"), "{missing}");
+        // An Oren–Nayar entry holding the layered parameters too: refused by
+        // its own model, naming the layered ones.
+        let on = FittedModel::with_amplitude(
+            Model::OrenNayar,
+            ModelParams::baseline(Baseline::OrenNayar, [0.3, 0.6]),
+            1.0,
+            1.0,
+        );
+        let text = serde_json::to_string(&on).unwrap().replace(
+            r#""params":{"sigma":0.3,"rho":0.6}"#,
+            r#""params":{"sigma":0.3,"rho":0.6,"slope":0.4,"beta":0.3,"n":1.5,"a":0.2}"#,
+        );
+        let err = serde_json::from_str::<FittedModel>(&text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("params of oren-nayar: slope, beta, n, a not"),
             "{err}"
         );
     }

@@ -74,3 +74,123 @@ fn one_model_alone_is_not_cross_validated() {
 fn the_comparison_does_not_depend_on_the_thread_count() {
     assert_eq!(compared(1), compared(2));
 }
+
+/// A set of `k` measurements made by exp (σ = 0.01, estimated).
+fn few(k: usize) -> laminar_fit::Scene {
+    use laminar_fit::coverage::{noisy_scene_on, NoiseModel};
+    use laminar_fit::{ModelParams, Objective};
+    let mut angles = synthetic::geometries();
+    angles.truncate(k);
+    let truth = ModelParams::Layered {
+        slope: 0.5,
+        beta: 0.4,
+        n: 1.5,
+        a: 0.2,
+    };
+    let mut rng = synthetic::Noise::new(3);
+    noisy_scene_on(
+        angles,
+        Model::Exp,
+        Objective::Free,
+        truth,
+        NoiseModel::Every(0.01),
+        &mut rng,
+    )
+}
+
+/// On 7 measurements the absorptive models (5 fitted parameters, k = 6
+/// with the noise variance) have no AICc: every model of the set is then
+/// ranked by AIC, not theirs by AIC against the others' AICc (which put
+/// exp above rh-exp, the same fit with a parameter fewer; issue 55, item 1).
+#[test]
+fn a_set_is_ranked_by_one_criterion_when_a_model_has_no_aicc() {
+    let fits = Fitter::new(Grid::user())
+        .unwrap()
+        .fit_all(&[few(7)], &Model::ALL, |_, _| None)
+        .unwrap();
+    let info = |m: Model| of(&fits, m).information.unwrap();
+    assert!(info(Model::Exp).aicc.is_none() && info(Model::RhExp).aicc.is_some());
+    let best = Model::ALL
+        .into_iter()
+        .find(|&m| of(&fits, m).rank.unwrap().rank == 1)
+        .unwrap();
+    for m in Model::ALL {
+        let rank = of(&fits, m).rank.unwrap();
+        assert_eq!(rank.delta, info(m).aic - info(best).aic, "{m}");
+    }
+    // exp is rh-exp with a free: where its fit is no better by AIC's price
+    // of a parameter, it ranks below.
+    let (exp, rh) = (info(Model::Exp).aic, info(Model::RhExp).aic);
+    let (exp_rank, rh_rank) = (of(&fits, Model::Exp).rank, of(&fits, Model::RhExp).rank);
+    assert_eq!(exp < rh, exp_rank.unwrap().rank < rh_rank.unwrap().rank);
+}
+
+/// A model named twice is refused (it was fitted twice, and its two rows
+/// split its Akaike weight; issue 55, item 3).
+#[test]
+fn a_model_named_twice_is_refused() {
+    let err = Fitter::new(Grid::user())
+        .unwrap()
+        .fit_all(
+            &[few(30)],
+            &[Model::Exp, Model::Exp, Model::Gauss],
+            |_, _| None,
+        )
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("model exp is named twice"), "{err}");
+}
+
+/// Without degrees of freedom (2 measurements) the bootstrap gives no
+/// interval, as the profile and Jacobian give none: its resamples are each
+/// fitted exactly, and their intervals were of zero width with no flag
+/// (issue 55, item 2).
+#[test]
+fn the_bootstrap_gives_no_interval_without_degrees_of_freedom() {
+    use laminar_fit::report::Source;
+    use laminar_fit::{Analysis, Uncertainty};
+    let analysis = Analysis {
+        uncertainty: Uncertainty::Bootstrap,
+        resamples: 50,
+        ..Analysis::FULL
+    };
+    let fitter = Fitter::new(Grid::user()).unwrap().analysis(analysis);
+    for k in [2, 5] {
+        let fit = fitter.fit(&few(k), Model::Exp);
+        for p in &fit.parameters {
+            assert!(
+                p.interval68.is_none() && p.interval95.is_none(),
+                "{k}: {p:?}"
+            );
+            assert!(p.intervals(Source::Bootstrap)[0].is_none(), "{k}: {p:?}");
+        }
+    }
+    // With degrees of freedom, bootstrap intervals, of nonzero width.
+    let fit = fitter.fit(&few(40), Model::Exp);
+    let n = fit
+        .parameters
+        .iter()
+        .find(|p| p.name.name() == "n")
+        .unwrap();
+    let i = n.intervals(Source::Bootstrap)[1].unwrap();
+    assert!(i.hi > i.lo, "{i:?}");
+}
+
+/// The paper objective computes no bootstrap: asking for one is refused
+/// with what it computes instead (it gave profile intervals silently).
+#[test]
+fn the_bootstrap_under_the_paper_objective_is_refused() {
+    let mut settings = laminar_fit::Settings::default();
+    settings.set("objective", "paper").unwrap();
+    settings.set("uncertainty", "bootstrap").unwrap();
+    let Err(err) = settings.fitter() else {
+        panic!("the bootstrap under the paper objective was taken");
+    };
+    let err = err.to_string();
+    assert!(
+        err.contains("uncertainty bootstrap is not computed under the paper objective"),
+        "{err}"
+    );
+    settings.set("uncertainty", "both").unwrap();
+    assert!(settings.fitter().is_ok());
+}

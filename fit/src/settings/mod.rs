@@ -25,7 +25,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use crate::analysis::{parse_folds, parse_resamples, parse_seed, Analysis};
+use crate::analysis::{parse_folds, parse_resamples, parse_seed, Analysis, Uncertainty};
 use crate::error::{choices, FitError, GridError, UnknownName};
 use crate::fit::Fitter;
 use crate::fitted::param_names;
@@ -200,6 +200,15 @@ impl Settings {
     /// [`FitError::Grid`] as [`Settings::grid`]; [`FitError::Threads`] for a
     /// thread count the machine cannot start.
     pub fn fitter(&self) -> Result<Fitter, FitError> {
+        if self.objective == Objective::Paper && self.analysis.uncertainty == Uncertainty::Bootstrap
+        {
+            return Err(FitError::UncertaintyOfObjective {
+                uncertainty: "bootstrap",
+                objective: "paper",
+                hint: "the paper objective's intervals are the profile's and the Jacobian's \
+                       (uncertainty both); the bootstrap needs the free objective",
+            });
+        }
         let fitter = Fitter::new(self.grid()?)?
             .objective(self.objective)
             .path(self.path)

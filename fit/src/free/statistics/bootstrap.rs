@@ -84,18 +84,20 @@ fn quantile_error(sorted: &[f64], q: f64) -> f64 {
 /// The bootstrap of `solution`'s problem around its minimum: `resamples`
 /// refits seeded by `seed` (a face of the box that is not a bound of the
 /// parameter's domain leaves an end open). `None` with fewer than two
-/// resamples.
+/// resamples, or without degrees of freedom (no more measurements than
+/// fitted parameters: every resample is fitted exactly, and its intervals
+/// would be of zero width whatever the noise; the other intervals are
+/// absent there too).
 pub fn bootstrap<M: FreeModel>(
     solution: &Solution<'_, M>,
     (resamples, seed): (usize, u64),
 ) -> Option<Bootstrapped> {
-    if resamples < 2 {
+    let problem = solution.problem;
+    if resamples < 2 || problem.data.len() <= problem.parameter_count() {
         return None;
     }
     let Solution {
-        problem,
-        layout,
-        minimum,
+        layout, minimum, ..
     } = solution;
     let free = problem.all_free();
     let values: Vec<Vec<f64>> = (0..resamples)
