@@ -473,7 +473,7 @@ pub struct FittedModel {
 }
 
 impl<'de> Deserialize<'de> for FittedModel {
-    /// Its `params` read as its `model`'s ([`WrittenParams::of`]): each of
+    /// Its `params` read as its `model`'s: each of
     /// the model's parameters once, none of another model's.
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         #[derive(Deserialize)]

@@ -65,6 +65,17 @@ __all__ = [
 BATCH_DTYPE = np.dtype([(name, np.float64) for name in BATCH_COLUMNS])
 
 
+def _real(name, x):
+    """``x`` as a float64 array of real numbers, or ``ValueError`` naming
+    ``name`` (numpy would drop a complex value's imaginary part with a
+    warning only)."""
+    array = np.asarray(x)
+    if array.dtype.kind not in "fiu":
+        what = "complex values" if array.dtype.kind == "c" else f"values of type {array.dtype}"
+        raise ValueError(f"{name}: {what}; give real numbers (floats or integers)")
+    return array.astype(np.float64, copy=False)
+
+
 def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64"):
     """Every component of a layered model (``exp``, ``gauss``, ``rh-exp``,
     ``rh-gauss``) at paper-frame angles (radians) and parameters, broadcast
@@ -72,8 +83,9 @@ def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64")
     shape: ``fresnel_in, fresnel_out, absorb_in, absorb_out, surface,
     subsurface, total`` (the raw terms of eqs. 1–14 and the eq. 8 total, as
     ``laminar eval``). ``precision`` is ``"f64"`` or ``"f32"``."""
+    names = ("theta_i", "theta_s", "phi_s", "slope", "beta", "n", "a")
     arrays = np.broadcast_arrays(
-        *(np.asarray(x, dtype=np.float64) for x in (theta_i, theta_s, phi_s, slope, beta, n, a))
+        *(_real(name, x) for name, x in zip(names, (theta_i, theta_s, phi_s, slope, beta, n, a)))
     )
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(x.ravel()) for x in arrays]
@@ -150,12 +162,9 @@ def fit_batch(
     own dtype (as the Dask results store it).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
     times faster. ``objective`` and ``precision`` as in :func:`fit`."""
-    geometry = np.ascontiguousarray(geometry, dtype=np.float64)
-    values = np.ascontiguousarray(values, dtype=np.float64)
-    if values.ndim != 2:
-        raise ValueError(f"values: shape {values.shape}; an N × K array is needed")
+    # The arrays are checked (real numbers, two dimensions) by name there.
     columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty, objective, precision)
-    out = np.empty(values.shape[0], dtype=BATCH_DTYPE)
+    out = np.empty(len(columns[BATCH_COLUMNS[0]]), dtype=BATCH_DTYPE)
     for name in BATCH_COLUMNS:
         out[name] = columns[name]
     return out

@@ -71,14 +71,28 @@ def _paper_angles(wi, wo):
     return theta_i, theta_s, phi_s, above
 
 
+def _check_variant(mi):
+    """Refuses a variant the plugins cannot serve: they return three
+    channels (``mi.Color3f``), and a spectral variant's ``Spectrum`` has 4
+    wavelengths and a mono one 1 (the render died with ``std::bad_cast``
+    after loading)."""
+    if mi.variant() is None:
+        raise RuntimeError("set a Mitsuba variant (mi.set_variant) before laminar.mitsuba.register()")
+    if not mi.variant().endswith("_rgb"):
+        raise ValueError(
+            f"Mitsuba variant {mi.variant()!r}: the laminar BSDFs serve the RGB variants "
+            "(scalar_rgb, llvm_ad_rgb, cuda_ad_rgb, ...), not spectral or mono ones; "
+            "set an RGB variant before laminar.mitsuba.register()"
+        )
+
+
 def register():
     """Registers the ``"laminar"`` and ``"laminar_native"`` BSDFs with the
     current Mitsuba variant (call after ``mi.set_variant``)."""
     import drjit as dr
     import mitsuba as mi
 
-    if mi.variant() is None:
-        raise RuntimeError("set a Mitsuba variant (mi.set_variant) before laminar.mitsuba.register()")
+    _check_variant(mi)
     scalar = mi.variant().startswith("scalar")
 
     class LaminarBSDF(mi.BSDF):

@@ -120,7 +120,10 @@ def _transmittance(cos_i, cos_t, r):
     """Unpolarised Fresnel transmittance (eqs. 6, 7) from the cosines of the
     incident and refracted angles, as ``laminar_core::fresnel_pair``: the
     smaller of reflectance and transmittance computed directly, the other
-    as its complement."""
+    as its complement. At ``r = 1`` there is no interface: everything is
+    transmitted, also where a grazing cosine's square flushes to zero in
+    f32 (``(r − 1)(r + 1)/s²`` would be 0/0 there); the denominators are
+    made safe before dividing, so that no NaN reaches a gradient either."""
     import drjit as dr
 
     s_den = cos_i + r * cos_t
@@ -128,12 +131,18 @@ def _transmittance(cos_i, cos_t, r):
     s2, p2 = s_den * s_den, p_den * p_den
     r2 = r * r
     r2m1 = (r - 1.0) * (r + 1.0)
+    interface = (r2m1 != 0) & (s2 > 0) & (p2 > 0)
+    s2 = dr.select(interface, s2, 1.0)
+    p2 = dr.select(interface, p2, 1.0)
     rs = r2m1 / s2
     rp = r2m1 * ((r2 + 1.0) * (cos_i * cos_i) - 1.0) / (r2 * p2)
     normal = (r - 1.0) / (r + 1.0)
     f = dr.select(cos_i == 1.0, normal * normal, 0.5 * (rs * rs + rp * rp))
     t = 2.0 * r * cos_i * cos_t * (dr.rcp(s2) + dr.rcp(p2))
     t = dr.minimum(dr.select(f <= t, 1.0 - f, t), 1.0)
+    # No interface (r = 1), or cosines too small for their squares: all of
+    # it through at r = 1, none at a grazing interface.
+    t = dr.select(interface, t, dr.select(r2m1 == 0, 1.0, 0.0))
     return dr.select(cos_i > 0, t, 0.0)
 
 
@@ -151,11 +160,16 @@ def radiance(wi, wo, slope, beta, n, a, scale, gaussian):
     inv_slope2 = dr.rcp(slope * slope)
     surface = _lobe(cos_i, cos_s, vxy2, inv_slope2, gaussian)
     n2 = n * n
-    # Refraction into the layer (eq. 7): cos θ′ = sqrt(n² − 1 + cos² θ)/n.
-    cos_it = dr.sqrt((n - 1.0) * (n + 1.0) + cos_i * cos_i) / n
-    cos_st = dr.sqrt((n - 1.0) * (n + 1.0) + cos_s * cos_s) / n
+    # Refraction into the layer (eq. 7): cos θ′ = sqrt(n² − 1 + cos² θ)/n
+    # (safe_sqrt: no infinite derivative where the sum is 0, at n = 1 and a
+    # cosine whose square flushes to zero).
+    cos_it = dr.safe_sqrt((n - 1.0) * (n + 1.0) + cos_i * cos_i) / n
+    cos_st = dr.safe_sqrt((n - 1.0) * (n + 1.0) + cos_s * cos_s) / n
     base = _lobe(cos_it, cos_st, vxy2 / n2, inv_slope2, gaussian)
-    solid_angle = cos_i / (n2 * cos_it)
+    # cos θi/(n² cos θi′) (eq. 5); at n = 1 it is 1, also where a grazing
+    # cos θi′ flushes to zero in f32 (the denominator made safe first).
+    refracted = n2 * cos_it
+    solid_angle = dr.select(refracted > 0, cos_i / dr.select(refracted > 0, refracted, 1.0), dr.rcp(n2))
     sin2_i = dr.clip(wo.x * wo.x + wo.y * wo.y, 0.0, 1.0)
     sin2_s = dr.clip(wi.x * wi.x + wi.y * wi.y, 0.0, 1.0)
     absorption = ((1.0 - a) + a * sin2_i) * ((1.0 - a) + a * sin2_s)
@@ -212,6 +226,30 @@ def lobe_table(values, gaussian):
     return np.maximum(table, floor).astype(np.float32), cos_view
 
 
+def check_values(values, gaussian):
+    """Refuses parameter values outside the model's domain: ``values`` maps
+    each of :data:`PARAMETERS` to every value it takes (a colour's channels,
+    or every texel of a texture's channels). Each must be a number, ``scale``
+    at least 0, and the smallest and the largest of each of the others
+    inside the library's domain of that parameter (each domain is an
+    interval, so then every value is): a ``ValueError`` naming the
+    parameter and the value otherwise."""
+    import numpy as np
+
+    for name in PARAMETERS:
+        v = np.asarray(values[name], dtype=np.float64).ravel()
+        bad = ~np.isfinite(v)
+        if bad.any():
+            raise ValueError(f"{name}: {int(bad.sum())} of its {v.size} values are not numbers (first: {v[bad][0]})")
+    scale = np.asarray(values["scale"], dtype=np.float64)
+    if (scale < 0).any():
+        raise ValueError(f"scale: {scale.min()} is below 0; the amplitude is at least 0")
+    model = "gauss" if gaussian else "exp"
+    for pick in (np.min, np.max):
+        at = {p: float(pick(np.asarray(values[p], dtype=np.float64))) for p in ("slope", "beta", "n", "a")}
+        laminar.FittedModel.from_params(model, at)
+
+
 def textured(fits, nearest=True):
     """The ``"laminar_native"`` BSDF dict of a fitted texture: ``fits`` is
     :func:`laminar.xarray.fit`'s Dataset (free objective, a layered model)
@@ -266,7 +304,9 @@ def register_native():
     import mitsuba as mi
     import numpy as np
 
-    from laminar.mitsuba import _models
+    from laminar.mitsuba import _check_variant, _models
+
+    _check_variant(mi)
 
     class LaminarNativeBSDF(mi.BSDF):
         """A layered fitted model (one or three channels), in Dr.Jit."""
@@ -367,15 +407,30 @@ def register_native():
         def parameters_changed(self, keys):
             # Opaque: a kernel reads the values from memory, so a new value
             # runs the kernel already compiled.
-            def host(value):
+            def every(value):
+                # Every value the parameter takes: a colour's channels, or
+                # every texel of a texture's channels.
+                if isinstance(value, mi.Texture):
+                    data = [v for k, v in mi.traverse(value).items() if k.endswith("data")]
+                    if len(data) != 1:
+                        raise ValueError("a parameter's texture must be a bitmap (its texels are checked)")
+                    return np.array(dr.detach(data[0]), dtype=np.float64).ravel()
+                dr.make_opaque(value)
+                return np.array(dr.detach(value), dtype=np.float64).ravel()
+
+            def host(value, texels):
                 # A texture's mean stands for it in the table (any table
                 # gives an exact pdf; the mean one follows the lobe).
                 if isinstance(value, mi.Texture):
                     return np.full(3, float(np.array(dr.detach(value.mean())).ravel()[0]))
-                dr.make_opaque(value)
-                return np.array(dr.detach(value), dtype=np.float64).ravel()
+                return texels
 
-            values = {p: host(getattr(self, p)) for p in PARAMETERS}
+            # Every value checked, whichever sampling and however it was
+            # set (at load, or through mi.traverse and update()), texel by
+            # texel: the table's build is no longer the only check.
+            texels = {p: every(getattr(self, p)) for p in PARAMETERS}
+            check_values(texels, self.gaussian)
+            values = {p: host(getattr(self, p), texels[p]) for p in PARAMETERS}
             if self.sampling == "lobe":
                 table, views = lobe_table(values, self.gaussian)
                 self.table = mi.MarginalContinuous2D1(table, [views.tolist()])

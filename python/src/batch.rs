@@ -1,8 +1,8 @@
 //! `fit_batch`: many sets on one geometry, as the batch fields
 //! ([`BatchRow`]) that `laminar fit-batch` writes.
 
-use crate::convert::{lab_angles, layered_names, parse, reserve};
-use crate::fit_result::{fitter, Named};
+use crate::convert::{lab_angles, layered_names, parse, real_array, reserve};
+use crate::fit_result::{fitter, refine_threads, Named};
 use laminar_fit::analysis::DEFAULT_RESAMPLES;
 use laminar_fit::{MeasurementSet, Model, Quantity};
 use laminar_io::fits::BatchRow;
@@ -25,17 +25,17 @@ pub(crate) fn batch_row() -> BatchRow {
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
 /// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
 #[pyfunction]
-#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = true, uncertainty = "both", objective = "free", precision = "f64"))]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = None, uncertainty = "both", objective = "free", precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_batch<'py>(
     py: Python<'py>,
-    geometry: PyReadonlyArray2<'py, f64>,
-    values: PyReadonlyArray2<'py, f64>,
+    geometry: Bound<'py, PyAny>,
+    values: Bound<'py, PyAny>,
     model: &str,
     grid: Option<HashMap<String, Bound<'py, PyAny>>>,
-    threads: Option<usize>,
+    threads: Option<Bound<'py, PyAny>>,
     quantity: &str,
-    refine: bool,
+    refine: Option<Bound<'py, PyAny>>,
     uncertainty: &str,
     objective: &str,
     precision: &str,
@@ -56,7 +56,10 @@ pub(crate) fn fit_batch<'py>(
         seed: 0,
         folds: 0,
     };
+    let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
     let fitter = fitter(grid, threads, refine, named)?;
+    let geometry: PyReadonlyArray2<'py, f64> = real_array("geometry", &geometry, 2)?.extract()?;
+    let values: PyReadonlyArray2<'py, f64> = real_array("values", &values, 2)?.extract()?;
     let g = geometry.as_array();
     if g.ncols() != 4 {
         return Err(PyValueError::new_err(format!(

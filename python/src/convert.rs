@@ -32,6 +32,111 @@ pub(crate) fn reserve<T>(len: usize, what: &str) -> PyResult<Vec<T>> {
     Ok(v)
 }
 
+/// A Python object's type name, for messages.
+fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type()
+        .name()
+        .map_or_else(|_| "?".into(), |n| n.to_string())
+}
+
+/// `obj` as a flag: `True` or `False` (a numpy bool too), else
+/// `ValueError` naming the argument `name`.
+pub(crate) fn flag(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let is_bool = obj.is_instance_of::<pyo3::types::PyBool>()
+        || type_name(obj) == "bool"
+        || type_name(obj) == "bool_";
+    match obj.extract::<bool>() {
+        Ok(v) if is_bool => Ok(v),
+        _ => Err(PyValueError::new_err(format!(
+            "{name}: give True or False, not {} ({})",
+            obj.repr().map_or_else(|_| "?".into(), |r| r.to_string()),
+            type_name(obj)
+        ))),
+    }
+}
+
+/// `obj` as a whole number from `least` to `most` (a Python or numpy
+/// integer; not a bool), else `ValueError` naming the argument `name`.
+pub(crate) fn whole(
+    name: &str,
+    obj: &Bound<'_, PyAny>,
+    (least, most): (u64, u64),
+) -> PyResult<u64> {
+    let shown = || obj.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+    let bad = || {
+        PyValueError::new_err(format!(
+            "{name}: give a whole number from {least} to {most}, not {} ({})",
+            shown(),
+            type_name(obj)
+        ))
+    };
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(bad());
+    }
+    let index = obj.call_method0("__index__").map_err(|_| bad())?;
+    let value: i128 = index.extract().map_err(|_| bad())?;
+    u64::try_from(value)
+        .ok()
+        .filter(|v| (least..=most).contains(v))
+        .ok_or_else(bad)
+}
+
+/// An optional count (`None` is kept), as [`whole`].
+pub(crate) fn optional_count(
+    name: &str,
+    obj: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<usize>> {
+    obj.filter(|o| !o.is_none())
+        .map(|o| whole(name, o, (0, u32::MAX.into())).map(|v| v as usize))
+        .transpose()
+}
+
+/// `obj` (an array or a sequence) as a C-ordered float64 numpy array of
+/// `ndim` dimensions: real numbers (floats, integers) only; a complex,
+/// boolean or non-numeric array is a `ValueError` naming the argument
+/// `name` (numpy would drop an imaginary part with a warning only).
+pub(crate) fn real_array<'py>(
+    name: &str,
+    obj: &Bound<'py, PyAny>,
+    ndim: usize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let numpy = obj.py().import("numpy")?;
+    let array = numpy
+        .call_method1("asarray", (obj,))
+        .map_err(|e| PyValueError::new_err(format!("{name}: not an array of numbers ({e})")))?;
+    let dtype = array.getattr("dtype")?;
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    let shown = dtype.str()?.to_string();
+    match kind.as_str() {
+        "f" | "i" | "u" => {}
+        "c" => {
+            return Err(PyValueError::new_err(format!(
+                "{name}: complex values ({shown}); give real numbers"
+            )))
+        }
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "{name}: values of type {shown}; give real numbers (floats or integers)"
+            )))
+        }
+    }
+    let dims: usize = array.getattr("ndim")?.extract()?;
+    if dims != ndim {
+        let shape = array.getattr("shape")?.repr()?.to_string();
+        return Err(PyValueError::new_err(format!(
+            "{name}: shape {shape}; a {ndim}-dimensional array is needed"
+        )));
+    }
+    numpy.call_method1("ascontiguousarray", (array, "float64"))
+}
+
+/// [`real_array`] of one dimension, its values.
+pub(crate) fn real_vec(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let array = real_array(name, obj, 1)?;
+    let array: PyReadonlyArray1<'_, f64> = array.extract()?;
+    vec1(&array)
+}
+
 pub(crate) fn value_error(e: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(e.to_string())
 }

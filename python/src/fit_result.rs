@@ -1,8 +1,11 @@
 //! `fit`, `compare` and `FitResult`: one set's fits and their analysis.
 
-use crate::convert::{lab_angles, params_dict, parse, to_python, value_error, vec1};
+use crate::convert::{
+    flag, lab_angles, optional_count, params_dict, parse, to_python, value_error, vec1, whole,
+};
 use crate::measurements::Measurements;
 use laminar_core::Angles;
+use laminar_fit::analysis::DEFAULT_RESAMPLES;
 use laminar_fit::{Axis, Fit, Fitter, Model, SettingError, Settings};
 use laminar_io::fits;
 use laminar_io::fits::FitEntry;
@@ -21,6 +24,22 @@ pub(crate) struct Named<'a> {
     pub resamples: u64,
     pub seed: u64,
     pub folds: u64,
+}
+
+/// `refine` (default true) as a flag, `threads` (default all) as a count,
+/// each checked by name.
+pub(crate) fn refine_threads(
+    refine: Option<&Bound<'_, PyAny>>,
+    threads: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(bool, Option<usize>)> {
+    let refine = refine.map_or(Ok(true), |r| flag("refine", r))?;
+    Ok((refine, optional_count("threads", threads)?))
+}
+
+/// A whole-number option `name` (default `default`), checked by name; its
+/// range is the library's setting's ([`Settings::set`]).
+pub(crate) fn whole_or(name: &str, obj: Option<&Bound<'_, PyAny>>, default: u64) -> PyResult<u64> {
+    obj.map_or(Ok(default), |o| whole(name, o, (0, u64::MAX)))
 }
 
 /// The fitter of `fit`, `compare` and `fit_batch`: the `named` options
@@ -287,28 +306,29 @@ impl FitResult {
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, precision = "f64"))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit(
     py: Python<'_>,
     measurements: &Measurements,
     model: &str,
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
-    refine: bool,
+    refine: Option<Bound<'_, PyAny>>,
     uncertainty: &str,
-    threads: Option<usize>,
+    threads: Option<Bound<'_, PyAny>>,
     objective: &str,
-    resamples: u64,
-    seed: u64,
+    resamples: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
     precision: &str,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
+    let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
     let named = Named {
         objective,
         uncertainty,
         precision,
-        resamples,
-        seed,
+        resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
+        seed: whole_or("seed", seed.as_ref(), 0)?,
         folds: 0,
     };
     let fitter = fitter(grid, threads, refine, named)?;
@@ -327,22 +347,23 @@ pub(crate) fn fit(
 /// other arguments are ``fit``'s. Ranks need the free objective and
 /// ``refine``.
 #[pyfunction]
-#[pyo3(signature = (measurements, models = None, grid = None, refine = true, uncertainty = "both", threads = None, objective = "free", resamples = 200, seed = 0, folds = 5, precision = "f64"))]
+#[pyo3(signature = (measurements, models = None, grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, folds = None, precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compare(
     py: Python<'_>,
     measurements: &Measurements,
     models: Option<Bound<'_, PyAny>>,
     grid: Option<HashMap<String, Bound<'_, PyAny>>>,
-    refine: bool,
+    refine: Option<Bound<'_, PyAny>>,
     uncertainty: &str,
-    threads: Option<usize>,
+    threads: Option<Bound<'_, PyAny>>,
     objective: &str,
-    resamples: u64,
-    seed: u64,
-    folds: u64,
+    resamples: Option<Bound<'_, PyAny>>,
+    seed: Option<Bound<'_, PyAny>>,
+    folds: Option<Bound<'_, PyAny>>,
     precision: &str,
 ) -> PyResult<Vec<FitResult>> {
+    let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
     let models: Vec<Model> = match models {
         Some(names) if !names.is_instance_of::<pyo3::types::PyString>() => names
             .try_iter()
@@ -365,9 +386,9 @@ pub(crate) fn compare(
         objective,
         uncertainty,
         precision,
-        resamples,
-        seed,
-        folds,
+        resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
+        seed: whole_or("seed", seed.as_ref(), 0)?,
+        folds: whole_or("folds", folds.as_ref(), 5)?,
     };
     let fitter = fitter(grid, threads, refine, named)?;
     let scene = measurements.scene()?;

@@ -1,11 +1,10 @@
 //! `Measurements`: a measurement set and the channel of it to fit, from
 //! arrays, CSV, CUReT or MERL.
 
-use crate::convert::{lab_angles, parse, read_error, value_error, vec1};
+use crate::convert::{lab_angles, parse, read_error, real_vec, value_error};
 use laminar_fit::{MeasurementSet, Quantity, Scene};
 use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::{merl, read_csv, read_geometry, AngleUnit};
-use numpy::PyReadonlyArray1;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -51,24 +50,27 @@ impl Measurements {
     #[pyo3(signature = (theta_i, phi_i, theta_v, phi_v, values, sigma = None, quantity = "brdf", name = "arrays"))]
     #[allow(clippy::too_many_arguments)]
     fn from_arrays(
-        theta_i: PyReadonlyArray1<'_, f64>,
-        phi_i: PyReadonlyArray1<'_, f64>,
-        theta_v: PyReadonlyArray1<'_, f64>,
-        phi_v: PyReadonlyArray1<'_, f64>,
-        values: PyReadonlyArray1<'_, f64>,
-        sigma: Option<PyReadonlyArray1<'_, f64>>,
+        theta_i: &Bound<'_, PyAny>,
+        phi_i: &Bound<'_, PyAny>,
+        theta_v: &Bound<'_, PyAny>,
+        phi_v: &Bound<'_, PyAny>,
+        values: &Bound<'_, PyAny>,
+        sigma: Option<&Bound<'_, PyAny>>,
         quantity: &str,
         name: &str,
     ) -> PyResult<Self> {
         let angles = lab_angles(
-            &vec1(&theta_i)?,
-            &vec1(&phi_i)?,
-            &vec1(&theta_v)?,
-            &vec1(&phi_v)?,
+            &real_vec("theta_i", theta_i)?,
+            &real_vec("phi_i", phi_i)?,
+            &real_vec("theta_v", theta_v)?,
+            &real_vec("phi_v", phi_v)?,
         )?;
         let quantity: Quantity = parse("quantity", quantity)?;
-        let sigma = sigma.map(|s| vec1(&s)).transpose()?;
-        let values = vec1(&values)?;
+        let sigma = sigma
+            .filter(|s| !s.is_none())
+            .map(|s| real_vec("sigma", s))
+            .transpose()?;
+        let values = real_vec("values", values)?;
         let set = MeasurementSet::new(name, angles, quantity)
             .and_then(|s| s.with_channel("value", values, sigma))
             .map_err(value_error)?;

@@ -173,6 +173,50 @@ def test_errors_name_the_parameter_file_and_line(tmp_path):
         laminar.fit_batch(g, np.stack([np.ones(20), -np.ones(20)]), grid=GRID)
 
 
+def test_conversions_name_the_parameter():
+    """Arguments of the wrong kind are a ValueError naming the parameter
+    (they were numpy's or PyO3's errors naming none), real integers are
+    numbers, and complex arrays are refused where numpy would drop their
+    imaginary part with a warning only (issue 55, items 6 and 7)."""
+    g = geometry(20)
+    values = radiance(g)
+    m = laminar.Measurements.from_arrays(*g.T, values, quantity="radiance")
+    for kwargs, name in [
+        ({"seed": -1}, "seed"),
+        ({"seed": 1.5}, "seed"),
+        ({"resamples": 2**70}, "resamples"),
+        ({"refine": "yes"}, "refine"),
+        ({"refine": 1}, "refine"),
+        ({"threads": -2}, "threads"),
+    ]:
+        with pytest.raises(ValueError, match=f"^{name}: "):
+            laminar.fit(m, "exp", grid=GRID, **kwargs)
+    with pytest.raises(ValueError, match="^folds: "):
+        laminar.compare(m, ["exp", "gauss"], grid=GRID, folds=-1)
+    with pytest.raises(ValueError, match="^refine: "):
+        laminar.fit_batch(g, values[None, :], grid=GRID, refine="no")
+    # Integer arrays are numbers; a complex or text array names itself.
+    ints = laminar.Measurements.from_arrays(
+        np.zeros(3, dtype=np.int64), np.zeros(3, dtype=np.int64), np.array([0.1, 0.2, 0.3]), np.zeros(3), np.ones(3)
+    )
+    assert len(ints) == 3
+    with pytest.raises(ValueError, match="^phi_v: complex values"):
+        laminar.Measurements.from_arrays(*g[:, :3].T, g[:, 3] + 1j, values)
+    with pytest.raises(ValueError, match="^sigma: values of type"):
+        laminar.Measurements.from_arrays(*g.T, values, sigma=np.array(["a"] * 20))
+    with pytest.raises(ValueError, match="^values: complex values"):
+        laminar.fit_batch(g, values[None, :] + 0j, grid=GRID)
+    with pytest.raises(ValueError, match="^geometry: complex values"):
+        laminar.fit_batch(g + 0j, values[None, :], grid=GRID)
+    with pytest.raises(ValueError, match=r"^values: shape \(20,\)"):
+        laminar.fit_batch(g, values, grid=GRID)
+    with pytest.raises(ValueError, match="^beta: complex values"):
+        laminar.evaluate("exp", 0.1, 0.1, 0.0, 1.0, 0.5 + 0j, 1.4, 0.1)
+    # Numpy's own integers and bools are taken where Python's are.
+    fit = laminar.fit(m, "exp", grid=GRID, seed=np.uint8(3), refine=np.bool_(False))
+    assert fit.params
+
+
 def test_the_gil_is_released_while_fitting():
     """A Python thread keeps running while a batch fit works."""
     import threading

@@ -232,3 +232,23 @@ def test_a_fitted_curet_sample_renders_in_mitsuba(tmp_path):
     lit = image[14:20, 14:20, 0].mean()
     away = image[30:36, 30:36, 0].mean()
     assert lit > 2 * away > 0, (lit, away)
+
+
+def test_spectral_and_mono_variants_are_refused_by_name():
+    """The plugins return three channels: a spectral or mono variant is
+    refused at register() naming it (both plugins loaded, then
+    ``mi.render`` died with ``std::bad_cast``: issue 55, item 8)."""
+    mi = mitsuba_variant("scalar_rgb")
+    import laminar.mitsuba
+
+    tried = 0
+    for variant in ("scalar_spectral", "scalar_mono", "llvm_ad_spectral", "llvm_ad_mono"):
+        if variant not in mi.variants():
+            continue
+        mi.set_variant(variant)
+        with pytest.raises(ValueError, match=f"variant '{variant}'.*RGB variants"):
+            laminar.mitsuba.register()
+        tried += 1
+    mi.set_variant("scalar_rgb")
+    assert tried > 0, mi.variants()
+

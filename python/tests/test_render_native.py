@@ -153,6 +153,87 @@ def test_native_gradients_are_the_librarys_central_differences():
             assert abs(grad - central) <= 1e-3 * abs(central), (name, p, grad, central)
 
 
+def test_n_equal_to_one_is_finite_at_grazing_in_eval_and_gradients():
+    """n = 1 exactly (inside the domain; where fits of real paints land):
+    the eval, and its gradients in every parameter, are finite where a
+    direction's cos θ is below 10⁻¹⁹ (its square flushes to zero in f32,
+    and (n − 1)(n + 1)/s² was 0/0: issue 55, item 10), and the eval is the
+    library's elsewhere."""
+    mi = mitsuba_variant("llvm_ad_rgb")
+    import drjit as dr
+
+    params = {"slope": 0.7, "beta": 0.5, "n": 1.0, "a": 0.2}
+    wi, wo = pairs(2_000, 5)
+    # A third of the lights and of the viewers at cos θ from 10⁻³⁰ to 10⁻¹⁹.
+    rng = np.random.default_rng(9)
+    for w in (wi, wo):
+        pick = rng.random(w.shape[1]) < 1 / 3
+        z = (10.0 ** rng.uniform(-30, -19, pick.sum())).astype(np.float32)
+        w[2, pick] = z
+        w[:2, pick] /= np.linalg.norm(w[:2, pick], axis=0)
+    for name in ("exp", "gauss"):
+        bsdf = mi.load_dict({"type": "laminar_native", "model": name, **params})
+        got = np.array(native_eval(mi, bsdf, wi, wo))[0]
+        assert np.all(np.isfinite(got)) and np.all(got >= 0), name
+        ordinary = (wi[2] > 1e-3) & (wo[2] > 1e-3)
+        model = laminar.FittedModel.from_params(name, params)
+        want = library(model, wi[:, ordinary], wo[:, ordinary])
+        np.testing.assert_allclose(got[ordinary], want, rtol=1e-5, atol=1e-30 * want.max())
+        scene_params = mi.traverse(bsdf)
+        for p in ("slope", "beta", "n", "a"):
+            value = scene_params[p]
+            dr.enable_grad(value)
+            scene_params.update()
+            dr.backward(dr.sum(native_eval(mi, bsdf, wi, wo)[0]))
+            grad = np.array(dr.grad(value))
+            dr.disable_grad(value)
+            assert np.all(np.isfinite(grad)), (name, p, grad)
+
+
+def test_every_value_is_checked_whatever_the_sampling_and_however_set():
+    """A value outside the model's domain is refused at load with either
+    sampling, through ``mi.traverse`` and ``update()``, and in one texel of
+    a texture whose mean is inside the domain; they rendered NaN or
+    negative pixels (issue 55, item 9)."""
+    mi = mitsuba_variant("llvm_ad_rgb")
+    good = {"slope": 0.7, "beta": 0.5, "n": 1.4, "a": 0.2}
+    for sampling in ("lobe", "cosine"):
+        for name, value in (("slope", float("nan")), ("n", 0.8), ("beta", 1.5), ("a", -0.1)):
+            with pytest.raises(Exception, match=rf"\b{name}( =|:)"):
+                mi.load_dict({"type": "laminar_native", "model": "exp", "sampling": sampling, **good, name: value})
+        bsdf = mi.load_dict({"type": "laminar_native", "model": "exp", "sampling": sampling, **good})
+        params = mi.traverse(bsdf)
+        for name, value in (("beta", 1.5), ("n", 0.8), ("scale", -1.0), ("slope", float("nan"))):
+            before = mi.Color3f(params[name])
+            params[name] = mi.Color3f(value)
+            with pytest.raises(Exception, match=rf"\b{name}( =|:)"):
+                params.update()
+            params[name] = before
+            params.update()
+    # A texture: one texel of n at 0.5 among values whose mean is 1.45.
+    n_map = np.full((4, 4, 3), 1.5, dtype=np.float32)
+    n_map[1, 2, 0] = 0.5
+
+    def texture(values):
+        return {"type": "bitmap", "bitmap": mi.Bitmap(values), "raw": True, "filter_type": "nearest"}
+
+    maps = {name: np.full((4, 4, 3), value, dtype=np.float32) for name, value in {**good, "scale": 1.0}.items()}
+    maps["n"] = n_map
+    for sampling in ("lobe", "cosine"):
+        with pytest.raises(Exception, match=r"\bn = 0\.5 is outside"):
+            mi.load_dict(
+                {
+                    "type": "laminar_native",
+                    "correlation": "exp",
+                    "sampling": sampling,
+                    **{name: texture(v) for name, v in maps.items()},
+                }
+            )
+    maps["n"] = np.full((4, 4, 3), 1.5, dtype=np.float32)
+    bsdf = mi.load_dict({"type": "laminar_native", "correlation": "exp", **{k: texture(v) for k, v in maps.items()}})
+    assert bsdf is not None
+
+
 def test_no_kernel_is_recompiled_when_a_parameter_changes(fits):  # noqa: F811
     mi = mitsuba_variant("llvm_ad_rgb")
     import drjit as dr

@@ -323,7 +323,8 @@ export type Rank = {
  */
 rank: number, 
 /**
- * Its AICc (else AIC) above the best's.
+ * Its AICc above the best's (AIC when a fit of the set has no AICc:
+ * every fit of a set is ranked by one criterion).
  */
 delta: number, 
 /**
