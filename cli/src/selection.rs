@@ -121,6 +121,9 @@ pub enum InputFormat {
     Csv,
     /// MERL isotropic binary (`.binary`), sampled at `--sample-at`.
     Merl,
+    /// ASTM E1392 text (`.astm`: the Cornell gonioreflectometer's files),
+    /// each column after the geometry a channel.
+    Astm,
 }
 
 /// How to read a measurement file.
@@ -152,6 +155,7 @@ impl FileInput {
         match self.path.extension().and_then(|e| e.to_str()) {
             Some("csv") => Ok(InputFormat::Csv),
             Some("binary") => Ok(InputFormat::Merl),
+            Some("astm") => Ok(InputFormat::Astm),
             _ => Err(UsageError::UnknownFormat(self.path.clone()).into()),
         }
     }
@@ -171,6 +175,7 @@ impl FileInput {
     fn read_format(&self) -> Result<MeasurementSet, CliError> {
         match self.format()? {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
+            InputFormat::Astm => Ok(laminar_io::astm::read_astm(&self.path)?),
             InputFormat::Merl => {
                 let at = self
                     .sample_at

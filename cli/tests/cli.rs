@@ -1677,3 +1677,73 @@ fn every_model_and_parameter_of_the_descriptor_is_taken() {
         assert!(help.contains(&option), "fit --help lacks {option}");
     }
 }
+
+/// An ASTM E1392 file (`.astm`, the Cornell gonioreflectometer's text
+/// form) is a measurement file: each column after the geometry a channel
+/// of BRDF values, fitted as the CSV's; a defect names the file, line,
+/// column and value.
+#[test]
+fn an_astm_file_is_fitted_channel_by_channel() {
+    let d = tempfile::tempdir().unwrap();
+    // eval's exp lobe (paper frame) as BRDF in the lab frame (φi = 0,
+    // φv = φs + π), in two channels: the values, and twice them.
+    let (_, radiance) = eval_truth(d.path());
+    let mut lines = radiance.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let mut rows = String::new();
+    let mut count = 0;
+    for line in lines {
+        let f: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+        let (ti, ts, ps) = (
+            f[column("theta_i")],
+            f[column("theta_s")],
+            f[column("phi_s")],
+        );
+        let brdf = f[column("total")] / ti.cos();
+        let pv = ps + std::f64::consts::PI;
+        rows.push_str(&format!("{ti},0,{ts},{pv},{brdf},{}\n", 2.0 * brdf));
+        count += 1;
+    }
+    let head = format!(
+        "LAB_NAME test\nNUM_POINTS {count}\nVARS theta_i,phi_i,theta_s,phi_s,450nm,550nm\n\n"
+    );
+    let file = write(d.path(), "paint.astm", &(head.clone() + &rows));
+    let out = ok(&[
+        "fit",
+        "--measurements",
+        s(&file),
+        "--models",
+        "exp",
+        "--format",
+        "json",
+    ]);
+    let fits = serde_json::from_str::<serde_json::Value>(&out).unwrap()["fits"].clone();
+    let label = |i: usize| {
+        let f = &fits[i];
+        format!(
+            "{}/{}",
+            f["sample"].as_str().unwrap(),
+            f["channel"].as_str().unwrap()
+        )
+    };
+    assert_eq!([label(0), label(1)], ["paint/450nm", "paint/550nm"]);
+    // Twice the values: the same lobe, the truth of eval_truth.
+    for (p, truth) in [("slope", 1.48), ("n", 1.44), ("a", 0.2)] {
+        let x = fits[0]["params"][p].as_f64().unwrap();
+        let y = fits[1]["params"][p].as_f64().unwrap();
+        assert!(
+            (x - y).abs() <= 1e-6 * x.abs().max(1e-3),
+            "{p}: {x} against {y}"
+        );
+        assert!(
+            (x - truth).abs() <= 1e-3 * truth,
+            "{p}: {x} against the truth {truth}"
+        );
+    }
+    let bad = write(d.path(), "bad.astm", &(head + "x" + &rows[1..]));
+    fails(
+        &["fit", "--measurements", s(&bad), "--models", "exp"],
+        &["bad.astm:5", "column 1 (theta_i): `x"],
+    );
+}

@@ -6,12 +6,14 @@
 //! a [`ReadError`] naming the file, the line, the column and the value;
 //! no input makes a reader panic.
 //!
+//! * [`astm`]: ASTM E1392 text files (the Cornell gonioreflectometer's spectral BRDFs).
 //! * [`curet`]: CUReT's `table.txt`, BRDF tables and Oren–Nayar parameter files.
 //! * [`csv_file`]: long-format CSV (one row per measurement, columns by name).
 //! * [`merl`]: MERL isotropic `.binary` files, read and written.
 //! * [`fits`]: fits as CSV, Markdown and the JSON fitted-model file, read back.
 //! * [`values`]: N × K arrays of values (`.npy`, CSV) for batch fits.
 
+pub mod astm;
 pub mod csv_file;
 pub mod curet;
 pub mod error;

@@ -83,8 +83,10 @@ impl CuretArgs {
 /// A measurement file of any supported format.
 #[derive(Args, Debug, Clone)]
 pub struct FileArgs {
-    /// Measurement file: long-format CSV (.csv) or MERL (.binary, needs
-    /// --sample-at). Takes precedence over --data and CURET_DIR.
+    /// Measurement file: long-format CSV (.csv), ASTM E1392 (.astm: each
+    /// column after the geometry a channel, BRDF in sr⁻¹, angles in
+    /// radians) or MERL (.binary, needs --sample-at). Takes precedence over
+    /// --data and CURET_DIR.
     #[arg(long, conflicts_with_all = ["brdf", "samples"])]
     pub measurements: Option<PathBuf>,
     /// Format of --measurements (default: from the extension).

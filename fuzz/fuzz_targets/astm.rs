@@ -1,0 +1,15 @@
+//! ASTM E1392 measurement files: any bytes give a set or an error naming
+//! the file, never a panic; sets become scenes or named errors.
+#![no_main]
+
+use laminar_io::astm::parse_astm;
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    if let Ok(set) = parse_astm(Path::new("fuzz.astm"), data) {
+        for c in set.channel_names() {
+            let _ = set.scene(c);
+        }
+    }
+});
