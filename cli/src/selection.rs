@@ -124,6 +124,9 @@ pub enum InputFormat {
     /// ASTM E1392 text (`.astm`: the Cornell gonioreflectometer's files),
     /// each column after the geometry a channel.
     Astm,
+    /// NIST's Mueller-matrix BRDF CSV (Germer 2017: `lambda, thetai, phi,
+    /// thetar, phir, f_r11, …`), each wavelength a channel.
+    Nist,
 }
 
 /// How to read a measurement file.
@@ -176,6 +179,7 @@ impl FileInput {
         match self.format()? {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
             InputFormat::Astm => Ok(laminar_io::astm::read_astm(&self.path)?),
+            InputFormat::Nist => Ok(laminar_io::nist::read_nist(&self.path)?),
             InputFormat::Merl => {
                 let at = self
                     .sample_at

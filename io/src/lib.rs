@@ -9,6 +9,7 @@
 //! * [`astm`]: ASTM E1392 text files (the Cornell gonioreflectometer's spectral BRDFs).
 //! * [`curet`]: CUReT's `table.txt`, BRDF tables and Oren–Nayar parameter files.
 //! * [`csv_file`]: long-format CSV (one row per measurement, columns by name).
+//! * [`nist`]: NIST's Mueller-matrix BRDF CSV (Germer 2017), a channel per wavelength.
 //! * [`merl`]: MERL isotropic `.binary` files, read and written.
 //! * [`fits`]: fits as CSV, Markdown and the JSON fitted-model file, read back.
 //! * [`values`]: N × K arrays of values (`.npy`, CSV) for batch fits.
@@ -20,6 +21,7 @@ pub mod error;
 pub mod fits;
 pub mod image;
 pub mod merl;
+pub mod nist;
 pub mod selection;
 pub mod staging;
 pub mod values;
