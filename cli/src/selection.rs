@@ -127,6 +127,9 @@ pub enum InputFormat {
     /// NIST's Mueller-matrix BRDF CSV (Germer 2017: `lambda, thetai, phi,
     /// thetar, phir, f_r11, …`), each wavelength a channel.
     Nist,
+    /// The RGL-EPFL database's isotropic RGB tensor files (`.bsdf`),
+    /// channels `r`, `g`, `b`.
+    Rgl,
 }
 
 /// How to read a measurement file.
@@ -159,6 +162,7 @@ impl FileInput {
             Some("csv") => Ok(InputFormat::Csv),
             Some("binary") => Ok(InputFormat::Merl),
             Some("astm") => Ok(InputFormat::Astm),
+            Some("bsdf") => Ok(InputFormat::Rgl),
             _ => Err(UsageError::UnknownFormat(self.path.clone()).into()),
         }
     }
@@ -180,6 +184,7 @@ impl FileInput {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
             InputFormat::Astm => Ok(laminar_io::astm::read_astm(&self.path)?),
             InputFormat::Nist => Ok(laminar_io::nist::read_nist(&self.path)?),
+            InputFormat::Rgl => Ok(laminar_io::rgl::read_rgl(&self.path)?),
             InputFormat::Merl => {
                 let at = self
                     .sample_at

@@ -10,6 +10,7 @@
 //! * [`curet`]: CUReT's `table.txt`, BRDF tables and Oren–Nayar parameter files.
 //! * [`csv_file`]: long-format CSV (one row per measurement, columns by name).
 //! * [`nist`]: NIST's Mueller-matrix BRDF CSV (Germer 2017), a channel per wavelength.
+//! * [`rgl`]: the RGL-EPFL database's isotropic RGB `.bsdf` tensor files.
 //! * [`merl`]: MERL isotropic `.binary` files, read and written.
 //! * [`fits`]: fits as CSV, Markdown and the JSON fitted-model file, read back.
 //! * [`values`]: N × K arrays of values (`.npy`, CSV) for batch fits.
@@ -22,6 +23,7 @@ pub mod fits;
 pub mod image;
 pub mod merl;
 pub mod nist;
+pub mod rgl;
 pub mod selection;
 pub mod staging;
 pub mod values;

@@ -86,8 +86,9 @@ pub struct FileArgs {
     /// Measurement file: long-format CSV (.csv), ASTM E1392 (.astm: each
     /// column after the geometry a channel, BRDF in sr⁻¹, angles in
     /// radians), NIST's Mueller-matrix BRDF CSV (--input-format nist: each
-    /// wavelength a channel) or MERL (.binary, needs --sample-at). Takes
-    /// precedence over --data and CURET_DIR.
+    /// wavelength a channel), RGL's isotropic RGB tensor files (.bsdf) or
+    /// MERL (.binary, needs --sample-at). Takes precedence over --data and
+    /// CURET_DIR.
     #[arg(long, conflicts_with_all = ["brdf", "samples"])]
     pub measurements: Option<PathBuf>,
     /// Format of --measurements (default: from the extension).
