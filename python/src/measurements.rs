@@ -94,6 +94,38 @@ impl Measurements {
         )
     }
 
+    /// From an ASTM E1392 file (the Cornell gonioreflectometer's `.astm`):
+    /// each column after the geometry a channel (`550nm`, or `r`, `g`, `b`).
+    #[staticmethod]
+    #[pyo3(signature = (path, channel = None))]
+    fn from_astm(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
+        Self::pick(
+            laminar_io::astm::read_astm(&path).map_err(read_error)?,
+            channel,
+        )
+    }
+
+    /// From NIST's Mueller-matrix BRDF CSV (Germer 2017): each wavelength a
+    /// channel (`532nm`).
+    #[staticmethod]
+    #[pyo3(signature = (path, channel = None))]
+    fn from_nist(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
+        Self::pick(
+            laminar_io::nist::read_nist(&path).map_err(read_error)?,
+            channel,
+        )
+    }
+
+    /// From an RGL-EPFL isotropic RGB `.bsdf` file: channels `r`, `g`, `b`.
+    #[staticmethod]
+    #[pyo3(signature = (path, channel = None))]
+    fn from_rgl(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
+        Self::pick(
+            laminar_io::rgl::read_rgl(&path).map_err(read_error)?,
+            channel,
+        )
+    }
+
     /// From a CUReT directory: `sample`'s BRDF of `channel` (avg, r, g, b).
     #[staticmethod]
     #[pyo3(signature = (dir, sample, channel = "avg"))]

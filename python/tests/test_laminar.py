@@ -407,3 +407,38 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
     ]:
         with pytest.raises(ValueError):
             call()
+
+
+def test_the_real_spectral_sources_read_as_the_cli_does(tmp_path):
+    """The three real sources' readers (ASTM E1392, NIST's CSV, RGL's
+    .bsdf): each channel a Measurements whose fit is the CLI's on the same
+    file, and a defect a ValueError naming the file and line."""
+    astm = tmp_path / "paint.astm"
+    astm.write_text(
+        "NUM_POINTS 3\nVARS theta_i,phi_i,theta_s,phi_s,450nm,550nm\n\n"
+        "0.5,0,0.4,3.0,0.09,0.03\n0.5,0,0.6,2.0,0.08,0.02\n0.3,0,0.3,3.0,1.2,0.9\n"
+    )
+    m = laminar.Measurements.from_astm(astm, channel="550nm")
+    assert m.channels == ["450nm", "550nm"] and m.channel == "550nm" and len(m) == 3
+    nist = tmp_path / "ptfe.csv"
+    nist.write_text(
+        "lambda,thetai,phi,thetar,phir,f_r11\n0.532,-30,0,20,10,0.31\n0.532,-30,0,40,170,0.29\n"
+        "1.064,-30,0,20,10,0.32\n1.064,-30,0,40,170,0.30\n"
+    )
+    assert laminar.Measurements.from_nist(nist, channel="1064nm").channels == ["532nm", "1064nm"]
+    with pytest.raises(ValueError, match="channel: the set has channels 450nm, 550nm"):
+        laminar.Measurements.from_astm(astm)
+    astm.write_text("VARS theta_i,phi_i,theta_s,phi_s,R\n\n0.5,0,x,3.0,0.09\n")
+    with pytest.raises(ValueError, match=r"paint\.astm:3: column 3 \(theta_s\)"):
+        laminar.Measurements.from_astm(astm)
+    bad = tmp_path / "m.bsdf"
+    bad.write_bytes(b"not a tensor")
+    with pytest.raises(ValueError, match=r"m\.bsdf: byte 0: not a tensor file"):
+        laminar.Measurements.from_rgl(bad)
+    rgl = os.environ.get("RGL_DIR")
+    if rgl:
+        m = laminar.Measurements.from_rgl(Path(rgl) / "paper_white_rgb.bsdf", channel="g")
+        fit = laminar.fit(m, "exp", grid=GRID)
+        cli_fit = cli_fits("--measurements", Path(rgl) / "paper_white_rgb.bsdf", "--channels", "g", "--models", "exp", *GRID_ARGS)
+        assert json.loads(fit.to_json())["fits"] == cli_fit
+
