@@ -137,22 +137,31 @@ def register():
         def eval(self, ctx, si, wo, active=True):
             return dr.select(active, self._radiance(si, wo), 0.0)
 
+        def _pdf(self, si, wo, value):
+            """The cosine pdf of ``wo``, 0 where the radiance ``value`` is 0
+            in every channel (underflowed, or below the horizon): sample()
+            gives such directions no weight, so the pdf gives them no mass
+            (as Mitsuba's microfacet BSDFs do)."""
+            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & dr.any(value > 0)
+            return dr.select(up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+
         def pdf(self, ctx, si, wo, active=True):
-            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
-            return dr.select(active & up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+            return dr.select(active, self._pdf(si, wo, self._radiance(si, wo)), 0.0)
 
         def eval_pdf(self, ctx, si, wo, active=True):
-            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+            value = dr.select(active, self._radiance(si, wo), 0.0)
+            return value, dr.select(active, self._pdf(si, wo, value), 0.0)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
             bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
-            bs.pdf = mi.warp.square_to_cosine_hemisphere_pdf(bs.wo)
+            value = self._radiance(si, bs.wo)
+            bs.pdf = self._pdf(si, bs.wo, value)
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (bs.pdf > 0)
-            weight = self._radiance(si, bs.wo) / dr.maximum(bs.pdf, 1e-30)
+            up = active & (bs.pdf > 0)
+            weight = value / dr.maximum(bs.pdf, 1e-30)
             return bs, dr.select(up, weight, 0.0)
 
         def traverse(self, callback):

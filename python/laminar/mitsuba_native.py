@@ -367,7 +367,7 @@ def register_native():
         def eval(self, ctx, si, wo, active=True):
             return dr.select(active, self._radiance(si, wo), 0.0)
 
-        def _pdf(self, si, wo):
+        def _mixture(self, si, wo):
             """The mixture's pdf of light ``wo`` (solid angle) for ``si.wi``."""
             cosine = mi.warp.square_to_cosine_hemisphere_pdf(wo)
             if self.sampling == "cosine":
@@ -376,12 +376,21 @@ def register_native():
             table = self.table.eval(_table_coordinates(si.wi, wo), [cos_view]) / dr.two_pi
             return LOBE_SHARE * table + (1.0 - LOBE_SHARE) * cosine
 
+        def _pdf(self, si, wo, value):
+            """The mixture's pdf, 0 where the radiance ``value`` is 0 in every
+            channel (underflowed, or below the horizon): sample() gives such
+            directions no weight, so the pdf gives them no mass (as
+            Mitsuba's microfacet BSDFs do; the table's floor and the cosine
+            share would otherwise put mass there)."""
+            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & dr.any(value > 0)
+            return dr.select(up, self._mixture(si, wo), 0.0)
+
         def pdf(self, ctx, si, wo, active=True):
-            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0)
-            return dr.select(active & up, self._pdf(si, wo), 0.0)
+            return dr.select(active, self._pdf(si, wo, self._radiance(si, wo)), 0.0)
 
         def eval_pdf(self, ctx, si, wo, active=True):
-            return self.eval(ctx, si, wo, active), self.pdf(ctx, si, wo, active)
+            value = dr.select(active, self._radiance(si, wo), 0.0)
+            return value, dr.select(active, self._pdf(si, wo, value), 0.0)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
             bs = mi.BSDFSample3f()
@@ -392,12 +401,13 @@ def register_native():
                 from_table = _light(u, cos_view, dr.atan2(si.wi.y, si.wi.x))
                 wo = dr.select(sample1 < LOBE_SHARE, from_table, wo)
             bs.wo = wo
-            bs.pdf = self._pdf(si, wo)
+            value = self._radiance(si, wo)
+            bs.pdf = self._pdf(si, wo, value)
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
             bs.sampled_component = mi.UInt32(0)
-            up = active & (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & (bs.pdf > 0)
-            weight = self._radiance(si, wo) / dr.maximum(bs.pdf, 1e-30)
+            up = active & (bs.pdf > 0)
+            weight = value / dr.maximum(bs.pdf, 1e-30)
             return bs, dr.select(up, weight, 0.0)
 
         def traverse(self, callback):
