@@ -119,29 +119,24 @@ impl WrittenParams {
     /// parameters were read by name).
     fn of(&self, model: Model) -> Result<ModelParams, String> {
         let own = model.params();
-        let foreign: Vec<&str> = (self.0.iter())
-            .filter_map(|(name, _)| Param::from_name(name))
-            .filter(|p| !own.contains(p))
-            .map(|p| p.name())
-            .collect();
-        if !foreign.is_empty() {
-            return Err(format!(
-                "params of {model}: {} not {model}'s (its parameters: {})",
-                foreign.join(", "),
+        // `names` (when any) refused, as `what` they are.
+        let refuse = |names: Vec<Param>, what: &str| -> Result<(), String> {
+            if names.is_empty() {
+                return Ok(());
+            }
+            Err(format!(
+                "params of {model}: {} {what} (its parameters: {})",
+                param_names(&names),
                 param_names(own)
-            ));
-        }
-        let missing: Vec<&str> = (own.iter())
-            .filter(|&&p| self.number(p).is_none())
-            .map(|p| p.name())
-            .collect();
-        if !missing.is_empty() {
-            return Err(format!(
-                "params of {model}: no number for {} (its parameters: {})",
-                missing.join(", "),
-                param_names(own)
-            ));
-        }
+            ))
+        };
+        let written = self.0.iter().filter_map(|(name, _)| Param::from_name(name));
+        refuse(
+            written.filter(|p| !own.contains(p)).collect(),
+            &format!("not {model}'s"),
+        )?;
+        let missing = own.iter().copied().filter(|&p| self.number(p).is_none());
+        refuse(missing.collect(), "without a number")?;
         Ok(ModelParams::from_values(model, |p| {
             self.number(p).unwrap_or(f64::NAN)
         }))
@@ -881,7 +876,10 @@ mod tests {
             "{foreign}"
         );
         let missing = with(r#""params":{"slope":0.4,"beta":0.3,"n":1.5}"#);
-        assert!(missing.contains("no number for a"), "{missing}");
+        assert!(
+            missing.contains("params of exp: a without a number"),
+            "{missing}"
+        );
         // An Oren–Nayar entry holding the layered parameters too: refused by
         // its own model, naming the layered ones.
         let on = FittedModel::with_amplitude(

@@ -22,6 +22,7 @@
 //! rows. Line endings LF or CRLF.
 
 use crate::error::ReadError;
+use crate::reader::{set_error, set_name, text};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::path::Path;
 
@@ -70,13 +71,7 @@ struct Parsed<'a> {
 /// # Errors
 /// As [`read_astm`].
 pub fn parse_astm(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        ReadError::format(file, line, "not UTF-8 text")
-    })?;
+    let text = text(file, bytes)?;
     let parsed = split(file, text)?;
     let vars = &parsed.vars;
     if let Some((line, count)) = parsed.num_points {
@@ -135,14 +130,7 @@ pub fn parse_astm(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
             phi_v: phi_s[k],
         })
         .collect();
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "measurements".into());
-    let wrap = |source| ReadError::Measurements {
-        file: file.to_path_buf(),
-        source,
-    };
+    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
     let lines = parsed.rows.iter().map(|(line, _)| *line).collect();
     let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf)
         .and_then(|s| s.with_rows(lines))
@@ -291,59 +279,67 @@ mod tests {
 
     #[test]
     fn defects_name_the_line_column_and_value() {
+        // Each case: GOOD with `from` replaced by `to`, and the error it gives.
         let cases = [
             (
-                GOOD.replace("NUM_POINTS 2", "NUM_POINTS 3"),
+                "NUM_POINTS 2",
+                "NUM_POINTS 3",
                 "t.astm:2: NUM_POINTS `3`, but the file has 2 data rows",
             ),
             (
-                GOOD.replace("0.08,0.02", "0.08,x"),
+                "0.08,0.02",
+                "0.08,x",
                 "t.astm:6: column 6 (g): `x` is not a number",
             ),
             (
-                GOOD.replace("0.08,0.02", "0.08,inf"),
+                "0.08,0.02",
+                "0.08,inf",
                 "t.astm:6: column 6 (g): `inf` is not a number",
             ),
             (
-                GOOD.replace(",0.1\n", "\n"),
+                ",0.1\n",
+                "\n",
                 "t.astm:6: 6 fields, but VARS names 7 columns",
             ),
             (
-                GOOD.replace("theta_s,phi_s", "theta_v,phi_v"),
+                "theta_s,phi_s",
+                "theta_v,phi_v",
                 "t.astm:3: VARS column 3: `theta_v`, expected `theta_s`",
             ),
+            (",R,G,B", "", "t.astm:3: VARS names no channel"),
             (
-                GOOD.replace(",R,G,B", ""),
-                "t.astm:3: VARS names no channel",
-            ),
-            (
-                GOOD.replace("R,G,B", "R,G,R"),
+                "R,G,B",
+                "R,G,R",
                 "t.astm:3: VARS column 7: `R` is named twice",
             ),
             (
-                GOOD.replace("VARS", "VARZ"),
+                "VARS",
+                "VARZ",
                 "t.astm:5: `0.5,0,0.4,3.0,0.09,0.03,-0.001` before VARS",
             ),
-            ("LAB_NAME A lab\n".to_string(), "t.astm: no VARS line"),
             (
-                GOOD.replace("LAB_NAME A lab", "0.1,0.2"),
+                "LAB_NAME A lab",
+                "0.1,0.2",
                 "t.astm:1: `0.1,0.2` before VARS",
             ),
             (
-                GOOD.replace("NUM_POINTS 2", "NUM_POINTS two"),
+                "NUM_POINTS 2",
+                "NUM_POINTS two",
                 "t.astm:2: NUM_POINTS: `two` is not a whole number",
             ),
-            (GOOD.replace("0.5,0,0.6", "0.5,0,1.7"), "theta_v"),
+            ("0.5,0,0.6", "0.5,0,1.7", "theta_v"),
         ];
-        for (text, want) in cases {
-            let e = parse(&text).unwrap_err();
-            assert!(e.contains("t.astm") && e.contains(want), "{want}: {e}");
+        for (from, to, want) in cases {
+            let e = parse(&GOOD.replace(from, to)).unwrap_err();
+            assert!(e.contains(want), "{want}: {e}");
         }
+        let e = parse("LAB_NAME A lab\n").unwrap_err();
+        assert!(e.contains("t.astm: no VARS line"), "{e}");
         let e = parse("VARS theta_i,phi_i,theta_s,phi_s,R\n").unwrap_err();
         assert!(e.contains("no data rows"), "{e}");
         let e = parse_astm(Path::new("t.astm"), b"VARS \xff\n")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("t.astm:1: not UTF-8"), "{e}");
+        assert!(e.contains("t.astm:1: byte 5 is not UTF-8"), "{e}");
     }
 }

@@ -13,6 +13,7 @@
 //! Every defect is an error naming the file, the line, the column and the value.
 
 use crate::error::ReadError;
+use crate::reader::{set_error, set_name};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
@@ -328,15 +329,8 @@ pub fn parse_csv(
             .map(|(line, rec)| number(file, *line, &header, rec, c))
             .collect()
     };
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "measurements".into());
-    let wrap = |source| ReadError::Measurements {
-        file: file.to_path_buf(),
-        source,
-    };
-    let mut set = MeasurementSet::new(stem, angles, quantity)
+    let wrap = set_error(file);
+    let mut set = MeasurementSet::new(set_name(file, "measurements"), angles, quantity)
         .and_then(|s| s.with_rows(rows.iter().map(|(l, _)| *l).collect()))
         .map_err(wrap)?;
     let shared_sigma = position(&header, "sigma").map(column).transpose()?;

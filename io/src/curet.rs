@@ -5,6 +5,7 @@
 //! error naming the file, the line and the offending value.
 
 use crate::error::ReadError;
+use crate::reader::text;
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::path::{Path, PathBuf};
 
@@ -17,18 +18,9 @@ fn read(file: &Path) -> Result<Vec<u8>, ReadError> {
     std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))
 }
 
-/// `bytes` as UTF-8, or an error naming the line of the first bad byte.
-pub(crate) fn utf8<'a>(file: &Path, bytes: &'a [u8]) -> Result<&'a str, ReadError> {
-    std::str::from_utf8(bytes).map_err(|e| {
-        let at = e.valid_up_to();
-        let line = 1 + bytes[..at].iter().filter(|&&b| b == b'\n').count();
-        err(file, line, format!("byte {at} is not UTF-8 text"))
-    })
-}
-
 /// The non-blank lines of a file's contents with their 1-based numbers.
 fn lines(file: &Path, bytes: &[u8]) -> Result<Vec<(usize, String)>, ReadError> {
-    let text = utf8(file, bytes)?;
+    let text = text(file, bytes)?;
     // A UTF-8 byte-order mark (as some editors write) is not part of the data.
     let lines: Vec<(usize, String)> = text
         .trim_start_matches('\u{feff}')

@@ -23,6 +23,7 @@ pub mod fits;
 pub mod image;
 pub mod merl;
 pub mod nist;
+mod reader;
 pub mod rgl;
 pub mod selection;
 pub mod staging;

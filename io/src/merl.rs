@@ -16,6 +16,7 @@
 //! space, so that reading the centre back finds the same bin.
 
 use crate::error::ReadError;
+use crate::reader::{set_error, set_name};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::Path;
@@ -307,15 +308,8 @@ pub fn sample(
         rows.push(k + 1);
     }
     let missing = geometry.len() - kept.len();
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "merl".into());
-    let wrap = |source| ReadError::Measurements {
-        file: file.to_path_buf(),
-        source,
-    };
-    let mut set = MeasurementSet::new(stem, kept, Quantity::Brdf)
+    let wrap = set_error(file);
+    let mut set = MeasurementSet::new(set_name(file, "merl"), kept, Quantity::Brdf)
         .and_then(|s| s.with_rows(rows))
         .map_err(wrap)?;
     for (c, v) in values.into_iter().enumerate() {

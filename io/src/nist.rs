@@ -17,6 +17,7 @@
 //! geometries in the same order.
 
 use crate::error::ReadError;
+use crate::reader::{set_error, set_name, text};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::path::Path;
 
@@ -65,13 +66,7 @@ struct Wavelength {
 /// # Errors
 /// As [`read_nist`].
 pub fn parse_nist(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| {
-        let line = 1 + bytes[..e.valid_up_to()]
-            .iter()
-            .filter(|&&b| b == b'\n')
-            .count();
-        ReadError::format(file, line, "not UTF-8 text")
-    })?;
+    let text = text(file, bytes)?;
     let mut lines = text
         .lines()
         .enumerate()
@@ -144,14 +139,7 @@ pub fn parse_nist(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
     }
     let angles = first.rows.iter().map(|(_, a, _)| lab(*a)).collect();
     let lines = first.rows.iter().map(|(line, _, _)| *line).collect();
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "measurements".into());
-    let wrap = |source| ReadError::Measurements {
-        file: file.to_path_buf(),
-        source,
-    };
+    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
     let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf)
         .and_then(|s| s.with_rows(lines))
         .map_err(wrap)?;
@@ -247,33 +235,36 @@ mod tests {
 
     #[test]
     fn defects_name_the_line_column_and_value() {
+        // Each case: GOOD with `from` replaced by `to`, and the error it gives.
         let cases = [
-            (GOOD.replace("f_r11,", "f,"), "n.csv:1: no column `f_r11`"),
+            ("f_r11,", "f,", "n.csv:1: no column `f_r11`"),
             (
-                GOOD.replace("0.29,", "x,"),
+                "0.29,",
+                "x,",
                 "n.csv:3: column 6 (f_r11): `x` is not a number",
             ),
             (
-                GOOD.replace("0.633,-30,0,40", "0.633,-30,0,41"),
+                "0.633,-30,0,40",
+                "0.633,-30,0,41",
                 "n.csv:5: wavelength 0.633 µm: geometry",
             ),
             (
-                GOOD.replace("0.633,-30,0,40,170,0.31,0.2\r\n", ""),
+                "0.633,-30,0,40,170,0.31,0.2\r\n",
+                "",
                 "n.csv:4: wavelength 0.633 µm has 1 geometries",
             ),
             (
-                GOOD.replacen("0.351", "-0.351", 1),
+                "0.351,-30,0,30",
+                "-0.351,-30,0,30",
                 "n.csv:2: column 1 (lambda): `-0.351` is not a wavelength",
             ),
-            (
-                "lambda,thetai,phi,thetar,phir,f_r11\n".to_string(),
-                "n.csv: no data rows",
-            ),
-            (GOOD.replace("0,40,170", "0,95,170"), "theta_v"),
+            ("0,40,170", "0,95,170", "theta_v"),
         ];
-        for (text, want) in cases {
-            let e = parse(&text).unwrap_err();
+        for (from, to, want) in cases {
+            let e = parse(&GOOD.replace(from, to)).unwrap_err();
             assert!(e.contains(want), "{want}: {e}");
         }
+        let e = parse("lambda,thetai,phi,thetar,phir,f_r11\n").unwrap_err();
+        assert!(e.contains("n.csv: no data rows"), "{e}");
     }
 }

@@ -33,6 +33,7 @@
 //! mass, within 0.02° of the mirror.
 
 use crate::error::ReadError;
+use crate::reader::{set_error, set_name};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::f64::consts::PI;
 use std::path::Path;
@@ -216,14 +217,7 @@ pub fn parse_rgl(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError>
             }
         }
     }
-    let stem = file
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "measurements".into());
-    let wrap = |source| ReadError::Measurements {
-        file: file.to_path_buf(),
-        source,
-    };
+    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
     let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf).map_err(wrap)?;
     for (name, v) in ["r", "g", "b"].into_iter().zip(values) {
         set = set.with_channel(name, v, None).map_err(wrap)?;

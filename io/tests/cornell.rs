@@ -5,46 +5,11 @@
 //! says `SKIPPED`, and fails under `LAMINAR_REQUIRE_CORNELL=1` (set by
 //! `.ci/run`).
 
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+mod common;
+
+use common::{data_dir, lab, values};
+use laminar_fit::MeasurementSet;
 use laminar_io::astm::read_astm;
-use std::path::PathBuf;
-
-/// `CORNELL_DIR`, or `None` after saying the test was skipped.
-fn cornell_dir() -> Option<PathBuf> {
-    match std::env::var_os("CORNELL_DIR") {
-        Some(d) => Some(PathBuf::from(d)),
-        None if std::env::var_os("LAMINAR_REQUIRE_CORNELL").is_some() => {
-            panic!("LAMINAR_REQUIRE_CORNELL is set but CORNELL_DIR is not")
-        }
-        None => {
-            let _ = std::io::Write::write_all(
-                &mut std::io::stderr(),
-                b"SKIPPED Cornell test: CORNELL_DIR is not set (the directory of krylon_blue.astm, ...)\n",
-            );
-            None
-        }
-    }
-}
-
-/// The values of channel `name` of `set`.
-fn values<'a>(set: &'a MeasurementSet, name: &str) -> &'a [f64] {
-    let channel = set.channels().iter().find(|c| c.name == name);
-    &channel
-        .unwrap_or_else(|| panic!("no channel {name}"))
-        .values
-}
-
-fn lab(a: &MeasurementAngles) -> [f64; 4] {
-    match *a {
-        MeasurementAngles::Lab {
-            theta_i,
-            phi_i,
-            theta_v,
-            phi_v,
-        } => [theta_i, phi_i, theta_v, phi_v],
-        MeasurementAngles::Paper { .. } => panic!("the reader gives the lab frame"),
-    }
-}
 
 /// The value of `channel` at the row nearest the mirror direction among
 /// those with θi at `theta_i_deg`, and that row's distance from the mirror
@@ -77,7 +42,9 @@ fn nearest_mirror(set: &MeasurementSet, channel: &str, theta_i_deg: f64) -> (f64
 
 #[test]
 fn the_cornell_files_read_as_provenance_says() {
-    let Some(dir) = cornell_dir() else { return };
+    let Some(dir) = data_dir("CORNELL_DIR", "LAMINAR_REQUIRE_CORNELL", "Cornell test") else {
+        return;
+    };
     let read = |name: &str| read_astm(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
     let wavelengths: Vec<String> = (400..=700).step_by(10).map(|w| format!("{w}nm")).collect();
     let spectral = ["krylon_blue.astm", "cayman.astm", "acryl_blue.astm"];

@@ -5,49 +5,22 @@
 //! it the test says `SKIPPED`, and fails under `LAMINAR_REQUIRE_NIST=1`
 //! (set by `.ci/run`).
 
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+mod common;
+
+use common::{data_dir, lab, values};
+use laminar_fit::MeasurementAngles;
 use laminar_io::nist::read_nist;
-use std::path::PathBuf;
-
-fn nist_dir() -> Option<PathBuf> {
-    match std::env::var_os("NIST_DIR") {
-        Some(d) => Some(PathBuf::from(d)),
-        None if std::env::var_os("LAMINAR_REQUIRE_NIST").is_some() => {
-            panic!("LAMINAR_REQUIRE_NIST is set but NIST_DIR is not")
-        }
-        None => {
-            let _ = std::io::Write::write_all(
-                &mut std::io::stderr(),
-                b"SKIPPED NIST test: NIST_DIR is not set (the directory of PTFE.data.csv)\n",
-            );
-            None
-        }
-    }
-}
-
-fn values<'a>(set: &'a MeasurementSet, name: &str) -> &'a [f64] {
-    let channel = set.channels().iter().find(|c| c.name == name);
-    &channel
-        .unwrap_or_else(|| panic!("no channel {name}"))
-        .values
-}
 
 /// θi, φi, θv, φv in degrees.
 fn degrees(a: &MeasurementAngles) -> [f64; 4] {
-    match *a {
-        MeasurementAngles::Lab {
-            theta_i,
-            phi_i,
-            theta_v,
-            phi_v,
-        } => [theta_i, phi_i, theta_v, phi_v].map(f64::to_degrees),
-        MeasurementAngles::Paper { .. } => panic!("the reader gives the lab frame"),
-    }
+    lab(a).map(f64::to_degrees)
 }
 
 #[test]
 fn the_ptfe_file_reads_as_provenance_says() {
-    let Some(dir) = nist_dir() else { return };
+    let Some(dir) = data_dir("NIST_DIR", "LAMINAR_REQUIRE_NIST", "NIST test") else {
+        return;
+    };
     let set = read_nist(&dir.join("PTFE.data.csv")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(set.channel_names(), ["351nm", "532nm", "633nm", "1064nm"]);
     assert_eq!(set.len(), 1824);

@@ -6,34 +6,16 @@
 //! without it the test says `SKIPPED`, and fails under
 //! `LAMINAR_REQUIRE_RGL=1` (set by `.ci/run`).
 
+mod common;
+
+use common::{data_dir, lab};
 use laminar_fit::{MeasurementAngles, MeasurementSet};
 use laminar_io::rgl::read_rgl;
-use std::path::PathBuf;
-
-fn rgl_dir() -> Option<PathBuf> {
-    match std::env::var_os("RGL_DIR") {
-        Some(d) => Some(PathBuf::from(d)),
-        None if std::env::var_os("LAMINAR_REQUIRE_RGL").is_some() => {
-            panic!("LAMINAR_REQUIRE_RGL is set but RGL_DIR is not")
-        }
-        None => {
-            let _ = std::io::Write::write_all(
-                &mut std::io::stderr(),
-                b"SKIPPED RGL test: RGL_DIR is not set (the directory of paper_white_rgb.bsdf, ...)\n",
-            );
-            None
-        }
-    }
-}
 
 /// θi, θo in degrees.
 fn polar(a: &MeasurementAngles) -> [f64; 2] {
-    match *a {
-        MeasurementAngles::Lab {
-            theta_i, theta_v, ..
-        } => [theta_i.to_degrees(), theta_v.to_degrees()],
-        MeasurementAngles::Paper { .. } => panic!("the reader gives the lab frame"),
-    }
+    let [theta_i, _, theta_v, _] = lab(a);
+    [theta_i.to_degrees(), theta_v.to_degrees()]
 }
 
 /// The r, g, b values of measurement `k`.
@@ -52,7 +34,9 @@ fn close(got: [f64; 3], want: [f64; 3]) -> bool {
 
 #[test]
 fn the_rgl_files_read_as_provenance_says() {
-    let Some(dir) = rgl_dir() else { return };
+    let Some(dir) = data_dir("RGL_DIR", "LAMINAR_REQUIRE_RGL", "RGL test") else {
+        return;
+    };
     // (file, second light angle, normal, mirror at the second angle, off: θo and values)
     type Spot = (&'static str, f64, [f64; 3], [f64; 3], (f64, [f64; 3]));
     let spots: [Spot; 5] = [

@@ -7,7 +7,7 @@ use laminar_io::curet::{Channel, CuretDir};
 use laminar_io::{merl, read_csv, read_geometry, AngleUnit};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A measurement set and the channel of it to fit.
 #[pyclass(module = "laminar", frozen)]
@@ -36,6 +36,15 @@ impl Measurements {
             }
         };
         Ok(Self { set, channel })
+    }
+
+    /// The set `reader` reads from `path`, one of its channels picked.
+    fn read(
+        reader: fn(&Path) -> Result<MeasurementSet, laminar_io::ReadError>,
+        path: &Path,
+        channel: Option<&str>,
+    ) -> PyResult<Self> {
+        Self::pick(reader(path).map_err(read_error)?, channel)
     }
 
     pub(crate) fn scene(&self) -> PyResult<Scene> {
@@ -99,10 +108,7 @@ impl Measurements {
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_astm(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::pick(
-            laminar_io::astm::read_astm(&path).map_err(read_error)?,
-            channel,
-        )
+        Self::read(laminar_io::astm::read_astm, &path, channel)
     }
 
     /// From NIST's Mueller-matrix BRDF CSV (Germer 2017): each wavelength a
@@ -110,20 +116,14 @@ impl Measurements {
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_nist(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::pick(
-            laminar_io::nist::read_nist(&path).map_err(read_error)?,
-            channel,
-        )
+        Self::read(laminar_io::nist::read_nist, &path, channel)
     }
 
     /// From an RGL-EPFL isotropic RGB `.bsdf` file: channels `r`, `g`, `b`.
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_rgl(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::pick(
-            laminar_io::rgl::read_rgl(&path).map_err(read_error)?,
-            channel,
-        )
+        Self::read(laminar_io::rgl::read_rgl, &path, channel)
     }
 
     /// From a CUReT directory: `sample`'s BRDF of `channel` (avg, r, g, b).

@@ -3,7 +3,7 @@
 
 use crate::error;
 use laminar_fit::{synthetic, MeasurementSet, Quantity};
-use laminar_io::{csv_file::parse_csv, curet, AngleUnit};
+use laminar_io::{astm, csv_file::parse_csv, curet, nist, rgl, AngleUnit};
 use std::fmt::Write;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
@@ -70,6 +70,35 @@ impl Measurements {
             option::<AngleUnit>("angles", angles)?,
             option::<Quantity>("quantity", quantity)?,
         )
+        .map_err(error)?;
+        Ok(Self { set })
+    }
+
+    /// A measurement file of any format the CLI reads on its own, by its
+    /// name: ASTM E1392 (`.astm`), RGL's tensor files (`.bsdf`), NIST's
+    /// BRDF CSV (a `.csv` whose header starts `lambda,`), else the
+    /// long-format CSV ([`Measurements::from_csv`], with `angles` and
+    /// `quantity`; the other formats state their own).
+    ///
+    /// # Errors
+    /// For a defect, naming the file and the line (or byte), column and value.
+    pub fn from_file(
+        name: &str,
+        bytes: &[u8],
+        angles: &str,
+        quantity: &str,
+    ) -> Result<Measurements, JsError> {
+        let file = Path::new(name);
+        let extension = file
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        let set = match extension.as_deref() {
+            Some("astm") => astm::parse_astm(file, bytes),
+            Some("bsdf") => rgl::parse_rgl(file, bytes),
+            _ if is_nist(bytes) => nist::parse_nist(file, bytes),
+            _ => return Self::from_csv(name, bytes, angles, quantity),
+        }
         .map_err(error)?;
         Ok(Self { set })
     }
@@ -191,4 +220,31 @@ pub fn example_csv() -> String {
         let _ = writeln!(out, "{},{},{},{}", g.theta_i(), g.theta_s(), g.phi_s(), d);
     }
     out
+}
+
+/// True when `bytes` start (after white space) with NIST's BRDF header,
+/// `lambda,`.
+fn is_nist(bytes: &[u8]) -> bool {
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(bytes.len());
+    bytes[start..]
+        .get(..7)
+        .is_some_and(|h| h.eq_ignore_ascii_case(b"lambda,"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::is_nist;
+
+    /// NIST's BRDF CSV is told from the long CSV by its header.
+    #[test]
+    fn nist_files_are_told_by_their_header() {
+        assert!(is_nist(b"lambda,thetai,phi,thetar,phir,f_r11\r\n0.351,"));
+        assert!(is_nist(b"\n  LAMBDA,thetai"));
+        assert!(!is_nist(b"theta_i,phi_i,theta_v,phi_v,r\n"));
+        assert!(!is_nist(b"lambda"));
+        assert!(!is_nist(b""));
+    }
 }

@@ -41,7 +41,7 @@ function useSource(s) {
     source = s;
     const channels = m.channels;
     $('channel').replaceChildren(...channels.map((c) => new Option(c, c)));
-    const what = s.kind === 'csv' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
+    const what = s.kind === 'file' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
     status('loaded', `${what}: ${m.length} measurements, channels ${channels.join(', ')}.`);
     $('fit').disabled = busy;
     $('compare').disabled = busy;
@@ -55,16 +55,17 @@ function useSource(s) {
   }
 }
 
-function csvSource(name, bytes) {
-  return { kind: 'csv', name, bytes, angles: $('angles').value, quantity: $('quantity').value };
+function fileSource(name, bytes) {
+  return { kind: 'file', name, bytes, angles: $('angles').value, quantity: $('quantity').value };
 }
 
 async function loadFiles(files) {
   const byName = new Map([...files].map((f) => [f.name, f]));
-  const csv = [...files].find((f) => f.name.toLowerCase().endsWith('.csv'));
+  // A long CSV, NIST's BRDF CSV, an ASTM E1392 .astm or RGL's .bsdf.
+  const file = [...files].find((f) => /\.(csv|astm|bsdf)$/i.test(f.name));
   const brdf = [...files].find((f) => /brdf\.dat$/i.test(f.name));
   $('curet-sample').hidden = true;
-  if (csv) return useSource(csvSource(csv.name, new Uint8Array(await csv.arrayBuffer())));
+  if (file) return useSource(fileSource(file.name, new Uint8Array(await file.arrayBuffer())));
   if (brdf && byName.has('table.txt')) {
     const table = new Uint8Array(await byName.get('table.txt').arrayBuffer());
     const bytes = new Uint8Array(await brdf.arrayBuffer());
@@ -77,7 +78,7 @@ async function loadFiles(files) {
       return status('loaded', String(e.message ?? e), true);
     }
   }
-  status('loaded', 'Give a .csv file, or CUReT\'s table.txt together with a BRDF file such as abrdf.dat.', true);
+  status('loaded', 'Give a .csv, .astm or .bsdf file, or CUReT\'s table.txt together with a BRDF file such as abrdf.dat.', true);
 }
 
 $('files').addEventListener('change', (e) => loadFiles(e.target.files));
@@ -97,10 +98,10 @@ $('example').addEventListener('click', () => {
   $('angles').value = 'rad';
   $('quantity').value = 'radiance';
   $('curet-sample').hidden = true;
-  useSource(csvSource('example.csv', new TextEncoder().encode(L.exampleCsv())));
+  useSource(fileSource('example.csv', new TextEncoder().encode(L.exampleCsv())));
 });
 for (const id of ['angles', 'quantity']) {
-  $(id).addEventListener('change', () => source?.kind === 'csv' && useSource(csvSource(source.name, source.bytes)));
+  $(id).addEventListener('change', () => source?.kind === 'file' && useSource(fileSource(source.name, source.bytes)));
 }
 $('sample').addEventListener('change', () => useSource({ ...source, sample: Number($('sample').value) }));
 

@@ -130,6 +130,19 @@ try {
   check(bad === 'bad.csv:3: column 2 (theta_s): `abc` is not a number', `bad file: ${bad}`);
   check(await page.isDisabled('#fit'), 'the fit button stays enabled after a bad file');
 
+  // An ASTM E1392 file (the Cornell gonioreflectometer's text form): its
+  // columns after the geometry become the channels; a defect is named.
+  const astm = 'NUM_POINTS 3\nVARS theta_i,phi_i,theta_s,phi_s,450nm,550nm\n\n'
+    + '0.5,0,0.4,3.0,0.09,0.03\n0.5,0,0.6,2.0,0.08,0.02\n0.3,0,0.3,3.0,1.2,0.9\n';
+  await page.setInputFiles('#files', { name: 'paint.astm', mimeType: 'text/plain', buffer: Buffer.from(astm) });
+  await page.waitForFunction(() => document.querySelector('#loaded').textContent.startsWith('paint.astm'));
+  const loaded = await page.textContent('#loaded');
+  check(loaded === 'paint.astm: 3 measurements, channels 450nm, 550nm.', `ASTM file: ${loaded}`);
+  await page.setInputFiles('#files', { name: 'bad.astm', mimeType: 'text/plain', buffer: Buffer.from(astm.replace('0.6,2.0', 'x,2.0')) });
+  await page.waitForSelector('#loaded.error');
+  const badAstm = await page.textContent('#loaded');
+  check(badAstm === 'bad.astm:5: column 3 (theta_s): `x` is not a number', `bad ASTM file: ${badAstm}`);
+
   // CUReT's two files, when the data are here (CURET_DIR).
   let curet = null;
   if (process.env.CURET_DIR) {

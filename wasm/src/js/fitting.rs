@@ -115,10 +115,25 @@ impl Measurements {
         #[wasm_bindgen(unchecked_param_type = "string")] angles: JsValue,
         #[wasm_bindgen(unchecked_param_type = "string")] quantity: JsValue,
     ) -> Result<Measurements, JsValue> {
-        let name = string(&name, "name")?;
-        let data = self::bytes(&bytes, "bytes")?;
-        let (angles, quantity) = (string(&angles, "angles")?, string(&quantity, "quantity")?);
-        Ok(Self::from_csv(&name, &data, &angles, &quantity)?)
+        from_file_args([&name, &bytes, &angles, &quantity], Self::from_csv)
+    }
+
+    /// A measurement file of any format the CLI reads on its own, chosen by
+    /// its name: ASTM E1392 (`.astm`), RGL's tensor files (`.bsdf`), NIST's
+    /// BRDF CSV (a `.csv` whose header starts `lambda,`), else the
+    /// long-format CSV of `fromCsv` (with `angles` and `quantity`).
+    ///
+    /// # Errors
+    /// A `TypeError` for an argument of the wrong type; an `Error` for a
+    /// defect, naming the file and the line (or byte), column and value.
+    #[wasm_bindgen(js_name = fromFile)]
+    pub fn from_file_js(
+        #[wasm_bindgen(unchecked_param_type = "string")] name: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "Uint8Array")] bytes: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "string")] angles: JsValue,
+        #[wasm_bindgen(unchecked_param_type = "string")] quantity: JsValue,
+    ) -> Result<Measurements, JsValue> {
+        from_file_args([&name, &bytes, &angles, &quantity], Self::from_file)
     }
 
     /// One sample of a CUReT BRDF file on its geometry table: lab-frame
@@ -248,4 +263,16 @@ pub fn predict(
     let select = optional_string(&select, "select")?;
     let angles = numbers(&angles, "angles")?;
     Ok(fitting::predict(&json, select.as_deref(), &angles)?)
+}
+
+/// A file's constructor (`fromCsv`, `fromFile`) on its arguments `name`,
+/// `bytes`, `angles` and `quantity`, each checked by its name.
+fn from_file_args(
+    [name, bytes, angles, quantity]: [&JsValue; 4],
+    make: fn(&str, &[u8], &str, &str) -> Result<Measurements, JsError>,
+) -> Result<Measurements, JsValue> {
+    let name = string(name, "name")?;
+    let data = self::bytes(bytes, "bytes")?;
+    let (angles, quantity) = (string(angles, "angles")?, string(quantity, "quantity")?);
+    Ok(make(&name, &data, &angles, &quantity)?)
 }
