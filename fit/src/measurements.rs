@@ -92,13 +92,8 @@ impl MeasurementAngles {
     /// [`InputError::OutOfRange`] naming the polar angle outside `[0, π/2]` or
     /// the azimuth that is not finite.
     pub fn paper(&self) -> Result<Angles, InputError> {
-        match *self {
-            Self::Lab {
-                theta_i,
-                phi_i,
-                theta_v,
-                phi_v,
-            } => {
+        match self.written() {
+            Ok([theta_i, phi_i, theta_v, phi_v]) => {
                 for (angle, v) in [(Angle::PhiI, phi_i), (Angle::PhiV, phi_v)] {
                     if !v.is_finite() {
                         return Err(InputError::OutOfRange {
@@ -121,12 +116,32 @@ impl MeasurementAngles {
                     other => other,
                 })
             }
+            Err([theta_i, theta_s, phi_s]) => Angles::new(theta_i, theta_s, phi_s),
+        }
+    }
+
+    /// The angles as written: `Ok([θi, φi, θv, φv])` in the lab frame,
+    /// `Err([θi, θs, φs])` in the paper frame.
+    fn written(&self) -> Result<[f64; 4], [f64; 3]> {
+        match *self {
+            Self::Lab {
+                theta_i,
+                phi_i,
+                theta_v,
+                phi_v,
+            } => Ok([theta_i, phi_i, theta_v, phi_v]),
             Self::Paper {
                 theta_i,
                 theta_s,
                 phi_s,
-            } => Angles::new(theta_i, theta_s, phi_s),
+            } => Err([theta_i, theta_s, phi_s]),
         }
+    }
+
+    /// The lab frame's `[θi, φi, θv, φv]` (`None` for a paper-frame
+    /// measurement).
+    pub fn lab(&self) -> Option<[f64; 4]> {
+        self.written().ok()
     }
 
     /// The incident polar angle θi.
@@ -140,21 +155,14 @@ impl MeasurementAngles {
     /// angle: `θv = θi` and `|φv − φi| = π` in the lab frame, `θs = θi` and
     /// `φs = 0` in the paper frame (docs/conventions.md §1).
     pub fn is_specular(&self, tolerance: f64) -> bool {
-        match *self {
-            Self::Lab {
-                theta_i,
-                phi_i,
-                theta_v,
-                phi_v,
-            } => {
+        match self.written() {
+            Ok([theta_i, phi_i, theta_v, phi_v]) => {
                 (theta_v - theta_i).abs() <= tolerance
                     && (wrap_pi(phi_v - phi_i).abs() - PI).abs() <= tolerance
             }
-            Self::Paper {
-                theta_i,
-                theta_s,
-                phi_s,
-            } => (theta_s - theta_i).abs() <= tolerance && wrap_pi(phi_s).abs() <= tolerance,
+            Err([theta_i, theta_s, phi_s]) => {
+                (theta_s - theta_i).abs() <= tolerance && wrap_pi(phi_s).abs() <= tolerance
+            }
         }
     }
 }

@@ -280,59 +280,21 @@ mod tests {
     #[test]
     fn defects_name_the_line_column_and_value() {
         // Each case: GOOD with `from` replaced by `to`, and the error it gives.
+        #[rustfmt::skip]
         let cases = [
-            (
-                "NUM_POINTS 2",
-                "NUM_POINTS 3",
-                "t.astm:2: NUM_POINTS `3`, but the file has 2 data rows",
-            ),
-            (
-                "0.08,0.02",
-                "0.08,x",
-                "t.astm:6: column 6 (g): `x` is not a number",
-            ),
-            (
-                "0.08,0.02",
-                "0.08,inf",
-                "t.astm:6: column 6 (g): `inf` is not a number",
-            ),
-            (
-                ",0.1\n",
-                "\n",
-                "t.astm:6: 6 fields, but VARS names 7 columns",
-            ),
-            (
-                "theta_s,phi_s",
-                "theta_v,phi_v",
-                "t.astm:3: VARS column 3: `theta_v`, expected `theta_s`",
-            ),
+            ("NUM_POINTS 2", "NUM_POINTS 3", "t.astm:2: NUM_POINTS `3`, but the file has 2 data rows"),
+            ("0.08,0.02", "0.08,x", "t.astm:6: column 6 (g): `x` is not a number"),
+            ("0.08,0.02", "0.08,inf", "t.astm:6: column 6 (g): `inf` is not a number"),
+            (",0.1\n", "\n", "t.astm:6: 6 fields, but VARS names 7 columns"),
+            ("theta_s,phi_s", "theta_v,phi_v", "t.astm:3: VARS column 3: `theta_v`, expected `theta_s`"),
             (",R,G,B", "", "t.astm:3: VARS names no channel"),
-            (
-                "R,G,B",
-                "R,G,R",
-                "t.astm:3: VARS column 7: `R` is named twice",
-            ),
-            (
-                "VARS",
-                "VARZ",
-                "t.astm:5: `0.5,0,0.4,3.0,0.09,0.03,-0.001` before VARS",
-            ),
-            (
-                "LAB_NAME A lab",
-                "0.1,0.2",
-                "t.astm:1: `0.1,0.2` before VARS",
-            ),
-            (
-                "NUM_POINTS 2",
-                "NUM_POINTS two",
-                "t.astm:2: NUM_POINTS: `two` is not a whole number",
-            ),
+            ("R,G,B", "R,G,R", "t.astm:3: VARS column 7: `R` is named twice"),
+            ("VARS", "VARZ", "t.astm:5: `0.5,0,0.4,3.0,0.09,0.03,-0.001` before VARS"),
+            ("LAB_NAME A lab", "0.1,0.2", "t.astm:1: `0.1,0.2` before VARS"),
+            ("NUM_POINTS 2", "NUM_POINTS two", "t.astm:2: NUM_POINTS: `two` is not a whole number"),
             ("0.5,0,0.6", "0.5,0,1.7", "theta_v"),
         ];
-        for (from, to, want) in cases {
-            let e = parse(&GOOD.replace(from, to)).unwrap_err();
-            assert!(e.contains(want), "{want}: {e}");
-        }
+        crate::reader::assert_defects(parse, GOOD, &cases);
         let e = parse("LAB_NAME A lab\n").unwrap_err();
         assert!(e.contains("t.astm: no VARS line"), "{e}");
         let e = parse("VARS theta_i,phi_i,theta_s,phi_s,R\n").unwrap_err();

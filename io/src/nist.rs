@@ -236,34 +236,16 @@ mod tests {
     #[test]
     fn defects_name_the_line_column_and_value() {
         // Each case: GOOD with `from` replaced by `to`, and the error it gives.
+        #[rustfmt::skip]
         let cases = [
             ("f_r11,", "f,", "n.csv:1: no column `f_r11`"),
-            (
-                "0.29,",
-                "x,",
-                "n.csv:3: column 6 (f_r11): `x` is not a number",
-            ),
-            (
-                "0.633,-30,0,40",
-                "0.633,-30,0,41",
-                "n.csv:5: wavelength 0.633 µm: geometry",
-            ),
-            (
-                "0.633,-30,0,40,170,0.31,0.2\r\n",
-                "",
-                "n.csv:4: wavelength 0.633 µm has 1 geometries",
-            ),
-            (
-                "0.351,-30,0,30",
-                "-0.351,-30,0,30",
-                "n.csv:2: column 1 (lambda): `-0.351` is not a wavelength",
-            ),
+            ("0.29,", "x,", "n.csv:3: column 6 (f_r11): `x` is not a number"),
+            ("0.633,-30,0,40", "0.633,-30,0,41", "n.csv:5: wavelength 0.633 µm: geometry"),
+            ("0.633,-30,0,40,170,0.31,0.2\r\n", "", "n.csv:4: wavelength 0.633 µm has 1 geometries"),
+            ("0.351,-30,0,30", "-0.351,-30,0,30", "n.csv:2: column 1 (lambda): `-0.351` is not a wavelength"),
             ("0,40,170", "0,95,170", "theta_v"),
         ];
-        for (from, to, want) in cases {
-            let e = parse(&GOOD.replace(from, to)).unwrap_err();
-            assert!(e.contains(want), "{want}: {e}");
-        }
+        crate::reader::assert_defects(parse, GOOD, &cases);
         let e = parse("lambda,thetai,phi,thetar,phir,f_r11\n").unwrap_err();
         assert!(e.contains("n.csv: no data rows"), "{e}");
     }

@@ -31,3 +31,23 @@ pub(crate) fn text<'a>(file: &Path, bytes: &'a [u8]) -> Result<&'a str, ReadErro
         ReadError::format(file, line, format!("byte {at} is not UTF-8 text"))
     })
 }
+
+/// Checks that each case `(from, to, want)` of a reader's defects, `good`
+/// with `from` replaced by `to`, is an error whose message holds `want`.
+#[cfg(test)]
+pub(crate) fn assert_defects<T>(
+    parse: impl Fn(&str) -> Result<T, String>,
+    good: &str,
+    cases: &[(&str, &str, &str)],
+) {
+    for &(from, to, want) in cases {
+        assert!(
+            good.contains(from),
+            "the case's `{from}` is not in the file"
+        );
+        match parse(&good.replace(from, to)) {
+            Ok(_) => panic!("{from} -> {to}: no error, {want} expected"),
+            Err(e) => assert!(e.contains(want), "{want}: {e}"),
+        }
+    }
+}

@@ -7,6 +7,22 @@ use std::fs::File;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
+/// A version-1.0 `.npy` file of header dict `dict` (any text, padded as
+/// numpy pads it, to a multiple of 64 bytes with the magic and length)
+/// and then `payload`: the files the tests write, well formed or not.
+pub fn npy_bytes(dict: &str, payload: &[u8]) -> Vec<u8> {
+    let mut header = dict.to_string();
+    while !(10 + header.len() + 1).is_multiple_of(64) {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    out.extend_from_slice(payload);
+    out
+}
+
 /// An N × K array of values, row-major.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Values {
@@ -460,21 +476,13 @@ fn npy_row<T: npyz::Deserialize, R: BufRead>(
 mod tests {
     use super::*;
 
-    /// A version-1.0 `.npy` file, written by hand from the format's definition.
+    /// A version-1.0 `.npy` file of `descr` values of `shape`.
     fn npy(descr: &str, shape: (usize, usize), payload: &[u8]) -> Vec<u8> {
-        let mut header = format!(
+        let dict = format!(
             "{{'descr': '{descr}', 'fortran_order': False, 'shape': ({}, {}), }}",
             shape.0, shape.1
         );
-        while (10 + header.len() + 1) % 64 != 0 {
-            header.push(' ');
-        }
-        header.push('\n');
-        let mut out = b"\x93NUMPY\x01\x00".to_vec();
-        out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-        out.extend_from_slice(header.as_bytes());
-        out.extend_from_slice(payload);
-        out
+        super::npy_bytes(&dict, payload)
     }
 
     #[test]

@@ -37,46 +37,20 @@ fn the_rgl_files_read_as_provenance_says() {
     let Some(dir) = data_dir("RGL_DIR", "LAMINAR_REQUIRE_RGL", "RGL test") else {
         return;
     };
-    // (file, second light angle, normal, mirror at the second angle, off: θo and values)
-    type Spot = (&'static str, f64, [f64; 3], [f64; 3], (f64, [f64; 3]));
-    let spots: [Spot; 5] = [
-        (
-            "paper_white",
-            27.7,
-            [0.278, 0.283, 0.331],
-            [0.250, 0.253, 0.294],
-            (2.4, [0.274, 0.279, 0.328]),
-        ),
-        (
-            "satin_rosaline",
-            27.5,
-            [1.64, 1.02, 1.41],
-            [2.47, 1.45, 1.85],
-            (2.7, [0.203, 0.234, 0.223]),
-        ),
-        (
-            "vch_golden_yellow",
-            31.6,
-            [8.78, 4.49, 0.0],
-            [8.47, 4.29, 0.0],
-            (4.3, [0.0256, 0.0237, 0.0087]),
-        ),
-        (
-            "cc_iris_purple_gem",
-            30.1,
-            [0.933, 1.64, 3.96],
-            [1.31, 1.67, 3.89],
-            (3.4, [0.0, 0.0162, 0.0481]),
-        ),
-        (
-            "cg_sunflower",
-            27.7,
-            [119.0, 81.4, 44.0],
-            [43.0, 43.1, 44.9],
-            (1.2, [0.272, 0.129, 0.0]),
-        ),
+    // Per file: the second light angle; r, g, b at normal incidence; at
+    // the mirror of the second angle; then θo of the node nearest the
+    // normal there, and its r, g, b.
+    #[rustfmt::skip]
+    let spots: [(&str, [f64; 11]); 5] = [
+        ("paper_white", [27.7, 0.278, 0.283, 0.331, 0.250, 0.253, 0.294, 2.4, 0.274, 0.279, 0.328]),
+        ("satin_rosaline", [27.5, 1.64, 1.02, 1.41, 2.47, 1.45, 1.85, 2.7, 0.203, 0.234, 0.223]),
+        ("vch_golden_yellow", [31.6, 8.78, 4.49, 0.0, 8.47, 4.29, 0.0, 4.3, 0.0256, 0.0237, 0.0087]),
+        ("cc_iris_purple_gem", [30.1, 0.933, 1.64, 3.96, 1.31, 1.67, 3.89, 3.4, 0.0, 0.0162, 0.0481]),
+        ("cg_sunflower", [27.7, 119.0, 81.4, 44.0, 43.0, 43.1, 44.9, 1.2, 0.272, 0.129, 0.0]),
     ];
-    for (name, second, normal, mirror, (off_theta, off)) in spots {
+    for (name, [second, spot @ ..]) in spots {
+        let rgb3 = |at: usize| [spot[at], spot[at + 1], spot[at + 2]];
+        let (normal, mirror, off_theta, off) = (rgb3(0), rgb3(3), spot[6], rgb3(7));
         let set = read_rgl(&dir.join(format!("{name}_rgb.bsdf"))).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(set.channel_names(), ["r", "g", "b"], "{name}");
         let angles: Vec<[f64; 2]> = set.angles().iter().map(polar).collect();

@@ -86,6 +86,35 @@ def _check_variant(mi):
         )
 
 
+def _vanishing_pdf(mi, dr, mixture, si, wo, value):
+    """The sampling pdf ``mixture(si, wo)``, 0 where the radiance ``value``
+    is 0 in every channel (underflowed, or below the horizon): sample()
+    gives such directions no weight, so the pdf gives them no mass (as
+    Mitsuba's microfacet BSDFs do)."""
+    up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & dr.any(value > 0)
+    return dr.select(up, mixture(si, wo), 0.0)
+
+
+def _eval_pdf(dr, bsdf, si, wo, active):
+    """``bsdf``'s radiance and pdf of direction ``wo`` (its ``_pdf``)."""
+    value = dr.select(active, bsdf._radiance(si, wo), 0.0)
+    return value, dr.select(active, bsdf._pdf(si, wo, value), 0.0)
+
+
+def _sample_record(mi, dr, bsdf, si, wo, active):
+    """The BSDF sample of direction ``wo`` and its weight: radiance over
+    the pdf ``bsdf._pdf``, none where that pdf is 0."""
+    bs = mi.BSDFSample3f()
+    bs.wo = wo
+    value = bsdf._radiance(si, wo)
+    bs.pdf = bsdf._pdf(si, wo, value)
+    bs.eta = 1.0
+    bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+    bs.sampled_component = mi.UInt32(0)
+    weight = value / dr.maximum(bs.pdf, 1e-30)
+    return bs, dr.select(active & (bs.pdf > 0), weight, 0.0)
+
+
 def register():
     """Registers the ``"laminar"`` and ``"laminar_native"`` BSDFs with the
     current Mitsuba variant (call after ``mi.set_variant``)."""
@@ -138,31 +167,17 @@ def register():
             return dr.select(active, self._radiance(si, wo), 0.0)
 
         def _pdf(self, si, wo, value):
-            """The cosine pdf of ``wo``, 0 where the radiance ``value`` is 0
-            in every channel (underflowed, or below the horizon): sample()
-            gives such directions no weight, so the pdf gives them no mass
-            (as Mitsuba's microfacet BSDFs do)."""
-            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & dr.any(value > 0)
-            return dr.select(up, mi.warp.square_to_cosine_hemisphere_pdf(wo), 0.0)
+            """The cosine pdf of ``wo``, 0 where the radiance ``value`` is 0."""
+            return _vanishing_pdf(mi, dr, lambda si, wo: mi.warp.square_to_cosine_hemisphere_pdf(wo), si, wo, value)
 
         def pdf(self, ctx, si, wo, active=True):
-            return dr.select(active, self._pdf(si, wo, self._radiance(si, wo)), 0.0)
+            return _eval_pdf(dr, self, si, wo, active)[1]
 
         def eval_pdf(self, ctx, si, wo, active=True):
-            value = dr.select(active, self._radiance(si, wo), 0.0)
-            return value, dr.select(active, self._pdf(si, wo, value), 0.0)
+            return _eval_pdf(dr, self, si, wo, active)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
-            bs = mi.BSDFSample3f()
-            bs.wo = mi.warp.square_to_cosine_hemisphere(sample2)
-            value = self._radiance(si, bs.wo)
-            bs.pdf = self._pdf(si, bs.wo, value)
-            bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
-            bs.sampled_component = mi.UInt32(0)
-            up = active & (bs.pdf > 0)
-            weight = value / dr.maximum(bs.pdf, 1e-30)
-            return bs, dr.select(up, weight, 0.0)
+            return _sample_record(mi, dr, self, si, mi.warp.square_to_cosine_hemisphere(sample2), active)
 
         def traverse(self, callback):
             pass

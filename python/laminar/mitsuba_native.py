@@ -304,7 +304,7 @@ def register_native():
     import mitsuba as mi
     import numpy as np
 
-    from laminar.mitsuba import _check_variant, _models
+    from laminar.mitsuba import _check_variant, _eval_pdf, _models, _sample_record, _vanishing_pdf
 
     _check_variant(mi)
 
@@ -377,38 +377,24 @@ def register_native():
             return LOBE_SHARE * table + (1.0 - LOBE_SHARE) * cosine
 
         def _pdf(self, si, wo, value):
-            """The mixture's pdf, 0 where the radiance ``value`` is 0 in every
-            channel (underflowed, or below the horizon): sample() gives such
-            directions no weight, so the pdf gives them no mass (as
-            Mitsuba's microfacet BSDFs do; the table's floor and the cosine
-            share would otherwise put mass there)."""
-            up = (mi.Frame3f.cos_theta(si.wi) > 0) & (mi.Frame3f.cos_theta(wo) > 0) & dr.any(value > 0)
-            return dr.select(up, self._mixture(si, wo), 0.0)
+            """The mixture's pdf, 0 where the radiance ``value`` is 0 (the
+            table's floor and the cosine share would put mass there)."""
+            return _vanishing_pdf(mi, dr, self._mixture, si, wo, value)
 
         def pdf(self, ctx, si, wo, active=True):
-            return dr.select(active, self._pdf(si, wo, self._radiance(si, wo)), 0.0)
+            return _eval_pdf(dr, self, si, wo, active)[1]
 
         def eval_pdf(self, ctx, si, wo, active=True):
-            value = dr.select(active, self._radiance(si, wo), 0.0)
-            return value, dr.select(active, self._pdf(si, wo, value), 0.0)
+            return _eval_pdf(dr, self, si, wo, active)
 
         def sample(self, ctx, si, sample1, sample2, active=True):
-            bs = mi.BSDFSample3f()
             wo = mi.warp.square_to_cosine_hemisphere(sample2)
             if self.sampling == "lobe":
                 cos_view = dr.maximum(mi.Frame3f.cos_theta(si.wi), VIEW_MIN)
                 u, _ = self.table.sample(sample2, [cos_view])
                 from_table = _light(u, cos_view, dr.atan2(si.wi.y, si.wi.x))
                 wo = dr.select(sample1 < LOBE_SHARE, from_table, wo)
-            bs.wo = wo
-            value = self._radiance(si, wo)
-            bs.pdf = self._pdf(si, wo, value)
-            bs.eta = 1.0
-            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
-            bs.sampled_component = mi.UInt32(0)
-            up = active & (bs.pdf > 0)
-            weight = value / dr.maximum(bs.pdf, 1e-30)
-            return bs, dr.select(up, weight, 0.0)
+            return _sample_record(mi, dr, self, si, wo, active)
 
         def traverse(self, callback):
             for name in PARAMETERS:

@@ -67,20 +67,11 @@ pub fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
     npy_with_header(&dict, &payload)
 }
 
-/// A version-1.0 `.npy` file of header dict `dict` (any text, padded as
-/// numpy pads it) and then `payload`: also the malformed files the
+/// A version-1.0 `.npy` file of header dict `dict` and then `payload`
+/// (`laminar_io::values::npy_bytes`): also the malformed files the
 /// bad-input tests write.
 pub fn npy_with_header(dict: &str, payload: &[u8]) -> Vec<u8> {
-    let mut header = dict.to_string();
-    while !(10 + header.len() + 1).is_multiple_of(64) {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    out.extend_from_slice(payload);
-    out
+    laminar_io::values::npy_bytes(dict, payload)
 }
 
 /// The README and every page of `docs/`, the README first, the pages in

@@ -35,13 +35,5 @@ pub fn values<'a>(set: &'a MeasurementSet, name: &str) -> &'a [f64] {
 
 /// θi, φi, θv, φv (radians) of a lab-frame measurement.
 pub fn lab(a: &MeasurementAngles) -> [f64; 4] {
-    match *a {
-        MeasurementAngles::Lab {
-            theta_i,
-            phi_i,
-            theta_v,
-            phi_v,
-        } => [theta_i, phi_i, theta_v, phi_v],
-        MeasurementAngles::Paper { .. } => panic!("the readers give the lab frame"),
-    }
+    a.lab().expect("the readers give the lab frame")
 }
