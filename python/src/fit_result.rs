@@ -211,7 +211,7 @@ impl FitResult {
 
     /// Free objective: the weighted χ²/ν of the estimate (w = 1/σ²).
     #[getter]
-    fn chi2w_dof(&self) -> Option<f64> {
+    fn chi2_weighted(&self) -> Option<f64> {
         self.fit.chi2_weighted
     }
 

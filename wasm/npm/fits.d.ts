@@ -465,9 +465,10 @@ rh_fitted: FittedModel | null,
  */
 amplitude: number | null, 
 /**
- * Free objective: the weighted χ²/ν of the estimate.
+ * Free objective: the weighted χ²/ν of the estimate (`chi2w_dof` in
+ * version 2 files).
  */
-chi2w_dof: number | null, 
+chi2_weighted: number | null, 
 /**
  * Each searched parameter under its name. Absent in files written
  * before it existed.

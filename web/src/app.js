@@ -179,7 +179,7 @@ function showFit(json) {
   const free = entry.objective === 'free';
   const refined = entry.rms_refined === null ? '' : `, refined ${fmt(entry.rms_refined)}`;
   const beta = free
-    ? `β is eq. 8's; amplitude ${fmt(entry.amplitude)}, weighted χ²/ν ${fmt(entry.chi2w_dof)}. Everything stays in the box searched.`
+    ? `β is eq. 8's; amplitude ${fmt(entry.amplitude)}, weighted χ²/ν ${fmt(entry.chi2_weighted)}. Everything stays in the box searched.`
     : `β is the paper normalisation's balance; eq. 8's is ${fmt(entry.fitted.beta_eq8)}.`;
   $('measures').textContent = `${entry.sample}/${entry.channel}/${entry.model} (${free ? 'free amplitude' : 'paper'} objective): `
     + `Δ_RMS (eq. 15) ${fmt(entry.rms)} (grid ${fmt(entry.rms_grid)}${refined}); `

@@ -69,7 +69,7 @@ pub enum Format {
 /// _box_hi (the box), _released, _released_rms (for an estimate on a face
 /// of the box: one local fit with that bound released, a diagnostic), then
 /// correlations, trade_offs (pairs with |r| ≥ 0.9), objective, amplitude
-/// (c) and chi2w_dof (Σ w(D−P)²/(K − p)); see --refine and --uncertainty.
+/// (c) and chi2_weighted (Σ w(D−P)²/(K − p)); see --refine and --uncertainty.
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitArgs {

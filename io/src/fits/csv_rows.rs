@@ -51,7 +51,7 @@ pub const FIT_COLUMNS: [&str; 14] = [
     "trade_offs",
     "objective",
     "amplitude",
-    "chi2w_dof",
+    "chi2_weighted",
     "chi2_p",
     "runs_p",
     "lack_of_fit",
@@ -193,7 +193,7 @@ fn row(e: &FitEntry, names: &[Param]) -> Vec<String> {
     out.push(pairs_text(&e.trade_offs, e.model));
     out.push(e.objective.to_string());
     out.push(e.amplitude.map(|c| format!("{c:.9e}")).unwrap_or_default());
-    out.push(opt(e.chi2w_dof));
+    out.push(opt(e.chi2_weighted));
     let p_value = |p: Option<f64>| p.map(|p| format!("{p:.4e}")).unwrap_or_default();
     out.push(p_value(e.adequacy.and_then(|a| a.chi2_p)));
     out.push(p_value(e.adequacy.and_then(|a| a.runs_p)));

@@ -30,7 +30,7 @@ pub(super) fn empty_file() -> FitsFile {
             ("objective", "free: weighted least squares Σ w(D − c·M)² with a free amplitude c ≥ 0, M eq. 8's raw mix (beta is eq. 8's β, solved with c in closed form), w = 1/σ² from the input's uncertainties (else 1), every estimate and interval inside the box searched; paper: the paper's objective, data and model each divided by their max over the measurements"),
             ("rms", "Δ_RMS (eq. 15) = 100·sqrt(Σ(D−P)²)/K: D measured radiance (BRDF·cos θi) divided by its max over the K kept measurements, P the fitted prediction; of the refined estimate (free) or of the best grid point (paper, as in the paper's tables)"),
             ("chi2_dof", "χ²/ν (eq. 16) = Σ(P−D)²/D over the chi2_used measurements with D > 0, divided by chi2_used − p"),
-            ("chi2w_dof", "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)"),
+            ("chi2_weighted", "free: the weighted χ²/ν = Σ w(D−P)²/(K − p) of the estimate, p counting the amplitude (about 1 when the input's σ are right)"),
             ("amplitude", "free: the fitted amplitude c (P = c·M on the data divided by their max)"),
             ("adequacy", "free: does the model fit? chi2_p = P(χ²_ν ≥ Σ w r²) with the input's σ; runs_z, runs_p: the runs of residual signs ordered by the half vector's zenith θh (then θi), standardised, and the one-sided p-value of too few runs; lack_of_fit when either p-value is below 0.01"),
             ("information", "free: aic, aicc, bic on the weighted objective (with σ: χ² + 2k, …, k = p; without: K ln(Σr²/K) + 2k, k = p + 1); lower is better, differences between models fitted to one set count"),
@@ -154,7 +154,7 @@ pub fn parse_fits(file: &Path, text: &str) -> Result<FitsFile, ReadError> {
             file,
             0,
             format!(
-                "format `{}` version {}, expected `{FORMAT}` version 1 or {VERSION}",
+                "format `{}` version {}, expected `{FORMAT}` version 1, 2 or {VERSION}",
                 fits.format, fits.version
             ),
         ));

@@ -48,12 +48,13 @@ fn paper() -> Objective {
 /// The format name in every fitted-model file.
 pub const FORMAT: &str = "laminar-fits";
 /// The version of the fitted-model file. Version 2 added the objective, the
-/// amplitude, the weighted χ²/ν and each parameter's box; version 1 files
-/// (paper objective) are still read.
-pub const VERSION: u32 = 2;
+/// amplitude, the weighted χ²/ν and each parameter's box; version 3 names
+/// the weighted χ²/ν `chi2_weighted` (version 2's `chi2w_dof`), as the
+/// batch fields do. Version 1 and 2 files are still read.
+pub const VERSION: u32 = 3;
 
 /// The versions [`read_fits`] reads.
-pub const READ_VERSIONS: [u32; 2] = [1, 2];
+pub const READ_VERSIONS: [u32; 3] = [1, 2, 3];
 
 /// One fit in the fitted-model file: the CSV's columns (params as an
 /// object) and the portable fitted models.
@@ -114,9 +115,10 @@ pub struct FitEntry {
     /// Free objective: the fitted amplitude c of the estimate.
     #[serde(default)]
     pub amplitude: Option<f64>,
-    /// Free objective: the weighted χ²/ν of the estimate.
-    #[serde(default)]
-    pub chi2w_dof: Option<f64>,
+    /// Free objective: the weighted χ²/ν of the estimate (`chi2w_dof` in
+    /// version 2 files).
+    #[serde(default, alias = "chi2w_dof")]
+    pub chi2_weighted: Option<f64>,
     /// Each searched parameter under its name. Absent in files written
     /// before it existed.
     #[serde(default)]
@@ -430,7 +432,7 @@ impl FitEntry {
             rms_refined: r.refined.as_ref().map(|e| e.rms),
             rh_fitted: r.rh.as_ref().map(|e| e.fitted),
             amplitude: r.amplitude,
-            chi2w_dof: r.chi2_weighted,
+            chi2_weighted: r.chi2_weighted,
             correlations: r
                 .covariance
                 .as_ref()
@@ -591,10 +593,10 @@ mod tests {
     }
 
     #[test]
-    fn version_2_round_trips_and_version_1_files_are_read_as_paper_fits() {
+    fn version_3_round_trips_and_older_files_are_read() {
         let free = json(&[fit(Objective::Free)]);
         let back = parse_fits(Path::new("f.json"), &free).unwrap();
-        assert_eq!(back.version, 2);
+        assert_eq!(back.version, 3);
         let entry = &back.fits[0];
         assert_eq!(entry.objective, Objective::Free);
         assert!(matches!(
@@ -606,17 +608,29 @@ mod tests {
         let mut v1: serde_json::Value =
             serde_json::from_str(&json(&[fit(Objective::Paper)])).unwrap();
         v1["version"] = 1.into();
-        for key in ["objective", "amplitude", "chi2w_dof"] {
+        for key in ["objective", "amplitude", "chi2_weighted"] {
             v1["fits"][0].as_object_mut().unwrap().remove(key);
         }
         let back = parse_fits(Path::new("old.json"), &v1.to_string()).unwrap();
         assert_eq!(back.fits[0].objective, Objective::Paper);
         // A later version is refused with a message naming both.
-        v1["version"] = 3.into();
+        // A version 2 file names the weighted χ²/ν `chi2w_dof`.
+        let mut v2: serde_json::Value =
+            serde_json::from_str(&json(&[fit(Objective::Free)])).unwrap();
+        let weighted = v2["fits"][0]["chi2_weighted"].clone();
+        assert!(weighted.is_number(), "{weighted}");
+        let entry = v2["fits"][0].as_object_mut().unwrap();
+        entry.remove("chi2_weighted");
+        entry.insert("chi2w_dof".into(), weighted.clone());
+        v2["version"] = 2.into();
+        let back = parse_fits(Path::new("v2.json"), &v2.to_string()).unwrap();
+        assert_eq!(back.fits[0].chi2_weighted, weighted.as_f64());
+        // A later version is refused with a message naming both.
+        v1["version"] = 4.into();
         let e = parse_fits(Path::new("new.json"), &v1.to_string()).unwrap_err();
         assert!(
             e.to_string()
-                .contains("version 3, expected `laminar-fits` version 1 or 2"),
+                .contains("version 4, expected `laminar-fits` version 1, 2 or 3"),
             "{e}"
         );
     }
