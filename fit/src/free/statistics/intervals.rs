@@ -6,7 +6,7 @@
 
 use super::covariance::JacobianCovariance;
 use super::levels::Levels;
-use super::profile::{Side, Walk};
+use super::profile::{Side, Walk, WalkSettings};
 use super::Solution;
 use crate::analysis::Analysis;
 use crate::free::model::FreeModel;
@@ -95,6 +95,7 @@ pub fn intervals<M: FreeModel>(solution: Solution<'_, M>, analysis: Analysis) ->
                     coordinates,
                     direction,
                     levels,
+                    settings: WalkSettings::default(),
                 }
                 .walk()
             })

@@ -39,6 +39,34 @@ pub struct Side<'a, M> {
     pub direction: f64,
     /// The levels.
     pub levels: Levels,
+    /// The walk's settings.
+    pub settings: WalkSettings,
+}
+
+/// The profile walk's settings: how precisely each minimisation and each
+/// end is found, and how many probes an end may take (the defaults are
+/// the constants below, whose documents say why).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WalkSettings {
+    /// [`PROFILE_TOLERANCE`].
+    pub profile_tolerance: f64,
+    /// [`MOST_STEPS`].
+    pub most_steps: usize,
+    /// [`END_TOLERANCE`].
+    pub end_tolerance: f64,
+    /// [`BRACKET_TOLERANCE`].
+    pub bracket_tolerance: f64,
+}
+
+impl Default for WalkSettings {
+    fn default() -> Self {
+        Self {
+            profile_tolerance: PROFILE_TOLERANCE,
+            most_steps: MOST_STEPS,
+            end_tolerance: END_TOLERANCE,
+            bracket_tolerance: BRACKET_TOLERANCE,
+        }
+    }
 }
 
 /// The minimisations of a profile stop when a step gains less than this
@@ -147,7 +175,8 @@ impl<M: FreeModel> Side<'_, M> {
             Coordinate::Beta => (value, value),
         };
         // `minimise` takes its tolerance as a fraction of the objective.
-        let tolerance = PROFILE_TOLERANCE * self.levels.heights[0] / self.minimum.sse.max(1e-300);
+        let tolerance =
+            self.settings.profile_tolerance * self.levels.heights[0] / self.minimum.sse.max(1e-300);
         let from_start = minimise(problem, start, &free, beta, tolerance).point;
         if from_start.sse - self.minimum.sse <= 4.0 * target * target {
             return from_start;
@@ -209,8 +238,14 @@ impl<M: FreeModel> Side<'_, M> {
         mut next: f64,
     ) -> Result<(f64, bool), Point> {
         let before = probes.len();
-        for step in 0..MOST_STEPS {
-            if step + 1 == MOST_STEPS && probes.iter().all(|p| p.height < target) {
+        let WalkSettings {
+            most_steps,
+            end_tolerance,
+            bracket_tolerance,
+            ..
+        } = self.settings;
+        for step in 0..most_steps {
+            if step + 1 == most_steps && probes.iter().all(|p| p.height < target) {
                 // The last step probes the face, so that an end is put there
                 // only when the profile is seen below the level at the face
                 // itself.
@@ -228,14 +263,14 @@ impl<M: FreeModel> Side<'_, M> {
             if h < target && next >= frame.room {
                 return Ok((frame.face, true));
             }
-            if (h - target).abs() <= END_TOLERANCE * target {
+            if (h - target).abs() <= end_tolerance * target {
                 return Ok(self.end_near(frame, probes, (target, h), value));
             }
             next =
                 next_distance(probes, probes.len() - before, target, frame.alpha).min(frame.room);
             let (near, above) = bracket(probes, target);
             let narrow = above.filter(|above| {
-                above.distance - near.distance <= BRACKET_TOLERANCE * above.distance
+                above.distance - near.distance <= bracket_tolerance * above.distance
             });
             if let Some(above) = narrow {
                 // A bracket this narrow without a probe near the level: the
@@ -270,7 +305,7 @@ impl<M: FreeModel> Side<'_, M> {
         Ok(((point.sse - sse_min).max(0.0).sqrt(), point.theta))
     }
 
-    /// The end from the last probe, within [`END_TOLERANCE`] of `target`
+    /// The end from the last probe, within the end tolerance of `target`
     /// at height `h` (held value `value`): one Newton step on the local
     /// slope of `sqrt(profile − min)`.
     fn end_near(
