@@ -8,6 +8,8 @@ import numpy.typing as npt
 from ._laminar import BATCH_COLUMNS as BATCH_COLUMNS
 from ._laminar import BATCH_DTYPES as BATCH_DTYPES
 from ._laminar import FLAG_BITS as FLAG_BITS
+from ._laminar import GRID_AXES as GRID_AXES
+from ._laminar import MODELS as MODELS
 from ._laminar import FitResult as FitResult
 from ._laminar import compare as compare
 from ._laminar import fit as fit

@@ -115,7 +115,7 @@ def _sample_record(mi, dr, bsdf, si, wo, active):
     return bs, dr.select(active & (bs.pdf > 0), weight, 0.0)
 
 
-def register():
+def register() -> None:
     """Registers the ``"laminar"`` and ``"laminar_native"`` BSDFs with the
     current Mitsuba variant (call after ``mi.set_variant``)."""
     import drjit as dr

@@ -52,7 +52,12 @@ drawn by the ``"laminar"`` plugin only.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import laminar
+
+if TYPE_CHECKING:
+    import xarray
 
 #: The plugin type name.
 PLUGIN = "laminar_native"
@@ -250,7 +255,7 @@ def check_values(values, gaussian):
         laminar.FittedModel.from_params(model, at)
 
 
-def textured(fits, nearest=True):
+def textured(fits: xarray.Dataset, nearest: bool = True) -> dict[str, object]:
     """The ``"laminar_native"`` BSDF dict of a fitted texture: ``fits`` is
     :func:`laminar.xarray.fit`'s Dataset (free objective, a layered model)
     with dimensions ``y``, ``x`` and optionally ``channel`` (three: r, g,
