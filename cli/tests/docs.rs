@@ -23,6 +23,16 @@ const RUN_ELSEWHERE: &[(&str, &str, &str)] = &[
     ("cargo test --workspace", ".ci/run", "cargo test --workspace"),
     ("pip install ./python", ".ci/run", "pip install ./python"),
     (
+        "rustup target add wasm32-unknown-unknown",
+        ".ci/run",
+        "rustup target add thumbv7em-none-eabihf wasm32-unknown-unknown",
+    ),
+    (
+        "rustup target add thumbv7em-none-eabihf",
+        ".ci/run",
+        "rustup target add thumbv7em-none-eabihf wasm32-unknown-unknown",
+    ),
+    (
         "cargo install --locked wasm-bindgen-cli --version",
         ".ci/run",
         "cargo install --locked wasm-bindgen-cli --version",

@@ -232,12 +232,70 @@ fn gzip_size(path: &Path) -> usize {
     out.stdout.len()
 }
 
+/// The sizes docs/javascript.md states: its table's rows (`| build | .wasm
+/// | gzip -9 |`) by the build's directory, and the `npm pack` tarball's.
+struct DocumentedSizes {
+    wasm: Vec<(&'static str, usize, usize)>,
+    tarball: usize,
+}
+
+/// A number written with thousands separators (`1,031,967`).
+fn bytes(text: &str) -> Option<usize> {
+    text.trim()
+        .trim_end_matches(" B")
+        .replace(',', "")
+        .parse()
+        .ok()
+}
+
+fn documented_sizes() -> DocumentedSizes {
+    let doc =
+        std::fs::read_to_string(root().join("docs/javascript.md")).expect("docs/javascript.md");
+    let rows = [
+        ("| whole, plain", "plain"),
+        ("| whole, `+simd128`", "simd"),
+        ("| eval, plain", "eval/plain"),
+        ("| eval, `+simd128`", "eval/simd"),
+    ];
+    let wasm = rows
+        .iter()
+        .map(|&(start, dir)| {
+            let line = doc
+                .lines()
+                .find(|l| l.starts_with(start))
+                .unwrap_or_else(|| panic!("docs/javascript.md: no size row `{start}`"));
+            let cells: Vec<&str> = line.split('|').collect();
+            match (
+                cells.get(2).and_then(|c| bytes(c)),
+                cells.get(3).and_then(|c| bytes(c)),
+            ) {
+                (Some(raw), Some(gzip)) => (dir, raw, gzip),
+                _ => panic!("docs/javascript.md: the row `{line}` has no sizes in bytes"),
+            }
+        })
+        .collect();
+    let tarball = doc
+        .lines()
+        .find_map(|l| {
+            let after = l.split(".tgz, ").nth(1)?;
+            bytes(after.split(" B").next()?)
+        })
+        .expect("docs/javascript.md: no `<name>.tgz, <bytes> B`");
+    DocumentedSizes { wasm, tarball }
+}
+
+/// Whether a documented size is within 2% of the measured one.
+fn near(documented: usize, measured: usize) -> bool {
+    documented.abs_diff(measured) * 50 <= measured
+}
+
 /// The evaluation-only package (`laminar-wasm/eval`) fits a page's budget:
-/// each build's `.wasm` at most 40 KiB gzip. The whole package's sizes are
-/// printed beside them. Needs binaryen's `wasm-opt` (wasm/build.sh runs it
-/// on the eval builds).
+/// each build's `.wasm` at most 40 KiB gzip; and docs/javascript.md's sizes
+/// (each build's `.wasm`, plain and gzip, and the tarball) are within 2% of
+/// the built ones. Needs binaryen's `wasm-opt` (wasm/build.sh runs it on the
+/// eval builds).
 #[test]
-fn evaluation_only_package_is_at_most_40_kib_gzip() {
+fn evaluation_only_package_fits_40_kib_and_docs_state_the_sizes() {
     let package = match package() {
         Ok(p) => p,
         Err(why) => return skip_or_fail(&why),
@@ -247,9 +305,12 @@ fn evaluation_only_package_is_at_most_40_kib_gzip() {
             "binaryen's `wasm-opt` is not available (the eval package's size needs it)",
         );
     }
+    let documented = documented_sizes();
     let mut line = Vec::new();
-    for dir in ["plain", "simd", "eval/plain", "eval/simd"] {
+    let mut stale = Vec::new();
+    for &(dir, doc_raw, doc_gzip) in &documented.wasm {
         let wasm = package.dir.join(dir).join("laminar_wasm_bg.wasm");
+        let raw = std::fs::metadata(&wasm).expect("the built .wasm").len() as usize;
         let size = gzip_size(&wasm);
         if dir.starts_with("eval") {
             assert!(
@@ -257,9 +318,32 @@ fn evaluation_only_package_is_at_most_40_kib_gzip() {
                 "{dir}: {size} bytes gzip, more than 40 KiB"
             );
         }
-        line.push(format!("{dir} {size} B"));
+        if !near(doc_raw, raw) || !near(doc_gzip, size) {
+            stale.push(format!(
+                "{dir}: documented {doc_raw} B, {doc_gzip} B gzip; built {raw} B, {size} B gzip"
+            ));
+        }
+        line.push(format!("{dir} {raw} B, {size} B gzip"));
     }
-    let _ = writeln!(std::io::stderr(), "wasm gzip sizes: {}", line.join(", "));
+    let tarball = std::fs::metadata(&package.tarball)
+        .expect("the tarball")
+        .len() as usize;
+    if !near(documented.tarball, tarball) {
+        stale.push(format!(
+            "the tarball: documented {} B; packed {tarball} B",
+            documented.tarball
+        ));
+    }
+    let _ = writeln!(
+        std::io::stderr(),
+        "wasm sizes: {}; tarball {tarball} B",
+        line.join("; ")
+    );
+    assert!(
+        stale.is_empty(),
+        "docs/javascript.md's sizes are stale (more than 2% off):\n{}",
+        stale.join("\n")
+    );
 }
 
 /// Every export of the package, both builds, called with 3,000 seeded
