@@ -49,7 +49,7 @@ for package in full eval; do
     fi
   done
 done
-cp "$root/wasm/npm/package.json" "$root/wasm/npm/index.js" "$root/wasm/npm/index.d.ts" \
+cp "$root/wasm/npm/package.json" "$root/wasm/npm/index.js" "$root/wasm/npm/node.js" "$root/wasm/npm/index.d.ts" \
   "$root/wasm/npm/fits.d.ts" \
   "$root/wasm/npm/loader.js" "$root/wasm/npm/README.md" "$out/"
-cp "$root/wasm/npm/eval/index.js" "$root/wasm/npm/eval/index.d.ts" "$out/eval/"
+cp "$root/wasm/npm/eval/index.js" "$root/wasm/npm/eval/node.js" "$root/wasm/npm/eval/index.d.ts" "$out/eval/"

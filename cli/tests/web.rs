@@ -98,7 +98,7 @@ fn package() -> Result<&'static Package, String> {
         .map_err(Clone::clone)
 }
 
-/// `web/node_modules` (typescript, playwright-core), installed by `npm ci`
+/// `web/node_modules` (typescript, playwright-core, vite), installed by `npm ci`
 /// when missing.
 fn web_tools() -> Result<PathBuf, String> {
     common::integration(
@@ -107,7 +107,7 @@ fn web_tools() -> Result<PathBuf, String> {
     )?;
     let web = root().join("web");
     let modules = web.join("node_modules");
-    let tools = ["typescript", "playwright-core", "@types/node"];
+    let tools = ["typescript", "playwright-core", "@types/node", "vite"];
     if !tools.iter().all(|t| modules.join(t).exists()) {
         run(Command::new("npm")
             .current_dir(&web)
@@ -343,6 +343,78 @@ fn evaluation_only_package_fits_40_kib_and_docs_state_the_sizes() {
         stale.is_empty(),
         "docs/javascript.md's sizes are stale (more than 2% off):\n{}",
         stale.join("\n")
+    );
+}
+
+/// The packed package in a bundler: a minimal Vite app
+/// (`wasm/tests/vite-app`) importing both entry points builds with `vite
+/// build` against the tarball, with no Node built-in externalised, and runs
+/// in Chromium (`web/tests/bundler.mjs`): every build of both packages
+/// loads, each `.wasm` fetched with status 200, no page or console error,
+/// and the values are the native library's bits.
+#[test]
+fn packed_package_runs_bundled_by_vite_in_chromium() {
+    let chromium = std::env::var("CHROMIUM").unwrap_or_else(|_| "/usr/bin/chromium".into());
+    if !Path::new(&chromium).exists() {
+        return skip_or_fail(&format!(
+            "no Chromium at {chromium} (apt-get install chromium)"
+        ));
+    }
+    let (package, tools) = match package().and_then(|p| web_tools().map(|t| (p, t))) {
+        Ok(p) => p,
+        Err(why) => return skip_or_fail(&why),
+    };
+    let project = scratch("vite-app");
+    for f in ["index.html", "main.js", "package.json"] {
+        std::fs::copy(root().join("wasm/tests/vite-app").join(f), project.join(f)).expect("copy");
+    }
+    run(Command::new("npm")
+        .current_dir(&project)
+        .args(["install", "--no-audit", "--no-fund", "--offline"])
+        .arg(&package.tarball))
+    .unwrap_or_else(|e| panic!("npm install of the packed tarball: {e}"));
+    let built = run(Command::new("node")
+        .current_dir(&project)
+        .arg(tools.join("vite/bin/vite.js"))
+        .arg("build"))
+    .unwrap_or_else(|e| panic!("vite build: {e}"));
+    assert!(
+        !built.contains("externalized for browser compatibility"),
+        "vite build externalised a Node built-in:\n{built}"
+    );
+    let out = stdout(
+        Command::new("node")
+            .arg(root().join("web/tests/bundler.mjs"))
+            .arg(project.join("dist"))
+            .env("CHROMIUM", &chromium),
+    )
+    .unwrap_or_else(|e| panic!("the bundled app in Chromium: {e}"));
+    let v: serde_json::Value = serde_json::from_str(&out).expect("bundler.mjs prints JSON");
+    let p = Params::new(1.2, 0.4, 1.4, 0.3).expect("params");
+    let native: Vec<String> = [(0.3, 0.2, 0.5), (0.9, 0.4, 2.5)]
+        .iter()
+        .map(|&(ti, ts, ps)| {
+            let a = Angles::new(ti, ts, ps).expect("angles");
+            let t = total_radiance(&Geometry::<f64>::splat(&a), Correlation::Exponential, &p);
+            format!("{:016x}", t.to_bits())
+        })
+        .collect();
+    for build in ["whole/plain", "whole/simd", "eval/plain", "eval/simd"] {
+        assert_eq!(
+            v["result"][build],
+            serde_json::json!(native),
+            "{build} in the bundled app: {out}"
+        );
+    }
+    let fetched = v["wasm"].as_array().expect("the fetched .wasm files");
+    assert!(
+        fetched.len() >= 4 && fetched.iter().all(|f| f["status"] == 200),
+        "the .wasm fetches: {out}"
+    );
+    let _ = writeln!(
+        std::io::stderr(),
+        "the packed package bundled by Vite runs in Chromium: {} .wasm files fetched, the native bits",
+        fetched.len()
     );
 }
 
@@ -630,7 +702,7 @@ fn page_fits_in_chromium_as_the_cli_does() {
             .arg("-e")
             .arg(format!(
         "const {{ load }} = await import({:?}); process.stdout.write((await load()).exampleCsv());",
-        format!("file://{}", package.dir.join("index.js").display())
+        format!("file://{}", package.dir.join("node.js").display())
     )),
     )
     .unwrap_or_else(|e| panic!("exampleCsv: {e}"));

@@ -7,8 +7,16 @@ export { simdSupported };
 /** Loads and initialises one build (`simd` forces the choice) and returns its exports. */
 export function load(options = {}) {
   return loadBuild(
-    import.meta.url,
-    { plain: () => import('./plain/laminar_wasm.js'), simd: () => import('./simd/laminar_wasm.js') },
+    {
+      plain: {
+        glue: () => import('./plain/laminar_wasm.js'),
+        wasm: () => new URL('./plain/laminar_wasm_bg.wasm', import.meta.url),
+      },
+      simd: {
+        glue: () => import('./simd/laminar_wasm.js'),
+        wasm: () => new URL('./simd/laminar_wasm_bg.wasm', import.meta.url),
+      },
+    },
     options,
   );
 }

@@ -1,7 +1,10 @@
-// The loader both entry points share (index.js: the whole package;
-// eval/index.js: the evaluation-only one): picks the +simd128 build where the
-// engine has WebAssembly SIMD, the plain build elsewhere, in browsers
-// (fetches the .wasm beside the glue) and in node (reads it from disk).
+// The loader all entry points share (index.js and node.js: the whole
+// package; eval/: the evaluation-only one): picks the +simd128 build where
+// the engine has WebAssembly SIMD, the plain build elsewhere. Each entry
+// point names its builds' files itself, as `import('./…')` and
+// `new URL('./…', import.meta.url)` literals, the forms bundlers (Vite,
+// webpack, Rollup, Parcel) follow and rewrite; node.js reads the .wasm from
+// disk, so no Node built-in is reachable from the browser's entry.
 
 // A module whose one function returns a v128 (i32.const 0, i8x16.splat,
 // i8x16.popcnt): it validates only where SIMD is supported (the probe of
@@ -17,17 +20,16 @@ export function simdSupported() {
 }
 
 /**
- * Loads and initialises one build of the package whose entry point is at
- * `base` (`simd` forces the choice); `glue` imports each build's
- * wasm-bindgen module (static paths, so that bundlers see them). Returns the
- * build's exports, with `simd` saying which build it is.
+ * Loads and initialises one build (`options.simd` forces the choice):
+ * `builds.plain` and `builds.simd` each give `glue()`, the import of its
+ * wasm-bindgen module, and `wasm()`, its `.wasm` (a URL, or the bytes).
+ * Returns the build's exports, with `simd` saying which build it is.
  */
-export async function loadBuild(base, glue, options = {}) {
+export async function loadBuild(builds, options = {}) {
   const simd = options.simd ?? simdSupported();
-  const module = simd ? await glue.simd() : await glue.plain();
-  const url = new URL(`./${simd ? 'simd' : 'plain'}/laminar_wasm_bg.wasm`, base);
-  const source = url.protocol === 'file:' ? await (await import('node:fs/promises')).readFile(url) : url;
-  await module.default({ module_or_path: source });
+  const build = simd ? builds.simd : builds.plain;
+  const module = await build.glue();
+  await module.default({ module_or_path: await build.wasm() });
   return Object.freeze({ ...module, ...guardedFits(module), simd });
 }
 

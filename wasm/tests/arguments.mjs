@@ -9,7 +9,7 @@
 import { pathToFileURL } from 'node:url';
 
 const [packageDir, callsText] = process.argv.slice(2);
-const { load } = await import(pathToFileURL(`${packageDir}/index.js`).href);
+const { load } = await import(pathToFileURL(`${packageDir}/node.js`).href);
 const calls = Number(callsText);
 
 // xorshift32: a fixed sequence.

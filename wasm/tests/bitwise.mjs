@@ -12,8 +12,8 @@ import { readFile } from 'node:fs/promises';
 import { pathToFileURL } from 'node:url';
 
 const [packageDir, casesFile] = process.argv.slice(2);
-const whole = await import(pathToFileURL(`${packageDir}/index.js`).href);
-const evaluation = await import(pathToFileURL(`${packageDir}/eval/index.js`).href);
+const whole = await import(pathToFileURL(`${packageDir}/node.js`).href);
+const evaluation = await import(pathToFileURL(`${packageDir}/eval/node.js`).href);
 const cases = JSON.parse(await readFile(casesFile, 'utf8'));
 const angles = new Float64Array(cases.angles);
 
