@@ -51,5 +51,5 @@ for package in full eval; do
 done
 cp "$root/wasm/npm/package.json" "$root/wasm/npm/index.js" "$root/wasm/npm/node.js" "$root/wasm/npm/index.d.ts" \
   "$root/wasm/npm/fits.d.ts" \
-  "$root/wasm/npm/loader.js" "$root/wasm/npm/README.md" "$out/"
+  "$root/wasm/npm/loader.js" "$root/wasm/npm/README.md" "$root/LICENSE-MIT" "$root/LICENSE-APACHE" "$out/"
 cp "$root/wasm/npm/eval/index.js" "$root/wasm/npm/eval/node.js" "$root/wasm/npm/eval/index.d.ts" "$out/eval/"

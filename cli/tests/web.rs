@@ -454,6 +454,20 @@ fn packed_package_imports_in_typescript() {
         Err(why) => return skip_or_fail(&why),
     };
     let (package, tools) = package;
+    // The tarball carries the licence texts, and its README no placeholder link.
+    let listing = stdout(Command::new("tar").arg("tzf").arg(&package.tarball))
+        .unwrap_or_else(|e| panic!("tar tzf: {e}"));
+    for licence in ["package/LICENSE-MIT", "package/LICENSE-APACHE"] {
+        assert!(
+            listing.lines().any(|l| l == licence),
+            "{licence} missing from the tarball:\n{listing}"
+        );
+    }
+    let readme = std::fs::read_to_string(package.dir.join("README.md")).expect("README.md");
+    assert!(
+        !readme.contains("](https://github.com/)"),
+        "the npm README links to a placeholder"
+    );
     let project = scratch("ts-example");
     for f in ["example.ts", "tsconfig.json", "package.json"] {
         std::fs::copy(
