@@ -1,9 +1,10 @@
-"""Every ``python`` block of the README and of docs/ runs (docs/testing.md),
-in a directory holding the files the blocks name: ``felt.csv`` (a long CSV,
-lab-frame degrees, channels r, g, b and sigma_r), ``geometry.csv`` (K × 4,
-radians), ``values.zarr`` (N × K sets, chunked along N) and ``btf.zarr``
-(a (y, x, channel, measurement) cube with the geometry as coordinates).
-Blocks that use Dask run only with the ``dask`` extra (required in CI)."""
+"""Every ``python`` block of the READMEs (the repository's, the wheel's)
+and of docs/ runs (docs/testing.md), in a directory holding the files the
+blocks name: ``felt.csv`` (a long CSV, lab-frame degrees, channels r, g, b
+and sigma_r), ``geometry.csv`` (K × 4, radians), ``values.zarr`` (N × K
+sets, chunked along N) and ``btf.zarr`` (a (y, x, channel, measurement)
+cube with the geometry as coordinates). Blocks that use Dask run only with
+the ``dask`` extra (required in CI)."""
 
 import os
 import re
@@ -21,7 +22,7 @@ from btf_cube import cube  # noqa: E402
 
 
 def pages():
-    return [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    return [ROOT / "README.md", ROOT / "python" / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 
 
 def python_blocks():
