@@ -15,7 +15,11 @@ export type Laminar = Omit<typeof Build, 'default' | 'initSync'> & {
 export declare function simdSupported(): boolean;
 
 /** Loads one build (SIMD where supported, unless `simd` says) and initialises it. */
-export declare function load(options?: { simd?: boolean }): Promise<Laminar>;
+export declare function load(options?: {
+  simd?: boolean;
+  /** The `.wasm`'s bytes from its URL (the default: fetch it; in node: read it from disk). */
+  read?: (url: URL) => Promise<ArrayBuffer | ArrayBufferView> | ArrayBuffer | ArrayBufferView;
+}): Promise<Laminar>;
 
 // The fitted-model file's types (FitsFile, FitEntry, FitParameter,
 // FittedModel, Model, Param, …), generated from the Rust types that write it.

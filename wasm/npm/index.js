@@ -4,7 +4,11 @@ import { loadBuild, simdSupported } from './loader.js';
 
 export { simdSupported };
 
-/** Loads and initialises one build (`simd` forces the choice) and returns its exports. */
+/**
+ * Loads and initialises one build (`simd` forces the choice; `read(url)`,
+ * where given, returns the `.wasm`'s bytes instead of a fetch) and returns
+ * its exports. The files are named by literals, the form bundlers rewrite.
+ */
 export function load(options = {}) {
   return loadBuild(
     {

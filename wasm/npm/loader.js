@@ -22,14 +22,17 @@ export function simdSupported() {
 /**
  * Loads and initialises one build (`options.simd` forces the choice):
  * `builds.plain` and `builds.simd` each give `glue()`, the import of its
- * wasm-bindgen module, and `wasm()`, its `.wasm` (a URL, or the bytes).
- * Returns the build's exports, with `simd` saying which build it is.
+ * wasm-bindgen module, and `wasm()`, the URL of its `.wasm`, which
+ * `options.read(url)` turns into the bytes where given (node.js reads from
+ * disk), and which is fetched otherwise. Returns the build's exports, with
+ * `simd` saying which build it is.
  */
 export async function loadBuild(builds, options = {}) {
   const simd = options.simd ?? simdSupported();
   const build = simd ? builds.simd : builds.plain;
   const module = await build.glue();
-  await module.default({ module_or_path: await build.wasm() });
+  const url = build.wasm();
+  await module.default({ module_or_path: options.read ? await options.read(url) : url });
   return Object.freeze({ ...module, ...guardedFits(module), simd });
 }
 

@@ -24,4 +24,8 @@ export type LaminarEval = Omit<typeof Build, 'default' | 'initSync' | 'predictFi
 export declare function simdSupported(): boolean;
 
 /** Loads one build (SIMD where supported, unless `simd` says) and initialises it. */
-export declare function load(options?: { simd?: boolean }): Promise<LaminarEval>;
+export declare function load(options?: {
+  simd?: boolean;
+  /** The `.wasm`'s bytes from its URL (the default: fetch it; in node: read it from disk). */
+  read?: (url: URL) => Promise<ArrayBuffer | ArrayBufferView> | ArrayBuffer | ArrayBufferView;
+}): Promise<LaminarEval>;
