@@ -248,6 +248,7 @@ fn bytes(text: &str) -> Option<usize> {
         .ok()
 }
 
+/// Reads [`DocumentedSizes`] from docs/javascript.md.
 fn documented_sizes() -> DocumentedSizes {
     let doc =
         std::fs::read_to_string(root().join("docs/javascript.md")).expect("docs/javascript.md");
