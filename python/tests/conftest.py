@@ -22,6 +22,21 @@ def laminar_bin():
     return path
 
 
+def importable(modules, required_by):
+    """Whether every module of `modules` imports; when one does not and the
+    environment variable `required_by` is "1" (CI), the ImportError is raised."""
+    import importlib
+
+    try:
+        for module in modules:
+            importlib.import_module(module)
+    except ImportError:
+        if os.environ.get(required_by) == "1":
+            raise
+        return False
+    return True
+
+
 def cli(*args):
     """Runs the CLI; returns stdout (fails the test on a non-zero exit)."""
     done = subprocess.run([laminar_bin(), *map(str, args)], capture_output=True, text=True)

@@ -6,7 +6,6 @@ sets, chunked along N) and ``btf.zarr`` (a (y, x, channel, measurement)
 cube with the geometry as coordinates). Blocks that use Dask run only with
 the ``dask`` extra (required in CI)."""
 
-import os
 import re
 import sys
 from pathlib import Path
@@ -15,6 +14,7 @@ import numpy as np
 import pytest
 
 import laminar
+from conftest import importable
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "python" / "examples"))
@@ -71,15 +71,7 @@ def write_fixtures(directory, with_dask):
 
 
 def dask_available():
-    try:
-        import dask.array  # noqa: F401
-        import xarray  # noqa: F401
-        import zarr  # noqa: F401
-    except ImportError:
-        if os.environ.get("LAMINAR_REQUIRE_DASK") == "1":
-            raise
-        return False
-    return True
+    return importable(("dask.array", "xarray", "zarr"), "LAMINAR_REQUIRE_DASK")
 
 
 def test_the_docs_have_python_blocks():

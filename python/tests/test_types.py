@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import importable
 from test_docs import ROOT, pages, python_blocks
 
 PYTHON_PAGES = [ROOT / "README.md", ROOT / "docs" / "python.md"]
@@ -48,13 +49,7 @@ def api_module():
 
 
 def mypy_available():
-    try:
-        import mypy  # noqa: F401
-    except ImportError:
-        if os.environ.get("LAMINAR_REQUIRE_PYTHON") == "1":
-            raise
-        return False
-    return True
+    return importable(("mypy",), "LAMINAR_REQUIRE_PYTHON")
 
 
 def test_the_docs_name_the_api():
