@@ -22,8 +22,8 @@
 //! rows. Line endings LF or CRLF.
 
 use crate::error::ReadError;
-use crate::reader::{set_error, set_name, text};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use crate::reader::{brdf_set, contents, number, text};
+use laminar_fit::{MeasurementAngles, MeasurementSet};
 use std::path::Path;
 
 /// The first four columns `VARS` must name, in order.
@@ -53,8 +53,7 @@ pub const GEOMETRY: [&str; 4] = ["theta_i", "phi_i", "theta_s", "phi_s"];
 /// number, `NUM_POINTS` that is not the number of rows, or angles outside
 /// their domain.
 pub fn read_astm(file: &Path) -> Result<MeasurementSet, ReadError> {
-    let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
-    parse_astm(file, &bytes)
+    parse_astm(file, &contents(file)?)
 }
 
 /// The header's `VARS` (with its line) and `NUM_POINTS`, and the data
@@ -105,20 +104,7 @@ pub fn parse_astm(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
             ));
         }
         for (c, field) in fields.iter().enumerate() {
-            let value = field.trim().parse::<f64>().ok().filter(|v| v.is_finite());
-            let Some(value) = value else {
-                return Err(ReadError::format(
-                    file,
-                    *line,
-                    format!(
-                        "column {} ({}): `{}` is not a number",
-                        c + 1,
-                        vars[c],
-                        field.trim()
-                    ),
-                ));
-            };
-            columns[c].push(value);
+            columns[c].push(number(file, *line, c, &vars[c], field)?);
         }
     }
     let [theta_i, phi_i, theta_s, phi_s] = [0, 1, 2, 3].map(|c| &columns[c]);
@@ -130,15 +116,9 @@ pub fn parse_astm(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
             phi_v: phi_s[k],
         })
         .collect();
-    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
     let lines = parsed.rows.iter().map(|(line, _)| *line).collect();
-    let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf)
-        .and_then(|s| s.with_rows(lines))
-        .map_err(wrap)?;
-    for (name, values) in vars.iter().zip(columns).skip(GEOMETRY.len()) {
-        set = set.with_channel(name.clone(), values, None).map_err(wrap)?;
-    }
-    Ok(set)
+    let channels = vars.iter().cloned().zip(columns).skip(GEOMETRY.len());
+    brdf_set(file, "measurements", angles, Some(lines), channels)
 }
 
 /// The header and the data rows of `text`.

@@ -13,7 +13,7 @@
 //! Every defect is an error naming the file, the line, the column and the value.
 
 use crate::error::ReadError;
-use crate::reader::{set_error, set_name};
+use crate::reader::{contents, set_error, set_name};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
@@ -224,7 +224,7 @@ fn geometry(
 /// # Errors
 /// [`ReadError`] naming the file, and for a defect the line, column and value.
 pub fn read_geometry(file: &Path, unit: AngleUnit) -> Result<Vec<MeasurementAngles>, ReadError> {
-    parse_geometry(file, &read(file)?, unit)
+    parse_geometry(file, &contents(file)?, unit)
 }
 
 /// [`read_geometry`] on contents already in memory (`file` names them in errors).
@@ -238,11 +238,6 @@ pub fn parse_geometry(
 ) -> Result<Vec<MeasurementAngles>, ReadError> {
     let (header, rows) = records(file, bytes)?;
     geometry(file, &header, &rows, unit)
-}
-
-/// The contents of `file`.
-fn read(file: &Path) -> Result<Vec<u8>, ReadError> {
-    std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))
 }
 
 /// Reads a long-format CSV file of measurements (module docs) as a set named
@@ -272,7 +267,7 @@ pub fn read_csv(
     unit: AngleUnit,
     quantity: Quantity,
 ) -> Result<MeasurementSet, ReadError> {
-    parse_csv(file, &read(file)?, unit, quantity)
+    parse_csv(file, &contents(file)?, unit, quantity)
 }
 
 /// [`read_csv`] on contents already in memory (`file` names the set and the

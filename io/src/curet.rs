@@ -5,17 +5,12 @@
 //! error naming the file, the line and the offending value.
 
 use crate::error::ReadError;
-use crate::reader::text;
+use crate::reader::{contents, text};
 use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::path::{Path, PathBuf};
 
 fn err(file: &Path, line: usize, message: impl Into<String>) -> ReadError {
     ReadError::format(file, line, message)
-}
-
-/// The contents of `file`.
-fn read(file: &Path) -> Result<Vec<u8>, ReadError> {
-    std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))
 }
 
 /// The non-blank lines of a file's contents with their 1-based numbers.
@@ -101,7 +96,7 @@ pub struct TableRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_table(file: &Path) -> Result<Vec<TableRow>, ReadError> {
-    parse_table(file, &read(file)?)
+    parse_table(file, &contents(file)?)
 }
 
 /// [`read_table`] on contents already in memory (`file` names them in errors).
@@ -190,7 +185,7 @@ pub struct BrdfRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_brdf(file: &Path, measurements: usize) -> Result<Vec<BrdfRow>, ReadError> {
-    parse_brdf(file, &read(file)?, measurements)
+    parse_brdf(file, &contents(file)?, measurements)
 }
 
 /// [`read_brdf`] on contents already in memory (`file` names them in errors).
@@ -246,7 +241,7 @@ pub struct OrenNayarRow {
 /// # Errors
 /// [`ReadError`] naming the file, line, column and value.
 pub fn read_oren_nayar(file: &Path) -> Result<Vec<OrenNayarRow>, ReadError> {
-    parse_oren_nayar(file, &read(file)?)
+    parse_oren_nayar(file, &contents(file)?)
 }
 
 /// [`read_oren_nayar`] on contents already in memory (`file` names them in errors).

@@ -16,8 +16,8 @@
 //! space, so that reading the centre back finds the same bin.
 
 use crate::error::ReadError;
-use crate::reader::{set_error, set_name};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use crate::reader::{brdf_set, contents};
+use laminar_fit::{MeasurementAngles, MeasurementSet};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::Path;
 
@@ -198,8 +198,7 @@ impl Merl {
 /// # Errors
 /// [`ReadError`] for a file that cannot be read, has other dimensions or length, or a non-finite value.
 pub fn read_merl(file: &Path) -> Result<Merl, ReadError> {
-    let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
-    parse_merl(file, &bytes)
+    parse_merl(file, &contents(file)?)
 }
 
 /// [`read_merl`] on contents already in memory (`file` names them in errors).
@@ -308,13 +307,13 @@ pub fn sample(
         rows.push(k + 1);
     }
     let missing = geometry.len() - kept.len();
-    let wrap = set_error(file);
-    let mut set = MeasurementSet::new(set_name(file, "merl"), kept, Quantity::Brdf)
-        .and_then(|s| s.with_rows(rows))
-        .map_err(wrap)?;
-    for (c, v) in values.into_iter().enumerate() {
-        set = set.with_channel(CHANNELS[c], v, None).map_err(wrap)?;
-    }
+    let set = brdf_set(
+        file,
+        "merl",
+        kept,
+        Some(rows),
+        CHANNELS.into_iter().zip(values),
+    )?;
     Ok((set, missing))
 }
 

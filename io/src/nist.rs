@@ -17,8 +17,8 @@
 //! geometries in the same order.
 
 use crate::error::ReadError;
-use crate::reader::{set_error, set_name, text};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use crate::reader::{brdf_set, contents, number, text};
+use laminar_fit::{MeasurementAngles, MeasurementSet};
 use std::path::Path;
 
 /// The columns read, by name.
@@ -49,8 +49,7 @@ pub const COLUMNS: [&str; 6] = ["lambda", "thetai", "phi", "thetar", "phir", "f_
 /// column, a field that is not a number, a wavelength whose geometries are
 /// not the first's, or angles outside their domain.
 pub fn read_nist(file: &Path) -> Result<MeasurementSet, ReadError> {
-    let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
-    parse_nist(file, &bytes)
+    parse_nist(file, &contents(file)?)
 }
 
 /// One wavelength's rows: its value (µm, as written), and per row the line,
@@ -92,23 +91,9 @@ pub fn parse_nist(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
     let mut wavelengths: Vec<Wavelength> = Vec::new();
     for (line, row) in lines {
         let fields: Vec<&str> = row.split(',').collect();
-        let value = |c: usize| -> Result<f64, ReadError> {
-            let field = fields.get(place[c]).map_or("", |f| f.trim());
-            field
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    ReadError::format(
-                        file,
-                        line,
-                        format!(
-                            "column {} ({}): `{field}` is not a number",
-                            place[c] + 1,
-                            COLUMNS[c]
-                        ),
-                    )
-                })
+        let value = |c: usize| {
+            let field = fields.get(place[c]).copied().unwrap_or("");
+            number(file, line, place[c], COLUMNS[c], field)
         };
         let [lambda, thetai, phi, thetar, phir, f] = [0, 1, 2, 3, 4, 5].map(value);
         let lambda = lambda?;
@@ -139,17 +124,11 @@ pub fn parse_nist(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError
     }
     let angles = first.rows.iter().map(|(_, a, _)| lab(*a)).collect();
     let lines = first.rows.iter().map(|(line, _, _)| *line).collect();
-    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
-    let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf)
-        .and_then(|s| s.with_rows(lines))
-        .map_err(wrap)?;
-    for w in &wavelengths {
+    let channels = wavelengths.iter().map(|w| {
         let values = w.rows.iter().map(|(_, _, f)| *f).collect();
-        set = set
-            .with_channel(channel_name(w.lambda), values, None)
-            .map_err(wrap)?;
-    }
-    Ok(set)
+        (channel_name(w.lambda), values)
+    });
+    brdf_set(file, "measurements", angles, Some(lines), channels)
 }
 
 /// A wavelength in micrometres as a channel name in nanometres (`532nm`).

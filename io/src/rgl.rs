@@ -33,8 +33,8 @@
 //! mass, within 0.02° of the mirror.
 
 use crate::error::ReadError;
-use crate::reader::{set_error, set_name};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use crate::reader::{brdf_set, contents};
+use laminar_fit::{MeasurementAngles, MeasurementSet};
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -109,8 +109,7 @@ fn shown(shape: &[Option<usize>]) -> String {
 /// or shape, data outside the file, an anisotropic material, or a slice
 /// whose VNDF has no mass.
 pub fn read_rgl(file: &Path) -> Result<MeasurementSet, ReadError> {
-    let bytes = std::fs::read(file).map_err(|e| ReadError::io(file, "read", e))?;
-    parse_rgl(file, &bytes)
+    parse_rgl(file, &contents(file)?)
 }
 
 /// [`read_rgl`] on contents already in memory (`file` names the set and
@@ -217,12 +216,13 @@ pub fn parse_rgl(file: &Path, bytes: &[u8]) -> Result<MeasurementSet, ReadError>
             }
         }
     }
-    let (stem, wrap) = (set_name(file, "measurements"), set_error(file));
-    let mut set = MeasurementSet::new(stem, angles, Quantity::Brdf).map_err(wrap)?;
-    for (name, v) in ["r", "g", "b"].into_iter().zip(values) {
-        set = set.with_channel(name, v, None).map_err(wrap)?;
-    }
-    Ok(set)
+    brdf_set(
+        file,
+        "measurements",
+        angles,
+        None,
+        ["r", "g", "b"].into_iter().zip(values),
+    )
 }
 
 /// `u(θ) = √(2θ/π)`.
