@@ -39,18 +39,22 @@ fn type_name(obj: &Bound<'_, PyAny>) -> String {
         .map_or_else(|_| "?".into(), |n| n.to_string())
 }
 
-/// `obj` as a flag: `True` or `False` (a numpy bool too), else
-/// `ValueError` naming the argument `name`.
+/// A Python object as messages show it: its repr and its type name.
+fn shown(obj: &Bound<'_, PyAny>) -> String {
+    let repr = obj.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+    format!("{repr} ({})", type_name(obj))
+}
+
+/// `obj` as a flag: `True` or `False` (a numpy bool too: `bool` in numpy
+/// 2, `bool_` before), else `ValueError` naming the argument `name`.
 pub(crate) fn flag(name: &str, obj: &Bound<'_, PyAny>) -> PyResult<bool> {
     let is_bool = obj.is_instance_of::<pyo3::types::PyBool>()
-        || type_name(obj) == "bool"
-        || type_name(obj) == "bool_";
+        || matches!(type_name(obj).as_str(), "bool" | "bool_");
     match obj.extract::<bool>() {
         Ok(v) if is_bool => Ok(v),
         _ => Err(PyValueError::new_err(format!(
-            "{name}: give True or False, not {} ({})",
-            obj.repr().map_or_else(|_| "?".into(), |r| r.to_string()),
-            type_name(obj)
+            "{name}: give True or False, not {}",
+            shown(obj)
         ))),
     }
 }
@@ -62,12 +66,10 @@ pub(crate) fn whole(
     obj: &Bound<'_, PyAny>,
     (least, most): (u64, u64),
 ) -> PyResult<u64> {
-    let shown = || obj.repr().map_or_else(|_| "?".into(), |r| r.to_string());
     let bad = || {
         PyValueError::new_err(format!(
-            "{name}: give a whole number from {least} to {most}, not {} ({})",
-            shown(),
-            type_name(obj)
+            "{name}: give a whole number from {least} to {most}, not {}",
+            shown(obj)
         ))
     };
     if obj.is_instance_of::<pyo3::types::PyBool>() {
