@@ -81,6 +81,17 @@ pub enum UsageError {
         /// The `--a` given.
         a: f64,
     },
+    /// `eval` of an untied model without `--sub-slope`, or of a tied one
+    /// with it.
+    #[error("{model} {}", if model.is_untied() {
+        "frees the subsurface slope σ′/T′: give --sub-slope".to_string()
+    } else {
+        format!("ties σ′/T′ to σ/T: --sub-slope is for {}", untied_names())
+    })]
+    SubSlopeOfModel {
+        /// The model.
+        model: Model,
+    },
     /// Parameters or angles outside their domain.
     #[error(transparent)]
     Input(#[from] InputError),
@@ -180,4 +191,12 @@ pub enum UsageError {
         /// What the selection rule says.
         source: laminar_io::selection::SelectError,
     },
+}
+
+/// The untied models' names, from the descriptor.
+fn untied_names() -> String {
+    let names: Vec<&str> = (Model::ALL.into_iter().filter(|m| m.is_untied()))
+        .map(Model::name)
+        .collect();
+    names.join(", ")
 }

@@ -123,7 +123,7 @@ const CASES: &[Case] = &[
         surface: "fit-batch options",
         args: "fit-batch --geometry {d}/g.csv --values {d}/v.csv --models exp,lambert --out {d}/out.csv",
         files: || vec![("g.csv", GEOMETRY.to_vec()), ("v.csv", VALUES.to_vec())],
-        needles: &["invalid value 'lambert'", "exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar"],
+        needles: &["invalid value 'lambert'", "exp, gauss, exp2, gauss2, rh-exp, rh-gauss, jensen, oren-nayar"],
     },
     Case {
         surface: "fit-batch options",

@@ -166,7 +166,10 @@ fn unwritable_out_fails_before_the_work() {
 fn parity_without_a_layered_model_is_an_error() {
     fails(
         &["parity", "--models", "jensen,oren-nayar"],
-        &["invalid value 'jensen'", "exp, gauss, rh-exp, rh-gauss"],
+        &[
+            "invalid value 'jensen'",
+            "exp, gauss, exp2, gauss2, rh-exp, rh-gauss",
+        ],
     );
     let out = ok(&[
         "parity",
@@ -1651,7 +1654,7 @@ fn every_model_and_parameter_of_the_descriptor_is_taken() {
             } else {
                 "0.2"
             };
-            ok(&[
+            let mut args = vec![
                 "eval",
                 "--model",
                 model.name(),
@@ -1669,7 +1672,11 @@ fn every_model_and_parameter_of_the_descriptor_is_taken() {
                 "0.7",
                 "--phi-s",
                 "1",
-            ]);
+            ];
+            if model.is_untied() {
+                args.extend(["--sub-slope", "0.3"]);
+            }
+            ok(&args);
         }
     }
     for p in Grid::PARAMS {
@@ -1746,4 +1753,59 @@ fn an_astm_file_is_fitted_channel_by_channel() {
         &["fit", "--measurements", s(&bad), "--models", "exp"],
         &["bad.astm:5", "column 1 (theta_i): `x"],
     );
+}
+
+/// The noise model and the untied models are refused where they do not
+/// apply, naming the option and the value.
+#[test]
+fn noise_and_untied_models_are_refused_where_they_do_not_apply() {
+    fails(
+        &["fit", "--noise", "poisson"],
+        &["invalid value 'poisson'", "given, equal or relative"],
+    );
+    fails(
+        &["fit", "--noise", "relative", "--noise-floor", "0"],
+        &["noise floor `0` is not in (0, 1]"],
+    );
+    fails(
+        &["fit", "--noise", "relative", "--objective", "paper"],
+        &["noise relative weighs the free objective"],
+    );
+    fails(
+        &["fit", "--models", "exp,exp2", "--objective", "paper"],
+        &[
+            "model exp2 frees the subsurface slope",
+            "fit exp under the paper objective",
+        ],
+    );
+    // The default built-in set, relative noise: the weights change the
+    // fits, every row's χ² test is absent (the scale is estimated), and
+    // the untied models are ranked with the tied ones.
+    let fits = |noise: &str| -> Vec<serde_json::Value> {
+        let out = ok(&[
+            "fit",
+            "--noise",
+            noise,
+            "--uncertainty",
+            "off",
+            "--format",
+            "json",
+        ]);
+        let file: serde_json::Value = serde_json::from_str(&out).expect("json");
+        file["fits"].as_array().expect("fits").clone()
+    };
+    let (relative, given) = (fits("relative"), fits("given"));
+    assert_eq!(relative.len(), laminar_fit::Model::ALL.len());
+    assert!(relative.iter().any(|f| f["model"] == "exp2"));
+    for (r, g) in relative.iter().zip(&given) {
+        assert_eq!(r["model"], g["model"]);
+        if r["fitted"]["params"]["slope"].is_number() {
+            assert_ne!(r["fitted"]["params"], g["fitted"]["params"], "{r}");
+        }
+        assert!(
+            r["adequacy"].is_object() && r["adequacy"]["chi2_p"].is_null(),
+            "{r}"
+        );
+        assert!(r["rank"]["rank"].is_u64(), "{r}");
+    }
 }

@@ -34,11 +34,14 @@ pub enum Param {
     Sigma,
     /// Oren–Nayar's albedo ρ.
     Rho,
+    /// RMS slope σ′/T′ of the lower boundary (eqs. 3–4), when it is free
+    /// beside σ/T (the untied models); the paper's search ties it to σ/T.
+    SubSlope,
 }
 
 impl Param {
     /// Every parameter.
-    pub const ALL: [Param; 8] = [
+    pub const ALL: [Param; 9] = [
         Param::Slope,
         Param::Beta,
         Param::N,
@@ -47,6 +50,7 @@ impl Param {
         Param::SigmaS,
         Param::Sigma,
         Param::Rho,
+        Param::SubSlope,
     ];
 
     /// The name in every interface (`slope`, `beta`, `sigma_a`, …).
@@ -54,8 +58,16 @@ impl Param {
     pub const fn name(self) -> &'static str {
         // A table, not a match: the evaluation-only WebAssembly package
         // carries this for its error messages, and data is smaller than code.
-        const NAMES: [&str; 8] = [
-            "slope", "beta", "n", "a", "sigma_a", "sigma_s", "sigma", "rho",
+        const NAMES: [&str; 9] = [
+            "slope",
+            "beta",
+            "n",
+            "a",
+            "sigma_a",
+            "sigma_s",
+            "sigma",
+            "rho",
+            "sub_slope",
         ];
         NAMES[self as usize]
     }
@@ -72,6 +84,7 @@ impl Param {
             Self::SigmaS => "σs′",
             Self::Sigma => "σ",
             Self::Rho => "ρ",
+            Self::SubSlope => "σ′/T′",
         }
     }
 
@@ -87,7 +100,7 @@ impl Param {
     #[must_use]
     pub const fn domain(self) -> (f64, f64) {
         match self {
-            Self::Slope => (SLOPE_MIN, SLOPE_MAX),
+            Self::Slope | Self::SubSlope => (SLOPE_MIN, SLOPE_MAX),
             Self::Beta | Self::A | Self::Rho => (0.0, 1.0),
             Self::N => (1.0, INDEX_MAX),
             Self::SigmaA | Self::SigmaS => (0.0, JENSEN_MAX),
@@ -105,7 +118,7 @@ impl Param {
     #[must_use]
     pub const fn allowed(self) -> &'static str {
         match self {
-            Self::Slope => "[1e-3, 1e3]",
+            Self::Slope | Self::SubSlope => "[1e-3, 1e3]",
             Self::Beta | Self::A | Self::Rho => "[0, 1]",
             Self::N => "[1, 10]",
             Self::SigmaA | Self::SigmaS => "(0, 100]",

@@ -12,35 +12,70 @@ use crate::surface::{inverse_slope_squared, surface_radiance, Correlation};
 pub use crate::param::{INDEX_MAX, SLOPE_MAX, SLOPE_MIN};
 
 /// Parameters of the absorptive model, validated once by [`Params::new`]:
-/// RMS slope `σ/T = σ′/T′ ∈ [1e-3, 1e3]`, balance `β ∈ [0, 1]`, refractive
-/// index `n ∈ [1, 10]`, absorption `a ∈ [0, 1]`.
+/// RMS slope `σ/T ∈ [1e-3, 1e3]`, balance `β ∈ [0, 1]`, refractive index
+/// `n ∈ [1, 10]`, absorption `a ∈ [0, 1]`, and the lower boundary's RMS
+/// slope σ′/T′ (eqs. 3–4): equal to σ/T as the paper's search ties them
+/// ([`Params::new`]), or its own ([`Params::untied`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Params {
     slope: f64,
+    sub_slope: f64,
     beta: f64,
     n: f64,
     a: f64,
 }
 
 impl Params {
-    /// Validates and builds a parameter set; the error names the first
-    /// parameter out of its domain (NaN is always out).
+    /// Validates and builds a parameter set with σ′/T′ = σ/T; the error
+    /// names the first parameter out of its domain (NaN is always out).
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
     pub fn new(slope: f64, beta: f64, n: f64, a: f64) -> Result<Self, InputError> {
-        let p = LaneParams::<f64>::new(slope, beta, n, a)?;
+        Self::untied(slope, slope, beta, n, a)
+    }
+
+    /// [`Params::new`] with the lower boundary's own RMS slope σ′/T′
+    /// (eqs. 3–4 as printed). At `sub_slope == slope` it is [`Params::new`].
+    ///
+    /// ```
+    /// use laminar_core::{total_radiance, Angles, Correlation, Geometry, Params};
+    /// let g = Geometry::<f64>::splat(&Angles::new(0.3, 0.9, 2.1)?);
+    /// let smooth_top = Params::untied(0.1, 0.8, 0.5, 1.5, 0.3)?;
+    /// let tied = Params::untied(0.1, 0.1, 0.5, 1.5, 0.3)?;
+    /// let corr = Correlation::Exponential;
+    /// assert_eq!(tied, Params::new(0.1, 0.5, 1.5, 0.3)?);
+    /// assert_ne!(total_radiance(&g, corr, &smooth_top), total_radiance(&g, corr, &tied));
+    /// # Ok::<(), laminar_core::InputError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
+    pub fn untied(
+        slope: f64,
+        sub_slope: f64,
+        beta: f64,
+        n: f64,
+        a: f64,
+    ) -> Result<Self, InputError> {
+        let p = LaneParams::<f64>::untied(slope, sub_slope, beta, n, a)?;
         Ok(Self {
             slope: p.slope,
+            sub_slope: p.sub_slope,
             beta: p.beta,
             n: p.n,
             a: p.a,
         })
     }
-    /// RMS slope σ/T (also σ′/T′).
+    /// RMS slope σ/T of the upper boundary.
     #[must_use]
     pub fn slope(&self) -> f64 {
         self.slope
+    }
+    /// RMS slope σ′/T′ of the lower boundary (σ/T when tied).
+    #[must_use]
+    pub fn sub_slope(&self) -> f64 {
+        self.sub_slope
     }
     /// Balance β between subsurface and surface radiance.
     #[must_use]
@@ -63,6 +98,7 @@ impl Params {
     pub fn in_precision<S: Real>(&self) -> LaneParams<S> {
         LaneParams::rounded(
             S::from_f64(self.slope),
+            S::from_f64(self.sub_slope),
             S::from_f64(self.beta),
             S::from_f64(self.n),
             S::from_f64(self.a),
@@ -78,37 +114,57 @@ impl Params {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LaneParams<S> {
     slope: S,
+    sub_slope: S,
     beta: S,
     n: S,
     a: S,
     inv_slope2: S,
+    inv_sub_slope2: S,
 }
 
 impl<S: Real> LaneParams<S> {
-    /// Validates in `S` and builds a parameter set: the domains of
-    /// [`Params`] (whose ends are `f32` values or round up to one, so an
-    /// `f32` value passes here exactly when its widened value passes in
-    /// `f64`).
+    /// Validates in `S` and builds a parameter set with σ′/T′ = σ/T: the
+    /// domains of [`Params`] (whose ends are `f32` values or round up to
+    /// one, so an `f32` value passes here exactly when its widened value
+    /// passes in `f64`).
     ///
     /// # Errors
     /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
     #[inline(always)] // so that a caller mapping the error to a code drops its strings
     pub fn new(slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
+        Self::untied(slope, slope, beta, n, a)
+    }
+
+    /// [`LaneParams::new`] with the lower boundary's own σ′/T′.
+    ///
+    /// # Errors
+    /// [`InputError::OutOfRange`] naming the first parameter outside its domain.
+    #[inline(always)]
+    pub fn untied(slope: S, sub_slope: S, beta: S, n: S, a: S) -> Result<Self, InputError> {
         Ok(Self::rounded(
             check_param(Param::Slope, slope)?,
+            check_param(Param::SubSlope, sub_slope)?,
             check_param(Param::Beta, beta)?,
             check_param(Param::N, n)?,
             check_param(Param::A, a)?,
         ))
     }
 
-    fn rounded(slope: S, beta: S, n: S, a: S) -> Self {
+    fn rounded(slope: S, sub_slope: S, beta: S, n: S, a: S) -> Self {
+        let inv_slope2 = inverse_slope_squared(slope);
         Self {
             slope,
+            sub_slope,
             beta,
             n,
             a,
-            inv_slope2: inverse_slope_squared(slope),
+            inv_slope2,
+            // Tied, the same value (and no second division).
+            inv_sub_slope2: if sub_slope == slope {
+                inv_slope2
+            } else {
+                inverse_slope_squared(sub_slope)
+            },
         }
     }
 
@@ -116,6 +172,11 @@ impl<S: Real> LaneParams<S> {
     #[must_use]
     pub fn slope(&self) -> S {
         self.slope
+    }
+    /// RMS slope σ′/T′ of the lower boundary.
+    #[must_use]
+    pub fn sub_slope(&self) -> S {
+        self.sub_slope
     }
     /// Balance β.
     #[must_use]
@@ -202,11 +263,11 @@ pub fn components_in<L: Lane>(
     corr: Correlation,
     p: &LaneParams<L::Scalar>,
 ) -> Components<L> {
-    let inv_slope2 = L::splat(p.inv_slope2);
     let iface = Interface::new(g, L::splat(p.n));
     let a = L::splat(p.a);
-    let surface = surface_radiance(g, corr, inv_slope2);
-    let subsurface = subsurface_base(&iface, corr, inv_slope2) * absorption_factor(g, a);
+    let surface = surface_radiance(g, corr, L::splat(p.inv_slope2));
+    let subsurface =
+        subsurface_base(&iface, corr, L::splat(p.inv_sub_slope2)) * absorption_factor(g, a);
     Components {
         fresnel_in: iface.fresnel_in,
         fresnel_out: iface.fresnel_out,
@@ -244,16 +305,16 @@ pub fn total_radiance_in<L: Lane>(
     corr: Correlation,
     p: &LaneParams<L::Scalar>,
 ) -> L {
-    let inv_slope2 = L::splat(p.inv_slope2);
     let zero = L::c(0.0);
     let (one, none) = (L::Scalar::c(1.0), L::Scalar::c(0.0));
     let surface = if p.beta < one {
-        surface_radiance(g, corr, inv_slope2)
+        surface_radiance(g, corr, L::splat(p.inv_slope2))
     } else {
         zero
     };
     let subsurface = if p.beta > none {
-        let base = subsurface_base(&Interface::new(g, L::splat(p.n)), corr, inv_slope2);
+        let iface = Interface::new(g, L::splat(p.n));
+        let base = subsurface_base(&iface, corr, L::splat(p.inv_sub_slope2));
         if p.a > none {
             base * absorption_factor(g, L::splat(p.a))
         } else {
@@ -331,5 +392,51 @@ mod tests {
                 assert_eq!(components_in(&g, corr, &q).total.to_bits(), want);
             }
         }
+    }
+
+    /// Untied, the surface term is the tied model's at σ/T and the
+    /// subsurface term the tied model's at σ′/T′, bit for bit, in every
+    /// lane type; tied (σ′/T′ = σ/T) it is the tied model.
+    #[test]
+    fn untied_terms_are_the_tied_models_at_each_slope() {
+        use crate::geometry::Angles;
+        use crate::lane::Lane;
+        use wide::{f32x8, f64x4};
+        fn check<L: Lane>(g: &Geometry<L>, corr: Correlation, top: f64, sub: f64) {
+            let (beta, n, a) = (0.4, 1.45, 0.3);
+            let untied = Params::untied(top, sub, beta, n, a).unwrap();
+            let at_top = components(g, corr, &Params::new(top, beta, n, a).unwrap());
+            let at_sub = components(g, corr, &Params::new(sub, beta, n, a).unwrap());
+            let c = components(g, corr, &untied);
+            let bits = |x: L| -> [u64; 8] {
+                core::array::from_fn(|i| {
+                    if i < L::LANES {
+                        x.lane(i).to_f64().to_bits()
+                    } else {
+                        0
+                    }
+                })
+            };
+            assert_eq!(bits(c.surface), bits(at_top.surface));
+            assert_eq!(bits(c.subsurface), bits(at_sub.subsurface));
+            assert_eq!(bits(total_radiance(g, corr, &untied)), bits(c.total));
+        }
+        let angles = Angles::new(0.3, 0.9, 2.1).unwrap();
+        for corr in [Correlation::Gaussian, Correlation::Exponential] {
+            for (top, sub) in [(0.12, 0.9), (2.0, 0.05), (0.5, 0.5)] {
+                check(&Geometry::<f64>::splat(&angles), corr, top, sub);
+                check(&Geometry::<f32>::splat(&angles), corr, top, sub);
+                check(&Geometry::<f64x4>::splat(&angles), corr, top, sub);
+                check(&Geometry::<f32x8>::splat(&angles), corr, top, sub);
+            }
+        }
+        let e = Params::untied(0.5, 0.0, 0.5, 1.3, 0.0).unwrap_err();
+        assert!(matches!(
+            e,
+            InputError::OutOfRange {
+                input: Input::Param(Param::SubSlope),
+                ..
+            }
+        ));
     }
 }

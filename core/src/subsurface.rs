@@ -45,8 +45,9 @@ impl<L: Lane> Interface<L> {
 }
 
 /// Ragheb–Hancock subsurface radiance (eqs. 3–4):
-/// `L^sf(θi′, θs′, φs; σ/T) · (1 − f(θi, n)) · (1 − f(θs′, 1/n)) · dω′`,
-/// with σ′/T′ = σ/T (the paper's search ties them).
+/// `L^sf(θi′, θs′, φs; σ′/T′) · (1 − f(θi, n)) · (1 − f(θs′, 1/n)) · dω′`,
+/// at the lower boundary's `inv_slope2 = (T′/σ′)²` (equal to the upper
+/// boundary's when tied, as the paper's search ties them).
 #[inline]
 #[must_use]
 pub fn subsurface_base<L: Lane>(iface: &Interface<L>, corr: Correlation, inv_slope2: L) -> L {

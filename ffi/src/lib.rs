@@ -144,7 +144,7 @@ pub const LAMINAR_COMPONENTS: usize = 7;
 pub(crate) fn status_of(e: InputError) -> Status {
     match e {
         InputError::OutOfRange { input, .. } => match input {
-            Input::Param(Param::Slope) => Status::BadSlope,
+            Input::Param(Param::Slope | Param::SubSlope) => Status::BadSlope,
             Input::Param(Param::Beta) => Status::BadBeta,
             Input::Param(Param::N) => Status::BadN,
             Input::Param(Param::A) => Status::BadA,

@@ -179,7 +179,13 @@ mod tests {
     /// layered models and both baselines, sharp and broad lobes.
     #[test]
     fn albedo_agrees_with_a_midpoint_sum_and_states_its_error() {
-        let layered = |slope, beta, n, a| ModelParams::Layered { slope, beta, n, a };
+        let layered = |slope, beta, n, a| ModelParams::Layered {
+            slope,
+            beta,
+            n,
+            a,
+            sub_slope: None,
+        };
         let cases = [
             (Model::Exp, layered(1.2, 0.4, 1.45, 0.2)),
             (Model::Gauss, layered(0.6, 0.3, 1.3, 0.5)),

@@ -130,7 +130,9 @@ pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams 
             let x = u(x0, x1);
             ModelParams::baseline(b, [x, u(y0, y1)])
         }
-        Family::Layered { absorption, .. } => {
+        Family::Layered {
+            absorption, untied, ..
+        } => {
             let (slope, beta, n) = match objective {
                 Objective::Free => (
                     libm::exp(u(libm::log(0.2), libm::log(5.0))),
@@ -139,11 +141,19 @@ pub fn draw(model: Model, objective: Objective, rng: &mut Noise) -> ModelParams 
                 ),
                 Objective::Paper => (u(0.5, 3.5), u(0.2, 0.8), u(1.34, 1.46)),
             };
+            let a = if absorption { u(0.1, 0.9) } else { 0.0 };
+            // Drawn after the others, so that a tied model's truths are
+            // those it always had.
+            let sub_slope = untied.then(|| match objective {
+                Objective::Free => libm::exp(u(libm::log(0.2), libm::log(5.0))),
+                Objective::Paper => slope,
+            });
             ModelParams::Layered {
                 slope,
                 beta,
                 n,
-                a: if absorption { u(0.1, 0.9) } else { 0.0 },
+                a,
+                sub_slope,
             }
         }
     }

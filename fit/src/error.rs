@@ -297,6 +297,18 @@ pub enum FitError {
         /// The model's name.
         model: &'static str,
     },
+    /// An untied model under the paper's objective, whose exhaustive
+    /// search ties σ′/T′ to σ/T.
+    #[error(
+        "model {model} frees the subsurface slope, which the paper objective's search ties to \
+         the surface's: fit {tied} under the paper objective, or {model} under the free one"
+    )]
+    UntiedUnderPaper {
+        /// The untied model's name.
+        model: &'static str,
+        /// Its tied model's name.
+        tied: &'static str,
+    },
     /// An uncertainty the objective does not compute.
     #[error("uncertainty {uncertainty} is not computed under the {objective} objective: {hint}")]
     UncertaintyOfObjective {
@@ -307,6 +319,16 @@ pub enum FitError {
         /// What to ask for instead.
         hint: &'static str,
     },
+    /// A noise model under the paper objective, which weighs every
+    /// measurement alike.
+    #[error("noise {noise} weighs the free objective; the paper objective's Δ_RMS weighs every measurement alike: fit under the free objective")]
+    NoiseOfObjective {
+        /// The noise model's name.
+        noise: &'static str,
+    },
+    /// The noise model.
+    #[error(transparent)]
+    Noise(#[from] crate::noise::NoiseError),
     /// The worker threads.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {

@@ -9,6 +9,7 @@ use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
 use crate::grid::Grid;
 use crate::model::Model;
+use crate::noise::Noise;
 use crate::objective::Objective;
 use crate::paper::profiles::ProfileCurve;
 use crate::report::Fit;
@@ -66,6 +67,7 @@ pub struct Fitter {
     analysis: Analysis,
     objective: Objective,
     precision: Precision,
+    noise: Noise,
 }
 
 impl Fitter {
@@ -86,6 +88,7 @@ impl Fitter {
             analysis: Analysis::FULL,
             objective: Objective::default(),
             precision: Precision::F64,
+            noise: Noise::Given,
         })
     }
 
@@ -122,6 +125,21 @@ impl Fitter {
     pub fn grid_precision(mut self, precision: Precision) -> Self {
         self.precision = precision;
         self
+    }
+
+    /// The free objective's noise model, how each measurement is weighted
+    /// (default [`Noise::Given`]; [`crate::noise`]).
+    ///
+    /// # Errors
+    /// [`FitError::Noise`] for a relative floor outside (0, 1].
+    pub fn noise(mut self, noise: Noise) -> Result<Self, FitError> {
+        self.noise = noise.validate()?;
+        Ok(self)
+    }
+
+    /// The noise model of the fits.
+    pub fn noise_of_fits(&self) -> Noise {
+        self.noise
     }
 
     /// The search path of the layered models (default [`SearchPath::DEFAULT`]).
@@ -215,6 +233,7 @@ impl Fitter {
         let tick = || self.tick();
         self.run(|| match self.objective {
             Objective::Free => {
+                let scene = &self.noise.weigh(scene);
                 let fit = free::driver::fit(scene, model, (&self.grid, self.precision), analysis);
                 tick();
                 fit
@@ -238,13 +257,17 @@ impl Fitter {
     /// # Errors
     /// [`FitError::Model`] when given parameters are outside their domain or
     /// not the model's; [`FitError::ModelTwice`] when `models` names a model
-    /// twice.
+    /// twice; [`FitError::UntiedUnderPaper`] for an untied model under
+    /// [`Objective::Paper`].
     pub fn fit_all(
         &self,
         scenes: &[Scene],
         models: &[Model],
         given: impl Fn(usize, Model) -> Option<ModelParams>,
     ) -> Result<Vec<Fit>, FitError> {
+        for &model in models {
+            self.objective.takes(model)?;
+        }
         let twice = (models.iter().enumerate()).find(|&(i, m)| models[..i].contains(m));
         if let Some((_, &model)) = twice {
             return Err(FitError::ModelTwice {
@@ -357,7 +380,7 @@ impl Fitter {
         let tick = || self.tick();
         self.run(|| match self.objective {
             Objective::Free => free::driver::fit_batch(
-                scenes,
+                &self.weighed(scenes),
                 model,
                 (&self.grid, self.precision),
                 analysis,
@@ -365,6 +388,14 @@ impl Fitter {
             ),
             Objective::Paper => self.paper(&tick).fit_batch(scenes, model),
         })
+    }
+
+    /// `scenes` weighted by the noise model (copies only when it changes them).
+    fn weighed<'a>(&self, scenes: &'a [Scene]) -> std::borrow::Cow<'a, [Scene]> {
+        match self.noise {
+            Noise::Given => std::borrow::Cow::Borrowed(scenes),
+            noise => scenes.iter().map(|s| noise.weigh(s)).collect(),
+        }
     }
 
     /// The profile of each parameter of `fit` (a fit of a layered model to

@@ -40,6 +40,8 @@ pub enum ModelParams {
         n: f64,
         /// a (0 for Ragheb–Hancock).
         a: f64,
+        /// σ′/T′ of the untied models (`None` when it is σ/T).
+        sub_slope: Option<f64>,
     },
     /// A baseline's two parameters, in [`Baseline::params`]' order.
     Baseline {
@@ -144,16 +146,19 @@ impl WrittenParams {
 }
 
 impl<'de> Deserialize<'de> for ModelParams {
-    /// Without its model: the layered models' when all four of theirs are
-    /// present, else the first baseline's whose parameters all are.
+    /// Without its model: the untied models' when all five of theirs are
+    /// present, the layered models' when all four of theirs are, else the
+    /// first baseline's whose parameters all are.
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let given = WrittenParams::deserialize(d)?;
         let all = |params: &[Param]| params.iter().all(|&p| given.number(p).is_some());
         let layered = Model::Exp.params();
-        if all(layered) {
-            return Ok(Self::from_values(Model::Exp, |p| {
-                given.number(p).unwrap_or(f64::NAN)
-            }));
+        for model in [Model::Exp2, Model::Exp] {
+            if all(model.params()) {
+                return Ok(Self::from_values(model, |p| {
+                    given.number(p).unwrap_or(f64::NAN)
+                }));
+            }
         }
         if let Some(b) = Baseline::ALL.into_iter().find(|b| all(b.params())) {
             return Ok(Self::baseline(
@@ -161,7 +166,8 @@ impl<'de> Deserialize<'de> for ModelParams {
                 b.params().map(|p| given.number(p).unwrap_or(f64::NAN)),
             ));
         }
-        let sets: Vec<String> = std::iter::once(layered)
+        let sets: Vec<String> = [layered, Model::Exp2.params()]
+            .into_iter()
             .chain(Baseline::ALL.iter().map(|b| &b.params()[..]))
             .map(|params| format!("{{{}}}", param_names(params)))
             .collect();
@@ -202,7 +208,9 @@ impl ts_rs::TS for ModelParams {
                 .collect();
             format!("{{ {}}}", fields.concat())
         };
-        std::iter::once(object(Model::Exp.params()))
+        [Model::Exp.params(), Model::Exp2.params()]
+            .into_iter()
+            .map(object)
             .chain(Baseline::ALL.iter().map(|b| object(&b.params()[..])))
             .collect::<Vec<_>>()
             .join(" | ")
@@ -217,11 +225,12 @@ impl ModelParams {
                 let [x, y] = b.params().map(value);
                 Self::baseline(b, [x, y])
             }
-            Family::Layered { .. } => Self::Layered {
+            Family::Layered { untied, .. } => Self::Layered {
                 slope: value(Param::Slope),
                 beta: value(Param::Beta),
                 n: value(Param::N),
                 a: value(Param::A),
+                sub_slope: untied.then(|| value(Param::SubSlope)),
             },
         }
     }
@@ -242,9 +251,12 @@ impl ModelParams {
 
     /// The parameters these values are of, in output order.
     pub fn params(&self) -> &'static [Param] {
-        match self.baseline_values() {
-            None => Model::Exp.params(),
-            Some((b, _)) => b.params(),
+        match *self {
+            Self::Layered {
+                sub_slope: Some(_), ..
+            } => Model::Exp2.params(),
+            Self::Layered { .. } => Model::Exp.params(),
+            Self::Baseline { baseline, .. } => baseline.params(),
         }
     }
 
@@ -261,7 +273,20 @@ impl ModelParams {
         // The position in [`ModelParams::params`], whichever family.
         let i = self.params().iter().position(|&q| q == p)?;
         Some(match *self {
-            Self::Layered { slope, beta, n, a } => [slope, beta, n, a][i],
+            Self::Layered {
+                slope,
+                beta,
+                n,
+                a,
+                sub_slope: None,
+            } => [slope, beta, n, a][i],
+            Self::Layered {
+                slope,
+                beta,
+                n,
+                a,
+                sub_slope: Some(sub_slope),
+            } => [slope, sub_slope, beta, n, a][i],
             Self::Baseline { values, .. } => values[i],
         })
     }
@@ -300,9 +325,14 @@ impl ModelParams {
     /// [`ModelError::OutOfDomain`] for values outside [`Params::new`]'s domain.
     pub fn layered(&self) -> Result<Params, ModelError> {
         match *self {
-            Self::Layered { slope, beta, n, a } => {
-                Params::new(slope, beta, n, a).map_err(ModelError::OutOfDomain)
-            }
+            Self::Layered {
+                slope,
+                beta,
+                n,
+                a,
+                sub_slope,
+            } => Params::untied(slope, sub_slope.unwrap_or(slope), beta, n, a)
+                .map_err(ModelError::OutOfDomain),
             Self::Baseline { .. } => Err(ModelError::WrongParameters {
                 model: Model::layered()
                     .map(Model::name)
@@ -437,7 +467,7 @@ impl<'de> Deserialize<'de> for NormalisationConstants {
 /// let fitted_on: Vec<Angles> = (0..10)
 ///     .map(|i| Angles::new(0.1 * i as f64, 0.3, 1.0).unwrap())
 ///     .collect();
-/// let params = ModelParams::Layered { slope: 0.6, beta: 0.4, n: 1.4, a: 0.2 };
+/// let params = ModelParams::Layered { slope: 0.6, beta: 0.4, n: 1.4, a: 0.2, sub_slope: None };
 /// let m = FittedModel::normalised_on(Model::Exp, params, &fitted_on, 1.0)?;
 /// // On its own geometries the prediction peaks at exactly 1.
 /// let p = m.predict(&fitted_on)?;
@@ -696,7 +726,7 @@ impl FittedModel {
     ///
     /// ```
     /// use laminar_fit::{FittedModel, Model, ModelParams};
-    /// let params = ModelParams::Layered { slope: 1.2, beta: 0.4, n: 1.4, a: 0.2 };
+    /// let params = ModelParams::Layered { slope: 1.2, beta: 0.4, n: 1.4, a: 0.2, sub_slope: None };
     /// let angles = [laminar_core::Angles::new(0.3, 0.4, 0.5).unwrap()];
     /// let fine = FittedModel::with_amplitude(Model::Exp, params, 1.0, 1.0);
     /// assert!(fine.predict(&angles).unwrap()[0].is_finite());
@@ -850,6 +880,7 @@ mod tests {
                 beta: 0.3,
                 n: 1.5,
                 a: 0.2,
+                sub_slope: None,
             },
             2.0,
             1.0,

@@ -205,7 +205,8 @@ impl Grid {
     /// The axis of parameter `p` (`None` for a baseline's parameter).
     pub fn axis(&self, p: Param) -> Option<&Axis> {
         match p {
-            Param::Slope => Some(&self.slope),
+            // The untied models search σ′/T′ over σ/T's axis.
+            Param::Slope | Param::SubSlope => Some(&self.slope),
             Param::Beta => Some(&self.beta),
             Param::N => Some(&self.n),
             Param::A => Some(&self.a),

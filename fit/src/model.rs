@@ -25,6 +25,11 @@ pub enum Model {
     Exp,
     /// Absorptive, Gaussian correlation (eq. 12).
     Gauss,
+    /// Absorptive, Exponential, the lower boundary's σ′/T′ free beside σ/T
+    /// (eqs. 3–4 and 13 as printed).
+    Exp2,
+    /// Absorptive, Gaussian, σ′/T′ free beside σ/T (eqs. 3–4 and 12).
+    Gauss2,
     /// Ragheb–Hancock, Exponential (a = 0).
     RhExp,
     /// Ragheb–Hancock, Gaussian (a = 0).
@@ -46,6 +51,9 @@ pub enum Family {
         /// True when a is fitted (the absorptive model), false for the
         /// Ragheb–Hancock variant (a = 0).
         absorption: bool,
+        /// True when the lower boundary's σ′/T′ is a parameter of its own
+        /// (eqs. 3–4 as printed), false when it is σ/T (the paper's search).
+        untied: bool,
     },
     /// A baseline (docs/conventions.md §7).
     Baseline(Baseline),
@@ -53,14 +61,24 @@ pub enum Family {
 
 /// The layered models' parameters, in output order.
 const LAYERED: &[Param] = &[Param::Slope, Param::Beta, Param::N, Param::A];
+/// The untied models' parameters, in output order.
+const UNTIED: &[Param] = &[
+    Param::Slope,
+    Param::SubSlope,
+    Param::Beta,
+    Param::N,
+    Param::A,
+];
 /// The Ragheb–Hancock variants' fitted parameters (a fixed at 0).
 const RAGHEB_HANCOCK: &[Param] = &[Param::Slope, Param::Beta, Param::N];
 
 impl Model {
     /// Every model, in output order.
-    pub const ALL: [Model; 6] = [
+    pub const ALL: [Model; 8] = [
         Model::Exp,
         Model::Gauss,
+        Model::Exp2,
+        Model::Gauss2,
         Model::RhExp,
         Model::RhGauss,
         Model::Jensen,
@@ -69,15 +87,18 @@ impl Model {
 
     /// What kind of model this is.
     pub fn family(self) -> Family {
-        let layered = |correlation, absorption| Family::Layered {
+        let layered = |correlation, absorption, untied| Family::Layered {
             correlation,
             absorption,
+            untied,
         };
         match self {
-            Self::Exp => layered(Correlation::Exponential, true),
-            Self::Gauss => layered(Correlation::Gaussian, true),
-            Self::RhExp => layered(Correlation::Exponential, false),
-            Self::RhGauss => layered(Correlation::Gaussian, false),
+            Self::Exp => layered(Correlation::Exponential, true, false),
+            Self::Gauss => layered(Correlation::Gaussian, true, false),
+            Self::Exp2 => layered(Correlation::Exponential, true, true),
+            Self::Gauss2 => layered(Correlation::Gaussian, true, true),
+            Self::RhExp => layered(Correlation::Exponential, false, false),
+            Self::RhGauss => layered(Correlation::Gaussian, false, false),
             Self::Jensen => Family::Baseline(Baseline::Jensen),
             Self::OrenNayar => Family::Baseline(Baseline::OrenNayar),
         }
@@ -88,6 +109,8 @@ impl Model {
         match self {
             Self::Exp => Correlation::Exponential.name(),
             Self::Gauss => Correlation::Gaussian.name(),
+            Self::Exp2 => "exp2",
+            Self::Gauss2 => "gauss2",
             Self::RhExp => "rh-exp",
             Self::RhGauss => "rh-gauss",
             Self::Jensen => "jensen",
@@ -128,15 +151,52 @@ impl Model {
             Family::Layered {
                 correlation,
                 absorption: true,
+                untied: false,
             } => Self::ALL.into_iter().find(|m| {
                 m.family()
                     == Family::Layered {
                         correlation,
                         absorption: false,
+                        untied: false,
                     }
             }),
             Family::Layered { .. } | Family::Baseline(_) => None,
         }
+    }
+
+    /// True for the untied models (σ′/T′ a parameter of its own).
+    pub fn is_untied(self) -> bool {
+        matches!(self.family(), Family::Layered { untied: true, .. })
+    }
+
+    /// The untied model of a tied absorptive model (exp → exp2), `None`
+    /// for the others.
+    pub fn untied(self) -> Option<Model> {
+        match self.family() {
+            Family::Layered {
+                correlation,
+                absorption: true,
+                untied: false,
+            } => Self::ALL
+                .into_iter()
+                .find(|m| m.correlation() == Some(correlation) && m.is_untied()),
+            Family::Layered { .. } | Family::Baseline(_) => None,
+        }
+    }
+
+    /// The tied model of an untied one (exp2 → exp); every other model is
+    /// its own.
+    pub fn tied_model(self) -> Model {
+        match self.correlation() {
+            Some(corr) if self.is_untied() => Model::absorptive(corr),
+            _ => self,
+        }
+    }
+
+    /// The models of the paper's search (every model but the untied ones,
+    /// whose σ′/T′ that search ties to σ/T), in output order.
+    pub fn tied() -> impl Iterator<Item = Model> {
+        Self::ALL.into_iter().filter(|m| !m.is_untied())
     }
 
     /// True for the models of eq. 8 (exp, gauss and their Ragheb–Hancock variants).
@@ -154,6 +214,8 @@ impl Model {
         match self {
             Self::Exp => "absorptive, exponential correlation (eq. 13)",
             Self::Gauss => "absorptive, Gaussian correlation (eq. 12)",
+            Self::Exp2 => "absorptive, exponential, subsurface roughness σ′/T′ free (eqs. 3–4)",
+            Self::Gauss2 => "absorptive, Gaussian, subsurface roughness σ′/T′ free (eqs. 3–4)",
             Self::RhExp => "Ragheb–Hancock, exponential (a = 0)",
             Self::RhGauss => "Ragheb–Hancock, Gaussian (a = 0)",
             Self::Jensen => "Jensen et al. 2001 dipole diffusion (σa, σs′)",
@@ -165,6 +227,7 @@ impl Model {
     /// ([`crate::ModelParams`]) and every output lists.
     pub fn params(self) -> &'static [Param] {
         match self.family() {
+            Family::Layered { untied: true, .. } => UNTIED,
             Family::Layered { .. } => LAYERED,
             Family::Baseline(b) => b.params(),
         }
@@ -186,7 +249,7 @@ impl Model {
     pub fn absorptive(corr: Correlation) -> Model {
         Self::ALL
             .into_iter()
-            .find(|m| m.correlation() == Some(corr) && !m.is_ragheb_hancock())
+            .find(|m| m.correlation() == Some(corr) && !m.is_ragheb_hancock() && !m.is_untied())
             .expect("every correlation has its absorptive model")
     }
 
@@ -307,6 +370,10 @@ mod tests {
             let rh = m.ragheb_hancock().expect("an a = 0 variant");
             assert_eq!(rh.correlation(), Some(corr));
             assert!(!rh.free_params().contains(&Param::A));
+            let untied = m.untied().expect("an untied variant");
+            assert_eq!(untied.correlation(), Some(corr));
+            assert_eq!(untied.params()[..2], [Param::Slope, Param::SubSlope]);
+            assert!(!Model::tied().any(|t| t == untied));
         }
         for m in Model::ALL {
             assert_eq!(m.name().parse::<Model>(), Ok(m));
@@ -315,7 +382,7 @@ mod tests {
         }
         let e = "lambert".parse::<Model>().unwrap_err().to_string();
         assert!(
-            e.contains("exp, gauss, rh-exp, rh-gauss, jensen, oren-nayar"),
+            e.contains("exp, gauss, exp2, gauss2, rh-exp, rh-gauss, jensen, oren-nayar"),
             "{e}"
         );
     }

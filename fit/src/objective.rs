@@ -1,7 +1,9 @@
 //! Which objective a fit minimises (docs/conventions.md §4, §4b).
 
+use crate::error::FitError;
 use crate::error::{find_named, UnknownName};
 use crate::grid::Grid;
+use crate::model::Model;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -59,6 +61,31 @@ impl Objective {
         match self {
             Self::Free => Grid::user(),
             Self::Paper => Grid::paper(),
+        }
+    }
+
+    /// Whether this objective fits `model`: the paper's search ties σ′/T′
+    /// to σ/T, so it does not fit the untied models.
+    ///
+    /// # Errors
+    /// [`FitError::UntiedUnderPaper`] for an untied model under `paper`.
+    pub fn takes(self, model: Model) -> Result<(), FitError> {
+        match self {
+            Self::Paper if model.is_untied() => Err(FitError::UntiedUnderPaper {
+                model: model.name(),
+                tied: model.tied_model().name(),
+            }),
+            Self::Paper | Self::Free => Ok(()),
+        }
+    }
+
+    /// The models a comparison of this objective fits unless told
+    /// otherwise: every model for `free`; for `paper`, the models of the
+    /// paper's search ([`Model::tied`]: it ties σ′/T′ to σ/T).
+    pub fn default_models(self) -> Vec<Model> {
+        match self {
+            Self::Free => Model::ALL.to_vec(),
+            Self::Paper => Model::tied().collect(),
         }
     }
 }

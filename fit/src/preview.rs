@@ -282,6 +282,7 @@ mod tests {
             beta,
             n: 1.45,
             a: 0.2,
+            sub_slope: None,
         };
         FittedModel::with_amplitude(Model::Exp, params, 1.0, 1.0)
     }

@@ -14,6 +14,7 @@ pub struct Scene {
     pub(crate) angles: Vec<Angles>,
     pub(crate) data: Vec<f64>,
     pub(crate) sigma: Option<Vec<f64>>,
+    pub(crate) relative_sigma: Option<Vec<f64>>,
     pub(crate) rows: Vec<usize>,
     pub(crate) nonpositive: usize,
     pub(crate) data_scale: f64,
@@ -43,6 +44,24 @@ impl Scene {
     /// Standard uncertainty of each `D_k`, on the same scale, when the input gave them.
     pub fn sigma(&self) -> Option<&[f64]> {
         self.sigma.as_deref()
+    }
+
+    /// Each `D_k`'s standard deviation up to a common unknown factor, when
+    /// a noise model set them ([`crate::Noise::Relative`]).
+    pub fn relative_sigma(&self) -> Option<&[f64]> {
+        self.relative_sigma.as_deref()
+    }
+
+    /// The standard deviations the measurements are weighted by, and
+    /// whether their scale is known: the file's ([`Scene::sigma`], known),
+    /// else a noise model's ([`Scene::relative_sigma`]); `None` for equal
+    /// weights.
+    pub fn weights(&self) -> Option<(&[f64], bool)> {
+        match (&self.sigma, &self.relative_sigma) {
+            (Some(sigma), _) => Some((sigma, true)),
+            (None, Some(relative)) => Some((relative, false)),
+            (None, None) => None,
+        }
     }
 
     /// Source row (1-based) of each kept measurement.
@@ -83,6 +102,7 @@ impl Scene {
             angles,
             data: radiance,
             sigma,
+            relative_sigma: None,
             rows,
             nonpositive,
             data_scale,

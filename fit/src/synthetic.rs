@@ -57,14 +57,24 @@ impl Noise {
 }
 
 /// The paper-normalised prediction of the absorptive model `corr` at
-/// `params` on `angles` (docs/conventions.md §4).
+/// `params` on `angles` (docs/conventions.md §4): the untied model's when
+/// `params` has a subsurface slope of its own.
 pub fn normalised(corr: Correlation, params: &Params, angles: &[Angles]) -> Vec<f64> {
+    let tied = params.sub_slope() == params.slope();
     let model = Model::absorptive(corr);
+    let model = if tied {
+        model
+    } else {
+        model
+            .untied()
+            .expect("every absorptive model has an untied one")
+    };
     let p = ModelParams::Layered {
         slope: params.slope(),
         beta: params.beta(),
         n: params.n(),
         a: params.a(),
+        sub_slope: (!tied).then(|| params.sub_slope()),
     };
     FittedModel::normalised_on(model, p, angles, 1.0)
         .and_then(|m| m.predict(angles))

@@ -108,6 +108,7 @@ fn intervals_shrink_with_the_noise_and_an_exact_truth_is_found() {
         beta: 0.61,
         n: 1.73,
         a: 0.27,
+        sub_slope: None,
     };
     let mut widths = Vec::new();
     for noise in [0.02, 0.005, 0.001] {
@@ -206,6 +207,7 @@ fn an_estimate_on_the_box_face_says_what_releasing_the_bound_gives() {
         beta: 0.6,
         n: 3.2,
         a: 0.3,
+        sub_slope: None,
     };
     let fit = free_fit(
         Model::Exp,

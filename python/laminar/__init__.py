@@ -76,20 +76,26 @@ def _real(name, x):
     return array.astype(np.float64, copy=False)
 
 
-def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, precision="f64"):
-    """Every component of a layered model (``exp``, ``gauss``, ``rh-exp``,
-    ``rh-gauss``) at paper-frame angles (radians) and parameters, broadcast
-    together like numpy operands. Returns a dict of arrays of the broadcast
-    shape: ``fresnel_in, fresnel_out, absorb_in, absorb_out, surface,
-    subsurface, total`` (the raw terms of eqs. 1–14 and the eq. 8 total, as
-    ``laminar eval``). ``precision`` is ``"f64"`` or ``"f32"``."""
-    names = ("theta_i", "theta_s", "phi_s", "slope", "beta", "n", "a")
-    arrays = np.broadcast_arrays(
-        *(_real(name, x) for name, x in zip(names, (theta_i, theta_s, phi_s, slope, beta, n, a)))
-    )
+def evaluate(model, theta_i, theta_s, phi_s, slope, beta, n, a, sub_slope=None, precision="f64"):
+    """Every component of a layered model (``exp``, ``gauss``, ``exp2``,
+    ``gauss2``, ``rh-exp``, ``rh-gauss``) at paper-frame angles (radians) and
+    parameters, broadcast together like numpy operands. ``sub_slope`` is the
+    subsurface slope σ′/T′ of the untied models (``exp2``, ``gauss2``), which
+    need it; the others tie it to ``slope`` and refuse it. Returns a dict of
+    arrays of the broadcast shape: ``fresnel_in, fresnel_out, absorb_in,
+    absorb_out, surface, subsurface, total`` (the raw terms of eqs. 1–14 and
+    the eq. 8 total, as ``laminar eval``). ``precision`` is ``"f64"`` or
+    ``"f32"``."""
+    names = ["theta_i", "theta_s", "phi_s", "slope", "beta", "n", "a"]
+    values = [theta_i, theta_s, phi_s, slope, beta, n, a]
+    if sub_slope is not None:
+        names.append("sub_slope")
+        values.append(sub_slope)
+    arrays = np.broadcast_arrays(*(_real(name, x) for name, x in zip(names, values)))
     shape = arrays[0].shape
     flat = [np.ascontiguousarray(x.ravel()) for x in arrays]
-    out = _evaluate(model, *flat, precision=precision)
+    sub = flat[7] if sub_slope is not None else None
+    out = _evaluate(model, *flat[:7], sub_slope=sub, precision=precision)
     return {name: values.reshape(shape) for name, values in out.items()}
 
 
@@ -104,9 +110,12 @@ def fit(
     resamples=200,
     seed=0,
     precision="f64",
+    noise="given",
+    noise_floor=0.1,
 ):
-    """Fits ``model`` (``exp``, ``gauss``, ``rh-exp``, ``rh-gauss``,
-    ``jensen``, ``oren-nayar``) to a :class:`Measurements`.
+    """Fits ``model`` (``exp``, ``gauss``, ``exp2``, ``gauss2`` — σ′/T′
+    free —, ``rh-exp``, ``rh-gauss``, ``jensen``, ``oren-nayar``) to a
+    :class:`Measurements`.
 
     ``objective``: ``"free"`` (default) minimises ``Σ w (D − c·M)²`` with a
     free amplitude ``c ≥ 0``, ``M`` eq. 8's raw mix (β is eq. 8's, solved
@@ -127,8 +136,15 @@ def fit(
     (default: all cores). ``precision``: the arithmetic of the free
     objective's grid stage, ``"f64"`` (default) or ``"f32"`` (the model
     terms in single precision, the sums and everything after in double;
-    faster for the Gaussian models' single fits; docs/speed.md)."""
-    return _fit(measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed, precision)
+    faster for the Gaussian models' single fits; docs/speed.md).
+    ``noise``: how the free objective weighs each measurement, ``"given"``
+    (default: the measurements' uncertainties, known; else equal weights),
+    ``"equal"``, or ``"relative"`` (σ ∝ the value above a floor of
+    ``noise_floor`` times the median positive value, the scale estimated:
+    goniometer data; docs/conventions.md §4b)."""
+    return _fit(
+        measurements, model, grid, refine, uncertainty, threads, objective, resamples, seed, precision, noise, noise_floor
+    )
 
 
 def fit_batch(
@@ -142,6 +158,8 @@ def fit_batch(
     uncertainty="both",
     objective="free",
     precision="f64",
+    noise="given",
+    noise_floor=0.1,
 ):
     """Fits a layered ``model`` to every row of ``values`` (N × K) on one
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
@@ -161,9 +179,14 @@ def fit_batch(
     none); NaN when not computed. :data:`BATCH_DTYPES` gives each field's
     own dtype (as the Dask results store it).
     ``refine=False, uncertainty="off"`` is the grid search alone, several
-    times faster. ``objective`` and ``precision`` as in :func:`fit`."""
+    times faster. ``objective``, ``precision``, ``noise`` and
+    ``noise_floor`` as in :func:`fit`. The untied models (``exp2``,
+    ``gauss2``) are not batched: their columns are not in
+    :data:`BATCH_COLUMNS`."""
     # The arrays are checked (real numbers, two dimensions) by name there.
-    columns = _fit_batch(geometry, values, model, grid, threads, quantity, refine, uncertainty, objective, precision)
+    columns = _fit_batch(
+        geometry, values, model, grid, threads, quantity, refine, uncertainty, objective, precision, noise, noise_floor
+    )
     out = np.empty(len(columns[BATCH_COLUMNS[0]]), dtype=BATCH_DTYPE)
     for name in BATCH_COLUMNS:
         out[name] = columns[name]

@@ -15,7 +15,7 @@ from ._laminar import compare as compare
 from ._laminar import fit as fit
 from ._laminar import FittedModel as FittedModel
 from ._laminar import render as render
-from ._laminar import AngleUnit, Grid, LayeredModel, Model, Objective, Precision, Quantity, Uncertainty
+from ._laminar import AngleUnit, Grid, LayeredModel, Model, Noise, Objective, Precision, Quantity, Uncertainty
 from ._laminar import Measurements as Measurements
 from ._laminar import paper_angles as paper_angles
 
@@ -30,6 +30,7 @@ def evaluate(
     beta: npt.ArrayLike,
     n: npt.ArrayLike,
     a: npt.ArrayLike,
+    sub_slope: Optional[npt.ArrayLike] = None,
     precision: Precision = "f64",
 ) -> dict[str, npt.NDArray[np.float64]]: ...
 def fit_batch(
@@ -43,4 +44,6 @@ def fit_batch(
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
     precision: Precision = "f64",
+    noise: Noise = "given",
+    noise_floor: float = 0.1,
 ) -> npt.NDArray[np.void]: ...

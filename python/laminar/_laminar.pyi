@@ -7,13 +7,14 @@ import numpy as np
 import numpy.typing as npt
 
 #: Every option value the library accepts (the Rust parsers' names).
-Model = Literal["exp", "gauss", "rh-exp", "rh-gauss", "jensen", "oren-nayar"]
-LayeredModel = Literal["exp", "gauss", "rh-exp", "rh-gauss"]
+Model = Literal["exp", "gauss", "exp2", "gauss2", "rh-exp", "rh-gauss", "jensen", "oren-nayar"]
+LayeredModel = Literal["exp", "gauss", "exp2", "gauss2", "rh-exp", "rh-gauss"]
 Objective = Literal["free", "paper"]
 Uncertainty = Literal["off", "profile", "jacobian", "both", "bootstrap"]
 Quantity = Literal["brdf", "radiance"]
 AngleUnit = Literal["rad", "deg"]
 Precision = Literal["f64", "f32"]
+Noise = Literal["given", "equal", "relative"]
 
 Array = npt.NDArray[np.float64]
 AxisSpec = Union[str, Sequence[float]]
@@ -34,6 +35,7 @@ def evaluate(
     beta: Array,
     n: Array,
     a: Array,
+    sub_slope: Optional[Array] = None,
     precision: Precision = "f64",
 ) -> dict[str, Array]: ...
 def paper_angles(theta_i: float, phi_i: float, theta_v: float, phi_v: float) -> tuple[float, float, float]: ...
@@ -166,6 +168,8 @@ def fit(
     resamples: int = 200,
     seed: int = 0,
     precision: Precision = "f64",
+    noise: Noise = "given",
+    noise_floor: float = 0.1,
 ) -> FitResult: ...
 def compare(
     measurements: Measurements,
@@ -179,6 +183,8 @@ def compare(
     seed: int = 0,
     folds: int = 5,
     precision: Precision = "f64",
+    noise: Noise = "given",
+    noise_floor: float = 0.1,
 ) -> list[FitResult]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
@@ -191,4 +197,6 @@ def fit_batch(
     uncertainty: Uncertainty = "both",
     objective: Objective = "free",
     precision: Precision = "f64",
+    noise: Noise = "given",
+    noise_floor: float = 0.1,
 ) -> dict[str, Array]: ...

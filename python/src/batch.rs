@@ -4,6 +4,7 @@
 use crate::convert::{lab_angles, layered_names, parse, real_array, reserve};
 use crate::fit_result::{fitter, refine_threads, Named};
 use laminar_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_fit::noise::DEFAULT_FLOOR;
 use laminar_fit::{MeasurementSet, Model, Quantity};
 use laminar_io::fits::BatchRow;
 use numpy::{IntoPyArray, PyReadonlyArray2};
@@ -25,7 +26,7 @@ pub(crate) fn batch_row() -> BatchRow {
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
 /// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
 #[pyfunction]
-#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = None, uncertainty = "both", objective = "free", precision = "f64"))]
+#[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = None, uncertainty = "both", objective = "free", precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_batch<'py>(
     py: Python<'py>,
@@ -39,12 +40,20 @@ pub(crate) fn fit_batch<'py>(
     uncertainty: &str,
     objective: &str,
     precision: &str,
+    noise: &str,
+    noise_floor: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
     if model.correlation().is_none() {
         return Err(PyValueError::new_err(format!(
             "model: fit_batch fits the layered models ({}), not {model}",
             layered_names()
+        )));
+    }
+    if model.is_untied() {
+        return Err(PyValueError::new_err(format!(
+            "model: fit_batch's columns (BATCH_COLUMNS) are the tied models'; fit {model} \
+             with laminar.fit or laminar.compare"
         )));
     }
     let quantity: Quantity = parse("quantity", quantity)?;
@@ -55,6 +64,8 @@ pub(crate) fn fit_batch<'py>(
         resamples: DEFAULT_RESAMPLES as u64,
         seed: 0,
         folds: 0,
+        noise,
+        noise_floor,
     };
     let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
     let fitter = fitter(grid, threads, refine, named)?;

@@ -9,9 +9,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 /// Evaluates every component of a layered model (eqs. 1–14, eq. 8 total) at
-/// equal-length arrays of paper-frame angles and parameters.
+/// equal-length arrays of paper-frame angles and parameters; `sub_slope`
+/// (σ′/T′) for the untied models, and for them only.
 #[pyfunction]
-#[pyo3(signature = (model, theta_i, theta_s, phi_s, slope, beta, n, a, precision = "f64"))]
+#[pyo3(signature = (model, theta_i, theta_s, phi_s, slope, beta, n, a, sub_slope = None, precision = "f64"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn evaluate<'py>(
     py: Python<'py>,
@@ -23,6 +24,7 @@ pub(crate) fn evaluate<'py>(
     beta: PyReadonlyArray1<'py, f64>,
     n: PyReadonlyArray1<'py, f64>,
     a: PyReadonlyArray1<'py, f64>,
+    sub_slope: Option<PyReadonlyArray1<'py, f64>>,
     precision: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
@@ -41,7 +43,28 @@ pub(crate) fn evaluate<'py>(
             )))
         }
     };
-    let columns = [&theta_i, &theta_s, &phi_s, &slope, &beta, &n, &a].map(|c| c.as_array());
+    let sub_slope = match (model.is_untied(), sub_slope) {
+        (true, Some(sub)) => sub,
+        (true, None) => {
+            return Err(value_error(format!(
+                "sub_slope: {model} frees the subsurface slope σ′/T′; give sub_slope"
+            )))
+        }
+        (false, Some(_)) => {
+            return Err(value_error(format!(
+                "sub_slope: {model} ties σ′/T′ to σ/T; give sub_slope to {} only",
+                Model::ALL
+                    .into_iter()
+                    .filter(|m| m.is_untied())
+                    .map(Model::name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )))
+        }
+        (false, None) => slope.clone(),
+    };
+    let columns =
+        [&theta_i, &theta_s, &phi_s, &slope, &beta, &n, &a, &sub_slope].map(|c| c.as_array());
     let len = columns[0].len();
     if columns.iter().any(|c| c.len() != len) {
         return Err(value_error("all arrays must have the same length"));
@@ -55,11 +78,11 @@ pub(crate) fn evaluate<'py>(
     let rh = model.is_ragheb_hancock();
     py.detach(|| -> Result<(), String> {
         for i in 0..len {
-            let [ti, ts, ps, s, b, n, a] = columns.each_ref().map(|c| c[i]);
+            let [ti, ts, ps, s, b, n, a, sub] = columns.each_ref().map(|c| c[i]);
             if rh && a != 0.0 {
                 return Err(format!("a: element {i} is {a}; {model} is the a = 0 model"));
             }
-            let p = Params::new(s, b, n, a).map_err(|e| format!("element {i}: {e}"))?;
+            let p = Params::untied(s, sub, b, n, a).map_err(|e| format!("element {i}: {e}"))?;
             let g = Angles::new(ti, ts, ps).map_err(|e| format!("element {i}: {e}"))?;
             let values = if single {
                 components(&Geometry::<f32>::splat(&g), corr, &p)

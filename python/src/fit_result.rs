@@ -6,6 +6,7 @@ use crate::convert::{
 use crate::measurements::Measurements;
 use laminar_core::Angles;
 use laminar_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_fit::noise::DEFAULT_FLOOR;
 use laminar_fit::{Axis, Fit, Fitter, Model, SettingError, Settings};
 use laminar_io::fits;
 use laminar_io::fits::FitEntry;
@@ -24,6 +25,8 @@ pub(crate) struct Named<'a> {
     pub resamples: u64,
     pub seed: u64,
     pub folds: u64,
+    pub noise: &'a str,
+    pub noise_floor: f64,
 }
 
 /// `refine` (default true) as a flag, `threads` (default all) as a count,
@@ -59,6 +62,8 @@ pub(crate) fn fitter(
         ("resamples", named.resamples.to_string()),
         ("seed", named.seed.to_string()),
         ("folds", named.folds.to_string()),
+        ("noise_floor", named.noise_floor.to_string()),
+        ("noise", named.noise.to_string()),
     ] {
         s.set(name, &value).map_err(value_error)?;
     }
@@ -306,7 +311,7 @@ impl FitResult {
 /// Fits `model` to `measurements` by the exhaustive grid search, then
 /// refines it and measures the uncertainty of its parameters.
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp", grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, precision = "f64"))]
+#[pyo3(signature = (measurements, model = "exp", grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit(
     py: Python<'_>,
@@ -320,6 +325,8 @@ pub(crate) fn fit(
     resamples: Option<Bound<'_, PyAny>>,
     seed: Option<Bound<'_, PyAny>>,
     precision: &str,
+    noise: &str,
+    noise_floor: f64,
 ) -> PyResult<FitResult> {
     let model: Model = parse("model", model)?;
     let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
@@ -330,15 +337,19 @@ pub(crate) fn fit(
         resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
         seed: whole_or("seed", seed.as_ref(), 0)?,
         folds: 0,
+        noise,
+        noise_floor,
     };
     let fitter = fitter(grid, threads, refine, named)?;
+    fitter.objective_of_fits().takes(model).map_err(value_error)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })
 }
 
 /// Fits each of ``models`` (an iterable of names; default: every model of
-/// ``MODELS``) to a ``Measurements`` and compares them, as ``laminar fit``
+/// ``MODELS`` under the free objective, the tied ones under the paper's)
+/// to a ``Measurements`` and compares them, as ``laminar fit``
 /// does with several models: a list of ``FitResult`` in the order of
 /// ``models``, each with its ``rank`` (``{"rank", "delta", "weight"}``: 1
 /// for the lowest AICc, ΔAICc, the Akaike weight), ``information`` (AIC,
@@ -347,7 +358,7 @@ pub(crate) fn fit(
 /// other arguments are ``fit``'s. Ranks need the free objective and
 /// ``refine``.
 #[pyfunction]
-#[pyo3(signature = (measurements, models = None, grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, folds = None, precision = "f64"))]
+#[pyo3(signature = (measurements, models = None, grid = None, refine = None, uncertainty = "both", threads = None, objective = "free", resamples = None, seed = None, folds = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn compare(
     py: Python<'_>,
@@ -362,9 +373,11 @@ pub(crate) fn compare(
     seed: Option<Bound<'_, PyAny>>,
     folds: Option<Bound<'_, PyAny>>,
     precision: &str,
+    noise: &str,
+    noise_floor: f64,
 ) -> PyResult<Vec<FitResult>> {
     let (refine, threads) = refine_threads(refine.as_ref(), threads.as_ref())?;
-    let models: Vec<Model> = match models {
+    let models: Option<Vec<Model>> = match models {
         Some(names) if !names.is_instance_of::<pyo3::types::PyString>() => names
             .try_iter()
             .map_err(|_| PyTypeError::new_err("models: give an iterable of model names"))?
@@ -374,13 +387,14 @@ pub(crate) fn compare(
                     .map_err(|_| PyTypeError::new_err("models: give model names (strings)"))?;
                 parse("models", &name)
             })
-            .collect::<PyResult<_>>()?,
+            .collect::<PyResult<_>>()
+            .map(Some)?,
         Some(_) => {
             return Err(PyTypeError::new_err(
                 "models: give a list of model names, not one string",
             ))
         }
-        None => Model::ALL.to_vec(),
+        None => None,
     };
     let named = Named {
         objective,
@@ -389,8 +403,11 @@ pub(crate) fn compare(
         resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
         seed: whole_or("seed", seed.as_ref(), 0)?,
         folds: whole_or("folds", folds.as_ref(), 5)?,
+        noise,
+        noise_floor,
     };
     let fitter = fitter(grid, threads, refine, named)?;
+    let models = models.unwrap_or_else(|| fitter.objective_of_fits().default_models());
     let scene = measurements.scene()?;
     let fits = py
         .detach(|| fitter.fit_all(std::slice::from_ref(&scene), &models, |_, _| None))

@@ -30,6 +30,30 @@ def test_evaluate_broadcasts_and_equals_the_cli(tmp_path):
     assert np.allclose(f32, out["total"][:, 1], rtol=1e-5) and not np.array_equal(f32, out["total"][:, 1])
 
 
+def test_an_untied_model_takes_its_subsurface_slope(tmp_path):
+    theta_s = np.linspace(0.0, 1.4, 5)
+    out = laminar.evaluate("exp2", 0.4, theta_s, 0.3, 0.2, 0.3, 1.45, 0.2, sub_slope=1.5)
+    geo = tmp_path / "g.csv"
+    geo.write_text("theta_i,theta_s,phi_s\n" + "".join(f"0.4,{float(t)!r},0.3\n" for t in theta_s))
+    args = ("--slope", 0.2, "--sub-slope", 1.5, "--beta", 0.3, "--n", 1.45, "--a", 0.2, "--geometry", geo)
+    text = cli("eval", "--model", "exp2", *args)
+    header = text.splitlines()[0].split(",")
+    rows = [line.split(",") for line in text.strip().splitlines()[1:]]
+    for name in out:
+        expected = np.array([float(r[header.index(name)]) for r in rows])
+        assert np.array_equal(out[name], expected), name
+    # The surface is the tied model's at σ/T, the subsurface the tied
+    # model's at σ′/T′.
+    surface = laminar.evaluate("exp", 0.4, theta_s, 0.3, 0.2, 0.3, 1.45, 0.2)
+    subsurface = laminar.evaluate("exp", 0.4, theta_s, 0.3, 1.5, 0.3, 1.45, 0.2)
+    assert np.array_equal(out["surface"], surface["surface"])
+    assert np.array_equal(out["subsurface"], subsurface["subsurface"])
+    with pytest.raises(ValueError, match="sub_slope: exp2 frees"):
+        laminar.evaluate("exp2", 0.4, theta_s, 0.3, 0.2, 0.3, 1.45, 0.2)
+    with pytest.raises(ValueError, match="sub_slope: exp ties"):
+        laminar.evaluate("exp", 0.4, theta_s, 0.3, 0.2, 0.3, 1.45, 0.2, sub_slope=1.5)
+
+
 def test_fit_of_a_csv_equals_the_cli(tmp_path):
     g = geometry()
     path = write_csv(tmp_path / "set.csv", g, radiance(g))
@@ -59,6 +83,30 @@ def test_fit_of_a_csv_equals_the_cli(tmp_path):
         assert p["lo68"] <= p["refined"] <= p["hi68"], name
         assert p["lo95"] <= p["lo68"] and p["hi68"] <= p["hi95"], name
         assert p["interval"] == "robust", name  # the profile calibrated by the sandwich
+
+
+def test_relative_noise_and_untied_models_equal_the_cli(tmp_path):
+    g = geometry()
+    path = write_csv(tmp_path / "set.csv", g, radiance(g))
+    m = laminar.Measurements.from_csv(path, quantity="radiance")
+    result = laminar.fit(m, "exp2", grid=GRID, noise="relative", noise_floor=0.05)
+    fits = cli_fits(
+        "--measurements", path, "--quantity", "radiance", "--models", "exp2", *GRID_ARGS,
+        "--noise", "relative", "--noise-floor", "0.05",
+    )
+    assert json.loads(result.to_json())["fits"] == fits
+    assert set(result.params) == {"slope", "sub_slope", "beta", "n", "a"}
+    assert fits[0]["adequacy"]["chi2_p"] is None  # the scale is estimated
+    given = laminar.fit(m, "exp2", grid=GRID)
+    assert given.params != result.params
+    with pytest.raises(ValueError, match="noise: unknown noise `poisson`"):
+        laminar.fit(m, "exp", grid=GRID, noise="poisson")
+    with pytest.raises(ValueError, match="noise_floor: noise floor `0` is not in"):
+        laminar.fit(m, "exp", grid=GRID, noise="relative", noise_floor=0.0)
+    with pytest.raises(ValueError, match="model exp2 frees the subsurface slope"):
+        laminar.compare(m, ["exp", "exp2"], objective="paper")
+    with pytest.raises(ValueError, match="fit_batch's columns"):
+        laminar.fit_batch(g, radiance(g)[None, :], "exp2", quantity="radiance")
 
 
 def test_compare_equals_the_cli_with_every_model(tmp_path):
@@ -355,13 +403,14 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
     """Every value of each option's ``Literal`` in the stubs is accepted,
     and a value outside it is refused with a ValueError naming the option."""
     lit = stub_literals()
-    assert set(lit) == {"Model", "LayeredModel", "Objective", "Uncertainty", "Quantity", "AngleUnit", "Precision"}
+    assert set(lit) == {"Model", "LayeredModel", "Objective", "Uncertainty", "Quantity", "AngleUnit", "Precision", "Noise"}
     # The model aliases are the library's descriptor, in its order.
     assert tuple(lit["Model"]) == tuple(laminar.MODELS)
     assert tuple(lit["LayeredModel"]) == tuple(m for m, info in laminar.MODELS.items() if info["correlation"])
     for model in lit["LayeredModel"]:
+        sub_slope = 0.7 if laminar.MODELS[model]["params"][1] == "sub_slope" else None
         for precision in lit["Precision"]:
-            laminar.evaluate(model, 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=precision)
+            laminar.evaluate(model, 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, sub_slope=sub_slope, precision=precision)
     for bad in [("jensen", "f64"), ("exp", "f16")]:
         with pytest.raises(ValueError):
             laminar.evaluate(bad[0], 0.3, 0.2, 0.5, 1.2, 0.4, 1.4, 0.0, precision=bad[1])
@@ -372,6 +421,10 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
         m = laminar.Measurements.from_arrays(*g.T, values, quantity=quantity)
     for model in lit["Model"]:
         for objective in lit["Objective"]:
+            if objective == "paper" and "sub_slope" in laminar.MODELS[model]["params"]:
+                with pytest.raises(ValueError, match=f"model {model} frees the subsurface slope"):
+                    laminar.fit(m, model, refine=False, uncertainty="off", objective=objective)
+                continue
             r = laminar.fit(m, model, refine=False, uncertainty="off", objective=objective)
             # Every parameter of the descriptor is in the result, by its name.
             assert list(r.params) == laminar.MODELS[model]["params"], model
@@ -395,7 +448,10 @@ def test_the_stubs_literals_are_the_values_the_library_takes(tmp_path):
     csv.write_text("theta_i,phi_i,theta_v,phi_v,value\n" + "".join(f"{r[0]},{r[1]},{r[2]},{r[3]},{v}\n" for r, v in zip(g, values)))
     for unit in lit["AngleUnit"]:
         laminar.Measurements.from_csv(csv, angles=unit)
+    for noise in lit["Noise"]:
+        laminar.fit(m, "exp", refine=False, uncertainty="off", noise=noise)
     for call in [
+        lambda: laminar.fit(m, "exp", noise="poisson"),
         lambda: laminar.fit(m, "lambert"),
         lambda: laminar.fit(m, "exp", objective="max"),
         lambda: laminar.fit(m, "exp", uncertainty="some"),

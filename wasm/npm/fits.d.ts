@@ -4,12 +4,12 @@
 // laminar-io typescript` rewrites it.
 
 /** A model's parameter, by name (laminar_fit::Param). */
-export type Param = "slope" | "beta" | "n" | "a" | "sigma_a" | "sigma_s" | "sigma" | "rho";
+export type Param = "slope" | "beta" | "n" | "a" | "sigma_a" | "sigma_s" | "sigma" | "rho" | "sub_slope";
 
 /**
  * A model that laminar can fit.
  */
-export type Model = "exp" | "gauss" | "rh-exp" | "rh-gauss" | "jensen" | "oren-nayar";
+export type Model = "exp" | "gauss" | "exp2" | "gauss2" | "rh-exp" | "rh-gauss" | "jensen" | "oren-nayar";
 
 /**
  * The objective of a fit.
@@ -153,6 +153,26 @@ export type ModelParams = {
  * σ/T.
  */
 slope: number, 
+/**
+ * β.
+ */
+beta: number, 
+/**
+ * n.
+ */
+n: number, 
+/**
+ * a.
+ */
+a: number, } | { 
+/**
+ * σ/T.
+ */
+slope: number, 
+/**
+ * σ′/T′.
+ */
+sub_slope: number, 
 /**
  * β.
  */

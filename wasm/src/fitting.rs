@@ -70,6 +70,13 @@ export interface FitOptions {
    * terms at each grid point in f32x8 lanes; the refinement and intervals
    * still in f64). */
   precision?: 'f64' | 'f32';
+  /** The free objective's noise model: 'given' (default: the file's
+   * uncertainties, known; else equal weights), 'equal', or 'relative' (σ ∝
+   * the value above a floor, the scale estimated: goniometer data). */
+  noise?: 'given' | 'equal' | 'relative';
+  /** Relative noise's floor, a fraction in (0, 1] of the median positive
+   * value (default 0.1). */
+  noise_floor?: number;
   /** Called after each grid shard (paper: one σ/T value; free: the whole
    * fit) with (done, total). */
   onProgress?: (done: number, total: number) => void;
@@ -98,7 +105,7 @@ pub(crate) fn settings_from_js(
             .map_err(|_| error(format_args!("options: cannot read `{name}`")))
             .map(|v| (!v.is_undefined()).then_some(v))
     };
-    let texts = ["objective", "uncertainty", "path"]
+    let texts = ["objective", "uncertainty", "path", "noise"]
         .into_iter()
         .chain(Grid::PARAMS.map(Param::name));
     for name in texts {
@@ -119,6 +126,13 @@ pub(crate) fn settings_from_js(
             s.set(name, &format!("{n:.0}"))
                 .map_err(|e| error(format_args!("options.{e}")))?;
         }
+    }
+    if let Some(v) = field("noise_floor")? {
+        let floor = v
+            .as_f64()
+            .ok_or_else(|| error("options.noise_floor: give a number"))?;
+        s.set("noise_floor", &floor.to_string())
+            .map_err(|e| error(format_args!("options.{e}")))?;
     }
     if let Some(v) = field("refine")? {
         s.analysis.refine = v
@@ -209,7 +223,7 @@ pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<
 
 #[cfg(test)]
 mod tests {
-    use laminar_fit::{settings, Grid, Objective, Param, Precision, Uncertainty};
+    use laminar_fit::{settings, Grid, Noise, Objective, Param, Precision, Uncertainty};
 
     /// The `FitOptions` declaration, read from this file (wasm-bindgen
     /// takes the constant over, so the test reads the source).
@@ -240,6 +254,8 @@ mod tests {
         assert!(declared.contains(&format!("uncertainty?: {uncertainties};")));
         let precisions = union(Precision::ALL.map(|p| p.to_string()).to_vec());
         assert!(declared.contains(&format!("precision?: {precisions};")));
+        let noises = union(Noise::NAMES.map(String::from).to_vec());
+        assert!(declared.contains(&format!("noise?: {noises};")));
         let names = settings::NAMES
             .into_iter()
             .filter(|&n| n != "threads") // one thread in the browser

@@ -42,6 +42,10 @@ pub struct EvalArgs {
     /// RMS slope σ/T, in [1e-3, 1e3].
     #[arg(long, allow_negative_numbers = true)]
     slope: f64,
+    /// Subsurface RMS slope σ′/T′ of the untied models (exp2, gauss2), in
+    /// [1e-3, 1e3]; the tied models take σ/T.
+    #[arg(long, allow_negative_numbers = true)]
+    sub_slope: Option<f64>,
     /// Balance β of eq. 8, in [0, 1].
     #[arg(long, allow_negative_numbers = true)]
     beta: f64,
@@ -98,7 +102,13 @@ pub fn run(args: &EvalArgs) -> Result<(), CliError> {
         }
         .into());
     }
-    let p = Params::new(args.slope, args.beta, args.n, args.a).map_err(UsageError::from)?;
+    let sub_slope = match (args.model.is_untied(), args.sub_slope) {
+        (true, Some(sub)) => sub,
+        (false, None) => args.slope,
+        _ => return Err(UsageError::SubSlopeOfModel { model: args.model }.into()),
+    };
+    let p = Params::untied(args.slope, sub_slope, args.beta, args.n, args.a)
+        .map_err(UsageError::from)?;
     let angles: Vec<Angles> = match &args.geometry {
         Some(path) => read_geometry(path, args.angles)?
             .iter()

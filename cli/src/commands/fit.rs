@@ -79,7 +79,8 @@ pub struct FitArgs {
     channels: ChannelArgs,
     #[command(flatten)]
     curet: CuretArgs,
-    /// Models, comma-separated (default: every one).
+    /// Models, comma-separated (default: every one under the free objective;
+    /// the tied ones, the paper's, under the paper objective).
     #[arg(long, value_delimiter = ',', value_parser = any_model())]
     models: Option<Vec<Model>>,
     #[command(flatten)]
@@ -125,7 +126,8 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
     }
     let fitter = args.fitting.fitter()?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
-    let models = args.models.clone().unwrap_or_else(|| Model::ALL.to_vec());
+    let models =
+        (args.models.clone()).unwrap_or_else(|| fitter.objective_of_fits().default_models());
     let bar = progress(fit_jobs_shards(&fitter, &jobs, &models), "fit");
     let tick = bar.clone();
     let fitter = fitter.on_progress(move || tick.inc(1));
@@ -166,6 +168,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
                 beta: b,
                 n,
                 a,
+                sub_slope: None,
             },
             job.scene.angles(),
             1.0,

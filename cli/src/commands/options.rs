@@ -9,11 +9,12 @@ use laminar_cli::selection::{
 };
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::SearchPath;
+use laminar_fit::noise::DEFAULT_FLOOR;
 use laminar_fit::{
     Analysis, Axis, Fitter, Model, Objective, Param, Precision, Quantity, Settings, Uncertainty,
     UnknownName,
 };
+use laminar_fit::{Noise, SearchPath};
 use laminar_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -246,6 +247,22 @@ pub struct ObjectiveArgs {
     /// intervals still in f64; docs/speed.md gives its measured effect).
     #[arg(long, default_value_t = Precision::F64, value_parser = parse_precision)]
     pub precision: Precision,
+    /// The free objective's noise model, how each measurement is weighted:
+    /// given (the file's uncertainties, known; else equal weights), equal
+    /// (equal weights, whatever the file gives), relative (σ ∝ the value
+    /// above a floor, as a goniometer's noise; the scale estimated).
+    /// docs/conventions.md §4b.
+    #[arg(long, default_value = "given", value_parser = parse_noise)]
+    pub noise: Noise,
+    /// The floor of relative noise: σ_k ∝ √(D_k² + (f·m)²), f this
+    /// fraction (0, 1] and m the median positive value; it keeps clipped
+    /// zeros from infinite weights.
+    #[arg(long, default_value_t = DEFAULT_FLOOR, allow_negative_numbers = true)]
+    pub noise_floor: f64,
+}
+
+fn parse_noise(s: &str) -> Result<Noise, UnknownName> {
+    Noise::named(s, DEFAULT_FLOOR)
 }
 
 fn parse_precision(s: &str) -> Result<Precision, UnknownName> {
@@ -334,9 +351,15 @@ pub struct FitterArgs {
 impl FitterArgs {
     /// The fitter these options describe.
     pub fn fitter(&self) -> Result<Fitter, CliError> {
+        let floor = self.objective.noise_floor;
         let settings = Settings {
             objective: self.objective.objective,
             precision: self.objective.precision,
+            noise: match self.objective.noise {
+                Noise::Relative { .. } => Noise::Relative { floor },
+                noise => noise,
+            },
+            noise_floor: floor,
             ..settings(&self.grid, &self.threads, self.path.path, &self.analysis)
         };
         Ok(settings.fitter()?)

@@ -136,7 +136,7 @@ pub fn fit_batch(
                     Arc::new(M::new(model, scene.angles()))
                 }
             };
-            let unweighted = self.scenes.iter().all(|s| s.sigma().is_none());
+            let unweighted = self.scenes.iter().all(|s| s.weights().is_none());
             let shared = (one_geometry && unweighted)
                 .then(|| {
                     let first = problem_of(first, &layout, Arc::clone(&built));

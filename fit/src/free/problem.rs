@@ -93,8 +93,8 @@ impl<M: FreeModel> Problem<M> {
         beta: (f64, f64),
     ) -> Self {
         let model = built.unwrap_or_else(|| Arc::new(M::new(model, scene.angles())));
-        let (root_weight, weighted) = match scene.sigma() {
-            Some(sigma) => (sigma.iter().map(|s| 1.0 / s).collect(), true),
+        let (root_weight, weighted) = match scene.weights() {
+            Some((sigma, known)) => (sigma.iter().map(|s| 1.0 / s).collect(), known),
             None => (vec![1.0; scene.len()], false),
         };
         let beta = if model.has_balance() {
@@ -349,6 +349,7 @@ mod tests {
             beta: 0.3,
             n: 1.5,
             a: 0.3,
+            sub_slope: None,
         };
         let cases = [
             (
@@ -406,6 +407,7 @@ mod tests {
                 beta: 0.3,
                 n: 1.5,
                 a: 0.3,
+                sub_slope: None,
             };
             let scene = noisy_scene(
                 model,

@@ -184,7 +184,15 @@ impl Driver<'_> {
             |model, params| Estimate::new(scene, model, params).expect("grid values are validated");
         let layered = |flat| {
             let (slope, n, a, beta) = point(grid, flat);
-            ModelParams::Layered { slope, beta, n, a }
+            // The paper's search ties σ′/T′ to σ/T.
+            let sub_slope = model.is_untied().then_some(slope);
+            ModelParams::Layered {
+                slope,
+                beta,
+                n,
+                a,
+                sub_slope,
+            }
         };
         let best = estimate(model, layered(r.best));
         let rh = model
@@ -274,7 +282,10 @@ pub(crate) fn record(
 
 /// The flat index of a layered model's grid point.
 fn grid_index(grid: &Grid, params: &ModelParams) -> Option<usize> {
-    let ModelParams::Layered { slope, beta, n, a } = *params else {
+    let ModelParams::Layered {
+        slope, beta, n, a, ..
+    } = *params
+    else {
         return None;
     };
     let at = |axis: &Axis, v: f64| axis.values.iter().position(|&x| x == v);

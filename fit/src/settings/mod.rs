@@ -31,6 +31,7 @@ use crate::fit::Fitter;
 use crate::fitted::param_names;
 use crate::grid::{Axis, Grid};
 use crate::model::Param;
+use crate::noise::{Noise, DEFAULT_FLOOR};
 use crate::objective::Objective;
 use thiserror::Error;
 
@@ -55,6 +56,11 @@ pub struct Settings {
     pub analysis: Analysis,
     /// Worker threads (`None`: every core).
     pub threads: Option<usize>,
+    /// The free objective's noise model ([`crate::noise`]; its floor is
+    /// [`Settings::noise_floor`]'s).
+    pub noise: Noise,
+    /// The floor of relative noise ([`Noise::Relative`]).
+    pub noise_floor: f64,
 }
 
 impl Default for Settings {
@@ -66,6 +72,8 @@ impl Default for Settings {
             precision: Precision::F64,
             analysis: Analysis::FULL,
             threads: None,
+            noise: Noise::Given,
+            noise_floor: DEFAULT_FLOOR,
         }
     }
 }
@@ -87,7 +95,7 @@ pub enum SettingError {
 }
 
 /// The names [`Settings::set`] takes besides the grid's axes ([`Grid::PARAMS`]).
-pub const NAMES: [&str; 9] = [
+pub const NAMES: [&str; 11] = [
     "objective",
     "refine",
     "uncertainty",
@@ -97,6 +105,8 @@ pub const NAMES: [&str; 9] = [
     "path",
     "precision",
     "threads",
+    "noise",
+    "noise_floor",
 ];
 
 impl Settings {
@@ -106,7 +116,9 @@ impl Settings {
     /// 100,000), `seed` (the bootstrap's and the folds'), `folds` (of the
     /// cross-validation comparing models: 0, or 2 to 100), `path` (`METHOD-ARITH`),
     /// `precision` (the free objective's grid stage: `f64`, `f32`),
-    /// `threads` (a count)
+    /// `threads` (a count), `noise` (`given`, `equal`, `relative`:
+    /// [`crate::noise`]), `noise_floor` (relative noise's floor, a fraction
+    /// in (0, 1] of the median positive value)
     /// or a grid axis by its parameter's name (`slope`, `beta`, `n`, `a`:
     /// `start:stop:count`, `start:stop:count:log` or one value).
     ///
@@ -134,6 +146,22 @@ impl Settings {
             "folds" => self.analysis.folds = parse_folds(value).map_err(invalid)?,
             "path" => self.path = value.parse().map_err(|e| invalid(format!("{e}")))?,
             "precision" => self.precision = value.parse().map_err(|e| invalid(format!("{e}")))?,
+            "noise" => {
+                self.noise =
+                    Noise::named(value, self.noise_floor).map_err(|e| invalid(format!("{e}")))?
+            }
+            "noise_floor" => {
+                let floor: f64 = value
+                    .parse()
+                    .map_err(|_| invalid(format!("`{value}`: give a number")))?;
+                let noise = Noise::Relative { floor }
+                    .validate()
+                    .map_err(|e| invalid(format!("{e}")))?;
+                self.noise_floor = floor;
+                if let Noise::Relative { .. } = self.noise {
+                    self.noise = noise;
+                }
+            }
             "threads" => {
                 let t = value
                     .parse()
@@ -209,7 +237,13 @@ impl Settings {
                        (uncertainty both); the bootstrap needs the free objective",
             });
         }
+        if self.objective == Objective::Paper && self.noise != Noise::Given {
+            return Err(FitError::NoiseOfObjective {
+                noise: self.noise.name(),
+            });
+        }
         let fitter = Fitter::new(self.grid()?)?
+            .noise(self.noise)?
             .objective(self.objective)
             .path(self.path)
             .grid_precision(self.precision)

@@ -1,7 +1,8 @@
 //! The layered models' columns (eqs. 1–8, 12–13) under the free
-//! amplitude: `S` and `U` at (σ/T, n, a), four measurements at a time, and
-//! their derivatives, analytic in every parameter. Its grid stage is
-//! [`crate::free::search::quadratic`].
+//! amplitude: `S` and `U` at (σ/T, n, a) — and σ′/T′ for the untied
+//! models, whose `U` is at the lower boundary's own slope —, four
+//! measurements at a time, and their derivatives, analytic in every
+//! parameter. Its grid stage is [`crate::free::search::quadratic`].
 
 use super::table::{Nonlinear, Table};
 use super::{Columns, Evaluated, FreeModel};
@@ -19,6 +20,8 @@ use std::sync::OnceLock;
 #[derive(Debug, Clone, Copy)]
 struct Positions {
     slope: usize,
+    /// `None` for the tied models (σ′/T′ = σ/T).
+    sub_slope: Option<usize>,
     n: usize,
     /// `None` for Ragheb–Hancock (a = 0).
     a: Option<usize>,
@@ -77,29 +80,36 @@ struct LayerGroup {
 }
 
 impl LayerGroup {
-    /// The terms of the measurements `g` on `boundary` at `(T/σ)²` `t`.
+    /// The terms of the measurements `g` on `boundary` at `(T/σ)²` `t` and
+    /// `(T′/σ′)²` `t_sub`.
     /// Inlined into the loop that collects them, so that each group is
     /// written in place in its Vec, not returned and then copied (a
     /// `memcpy` per group: 7.7% of the defaults' profile at K = 22,801, and
     /// 3.5% more sets per second without it).
     #[inline(always)]
-    fn new(g: &Geometry<f64x4>, boundary: BoundaryGroup, corr: Correlation, t: f64x4) -> Self {
+    fn new(
+        g: &Geometry<f64x4>,
+        boundary: BoundaryGroup,
+        corr: Correlation,
+        [t, t_sub]: [f64x4; 2],
+    ) -> Self {
         Self {
             surface: surface_radiance(g, corr, t),
-            base: boundary.base(corr, t),
+            base: boundary.base(corr, t_sub),
             boundary,
         }
     }
 }
 
-/// A layered model's terms at one (σ/T, n), four measurements at a time
-/// (the packing), with what their derivatives need.
+/// A layered model's terms at one (σ/T, σ′/T′, n), four measurements at a
+/// time (the packing), with what their derivatives need.
 #[derive(Debug, Clone)]
 pub struct LayeredTerms {
     groups: Vec<LayerGroup>,
-    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`,
-    /// the base's `x′ = (T/σ)² · ratio`.
+    /// `(T/σ)²`: the surface term's argument is `x = (T/σ)² v_xy²/v_z²`.
     t: f64,
+    /// `(T′/σ′)²` (`t` when tied): the base's `x′ = (T′/σ′)² · ratio`.
+    t_sub: f64,
 }
 
 thread_local! {
@@ -155,6 +165,12 @@ fn log_n_derivative(
     (c(1.0) + elasticity) * ell
         + transmission(g.cos_i, ci, dci, ri)
         + transmission(g.cos_s, cs, dcs, rs)
+}
+
+/// σ/T (or σ′/T′) of its logarithm: exp(ln x) can miss x by an ulp, so
+/// it is kept inside the model's domain.
+fn slope_of(log: f64) -> f64 {
+    libm::exp(log).clamp(SLOPE_MIN, SLOPE_MAX)
 }
 
 /// `angles` a lane's width at a time, the last group padded with its last
@@ -234,8 +250,8 @@ impl LayeredModel {
         unpack(groups, self.len())
     }
 
-    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at σ/T on the boundary at
-    /// one n ([`LayeredModel::boundary`]), a lane's width of measurements
+    /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at the lower boundary's
+    /// slope (σ/T when tied, σ′/T′ untied) on the boundary at one n ([`LayeredModel::boundary`]), a lane's width of measurements
     /// at a time (the last group padded as the boundary's is).
     pub fn base_groups<'a, L: Lane + 'a>(
         &self,
@@ -244,6 +260,11 @@ impl LayeredModel {
     ) -> impl Iterator<Item = L> + 'a {
         let (corr, t) = (self.corr, L::c(inverse_slope_squared(slope)));
         boundary.iter().map(move |b| b.base(corr, t))
+    }
+
+    /// [`LayeredModel::base_groups`] as one value per measurement.
+    pub fn base<L: Packed>(&self, slope: f64, boundary: &[BoundaryGroup<L>]) -> Vec<f64> {
+        unpack(L::widened(self.base_groups(slope, boundary)), self.len())
     }
 
     /// `cos²θi` and `cos²θs` of each measurement.
@@ -255,16 +276,25 @@ impl LayeredModel {
     /// Ragheb–Hancock).
     pub fn slope_n_a(&self, theta: &[f64]) -> (f64, f64, f64) {
         let a = self.at.a.map_or(0.0, |j| theta[j]);
-        // exp(ln x) can miss x by an ulp: kept inside the model's domain.
-        let slope = libm::exp(theta[self.at.slope]).clamp(SLOPE_MIN, SLOPE_MAX);
-        (slope, theta[self.at.n], a)
+        (slope_of(theta[self.at.slope]), theta[self.at.n], a)
     }
 
-    /// The [`LayeredTerms`] at (σ/T, n): one pass over the measurements,
-    /// each group's boundary built (or taken from `held`) and used at once.
-    fn terms(&self, slope: f64, n: f64, held: &Held) -> LayeredTerms {
+    /// σ′/T′ at the nonlinear values `theta` (σ/T when tied).
+    pub fn sub_slope(&self, theta: &[f64]) -> f64 {
+        slope_of(theta[self.at.sub_slope.unwrap_or(self.at.slope)])
+    }
+
+    /// The [`LayeredTerms`] at (σ/T, σ′/T′, n): one pass over the
+    /// measurements, each group's boundary built (or taken from `held`) and
+    /// used at once.
+    fn terms(&self, [slope, sub_slope]: [f64; 2], n: f64, held: &Held) -> LayeredTerms {
         let t = inverse_slope_squared(slope);
-        let t4 = f64x4::splat(t);
+        let t_sub = if self.at.sub_slope.is_some() {
+            inverse_slope_squared(sub_slope)
+        } else {
+            t
+        };
+        let t4 = [t, t_sub].map(f64x4::splat);
         let corr = self.corr;
         let group =
             |g: &Geometry<f64x4>, boundary: BoundaryGroup| LayerGroup::new(g, boundary, corr, t4);
@@ -285,22 +315,24 @@ impl LayeredModel {
                 )
             }
         }
-        LayeredTerms { groups, t }
+        LayeredTerms { groups, t, t_sub }
     }
 
     /// Each wanted derivative of the columns from the terms at one point:
-    /// `[∂S/∂ ln σ/T, ∂U/∂ ln σ/T, ∂U/∂n, ∂U/∂a]`, each a group of four
-    /// written in place per group of measurements (an unwanted one empty).
+    /// `[∂S/∂ ln σ/T, ∂U/∂ ln σ′/T′, ∂U/∂n, ∂U/∂a]` (tied, σ′/T′ is σ/T),
+    /// each a group of four written in place per group of measurements (an
+    /// unwanted one empty).
     fn derivative_vectors(
         &self,
         terms: &LayeredTerms,
         (n, a): (f64, f64),
-        [slope, index, absorption]: [bool; 3],
+        [slope, sub_slope, index, absorption]: [bool; 4],
     ) -> [Vec<f64>; 4] {
         let corr = self.corr;
-        let (t, a) = (f64x4::splat(terms.t), f64x4::splat(a));
+        let (t, t_sub) = (f64x4::splat(terms.t), f64x4::splat(terms.t_sub));
+        let a = f64x4::splat(a);
         let zero = f64x4::ZERO;
-        let filled = [slope, slope, index, absorption];
+        let filled = [slope, sub_slope, index, absorption];
         let mut d: [Vec<f64>; 4] = filled.map(|f| {
             if !f {
                 return Vec::new();
@@ -315,10 +347,12 @@ impl LayeredModel {
                 // U again (the same bits as the column).
                 let (attenuation, [ci, cs]) = attenuation(g, a);
                 let u = l.base * attenuation;
-                let x_refracted = l.boundary.ratio * t;
+                let x_refracted = l.boundary.ratio * t_sub;
                 if slope {
                     let ds = l.surface * corr.log_slope_derivative(g.ratio * t);
                     d_s[i] = ds.to_array();
+                }
+                if sub_slope {
                     d_u[i] = (u * corr.log_slope_derivative(x_refracted)).to_array();
                 }
                 if index {
@@ -347,11 +381,16 @@ impl FreeModel for LayeredModel {
         let Family::Layered {
             correlation,
             absorption,
+            untied,
         } = model.family()
         else {
             panic!("{model} is not a layered model");
         };
-        let mut entries = vec![Nonlinear::log(Param::Slope), Nonlinear::linear(Param::N)];
+        let mut entries = vec![Nonlinear::log(Param::Slope)];
+        if untied {
+            entries.push(Nonlinear::log(Param::SubSlope));
+        }
+        entries.push(Nonlinear::linear(Param::N));
         if absorption {
             entries.push(Nonlinear::linear(Param::A));
         }
@@ -359,6 +398,7 @@ impl FreeModel for LayeredModel {
         let position = |p: Param| table.position(p).expect("a layered model's parameter");
         let at = Positions {
             slope: position(Param::Slope),
+            sub_slope: table.position(Param::SubSlope),
             n: position(Param::N),
             a: table.position(Param::A),
         };
@@ -414,7 +454,7 @@ impl FreeModel for LayeredModel {
 
     fn evaluate(&self, theta: &[f64], held: &Held) -> Evaluated<LayeredTerms> {
         let (slope, n, a) = self.slope_n_a(theta);
-        let terms = self.terms(slope, n, held);
+        let terms = self.terms([slope, self.sub_slope(theta)], n, held);
         let a = f64x4::splat(a);
         let s = unpack(terms.groups.iter().map(|l| l.surface), self.len());
         let u = unpack(
@@ -427,7 +467,7 @@ impl FreeModel for LayeredModel {
         }
     }
 
-    /// Analytic in every parameter (`ln σ/T`, n, a).
+    /// Analytic in every parameter (`ln σ/T`, `ln σ′/T′`, n, a).
     fn derivatives_at(
         &self,
         theta: &[f64],
@@ -438,14 +478,31 @@ impl FreeModel for LayeredModel {
     ) -> (Columns, Vec<Option<Columns>>) {
         let (_, n, a) = self.slope_n_a(theta);
         let wanted_a = self.at.a.is_some_and(|j| wanted[j]);
-        let which = [wanted[self.at.slope], wanted[self.at.n], wanted_a];
+        let wanted_slope = wanted[self.at.slope];
+        // Tied, `∂U/∂ ln σ/T` is wanted with `∂S`; untied, with σ′/T′.
+        let wanted_sub = self.at.sub_slope.map_or(wanted_slope, |j| wanted[j]);
+        let which = [wanted_slope, wanted_sub, wanted[self.at.n], wanted_a];
         let [s_slope, u_slope, u_n, u_a] = self.derivative_vectors(&at.kept, (n, a), which);
         let mut out: Vec<Option<Columns>> = vec![None; self.table.len()];
-        out[self.at.slope] = which[0].then_some(Columns {
-            s: s_slope,
-            u: u_slope,
-        });
-        out[self.at.n] = which[1].then_some(Columns {
+        match self.at.sub_slope {
+            None => {
+                out[self.at.slope] = wanted_slope.then_some(Columns {
+                    s: s_slope,
+                    u: u_slope,
+                })
+            }
+            Some(j) => {
+                out[self.at.slope] = wanted_slope.then_some(Columns {
+                    s: s_slope,
+                    u: Vec::new(),
+                });
+                out[j] = wanted_sub.then_some(Columns {
+                    s: Vec::new(),
+                    u: u_slope,
+                });
+            }
+        }
+        out[self.at.n] = which[2].then_some(Columns {
             s: Vec::new(),
             u: u_n,
         });
@@ -465,25 +522,40 @@ mod tests {
     use crate::model::Model;
     use crate::synthetic;
 
+    /// The analytic derivatives of both columns against central
+    /// differences, for the tied models (ln σ/T, n, a) and the untied ones
+    /// (ln σ/T, ln σ′/T′, n, a).
     #[test]
     fn derivatives_agree_with_differences() {
         let angles = synthetic::geometries();
-        for model in [Model::Exp, Model::Gauss] {
+        // n near 1 (refraction barely bends), typical, and large.
+        let tied = [
+            vec![libm::log(0.7), 1.45, 0.3],
+            vec![libm::log(0.2), 1.01, 0.0],
+            vec![libm::log(3.0), 2.4, 0.9],
+        ];
+        let untied = [
+            vec![libm::log(0.7), libm::log(0.15), 1.45, 0.3],
+            vec![libm::log(0.2), libm::log(2.0), 1.01, 0.0],
+            vec![libm::log(3.0), libm::log(0.4), 2.4, 0.9],
+        ];
+        for model in [Model::Exp, Model::Gauss, Model::Exp2, Model::Gauss2] {
             let basis = LayeredModel::new(model, &angles);
-            // n near 1 (refraction barely bends), typical, and large.
-            for theta in [
-                [libm::log(0.7), 1.45, 0.3],
-                [libm::log(0.2), 1.01, 0.0],
-                [libm::log(3.0), 2.4, 0.9],
-            ] {
-                let domain = [(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
-                let (at, d) = basis.derivatives(&theta, &domain, true);
-                assert_eq!(at, basis.columns(&theta));
-                for j in 0..3 {
+            let (points, domain) = if model.is_untied() {
+                let domain = vec![(-7.0, 7.0), (-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)];
+                (&untied, domain)
+            } else {
+                (&tied, vec![(-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)])
+            };
+            for theta in points {
+                let (at, d) = basis.derivatives(theta, &domain, true);
+                assert_eq!(at, basis.columns(theta));
+                assert_eq!(d.len(), theta.len());
+                for j in 0..theta.len() {
                     let h = 1e-6;
-                    let mut up = theta;
+                    let mut up = theta.clone();
                     up[j] += h;
-                    let mut down = theta;
+                    let mut down = theta.clone();
                     down[j] -= h;
                     let (cu, cd) = (basis.columns(&up), basis.columns(&down));
                     for k in 0..angles.len() {
@@ -499,9 +571,10 @@ mod tests {
                             .max(fd_u.abs())
                             .max(1e-300);
                         let d_s = d[j].s.get(k).copied().unwrap_or(0.0);
+                        let d_u = d[j].u.get(k).copied().unwrap_or(0.0);
                         assert!((d_s - fd_s).abs() <= 1e-8 * scale, "{model} {j} {k}");
                         assert!(
-                            (d[j].u[k] - fd_u).abs() <= 1e-6 * scale,
+                            (d_u - fd_u).abs() <= 1e-6 * scale,
                             "{model} {j} {k} {theta:?}"
                         );
                     }

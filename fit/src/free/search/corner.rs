@@ -19,7 +19,8 @@ const CORNER: f64 = 0.01;
 /// β near 1 runs from that face between the grid's columns, and a
 /// minimisation that reaches the face stays there. The start is the σ/T of
 /// the grid's best point on that face (a at its lower face), a at its
-/// lower face and n at [`CORNER`] of the least `cos²` above 1.
+/// lower face and n at [`CORNER`] of the least `cos²` above 1 (and the
+/// untied models' σ′/T′ that point's).
 pub fn corner_start(
     problem: &Problem<LayeredModel>,
     axes: &GridAxes,
@@ -27,8 +28,9 @@ pub fn corner_start(
 ) -> Option<Vec<f64>> {
     let table = problem.model.table();
     let place = |p: Param| table.position(p).expect("a layered model's parameter");
-    let (slope_at, n_at, a_at) = (
+    let (slope_at, sub_at, n_at, a_at) = (
         place(Param::Slope),
+        table.position(Param::SubSlope),
         place(Param::N),
         table.position(Param::A),
     );
@@ -49,10 +51,17 @@ pub fn corner_start(
         let a_lo = problem.bounds[j].0;
         face[j] = axes.axes[j].iter().position(|&v| v == a_lo)?;
     }
+    // The best grid point on that face over σ/T (and σ′/T′ for the untied
+    // models), in the grid's order.
+    let subs = sub_at.map_or(1, |j| axes.axes[j].len());
     let best = (0..axes.axes[slope_at].len())
-        .map(|s| {
+        .flat_map(|s| (0..subs).map(move |t| (s, t)))
+        .map(|(s, t)| {
             let mut point = face.clone();
             point[slope_at] = s;
+            if let Some(j) = sub_at {
+                point[j] = t;
+            }
             values.flat(&point)
         })
         .min_by(|&f, &g| values.sse[f].total_cmp(&values.sse[g]))?;

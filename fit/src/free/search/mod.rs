@@ -6,6 +6,7 @@
 
 pub mod corner;
 pub mod quadratic;
+pub mod untied;
 
 use super::model::{BaselineModel, FreeModel, Nonlinear, Table};
 use super::problem::Problem;

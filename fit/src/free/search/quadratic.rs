@@ -1,4 +1,4 @@
-//! The layered models' grid stage: per (σ/T, n) the weighted inner
+//! The tied layered models' grid stage (the untied ones': [`super::untied`]): per (σ/T, n) the weighted inner
 //! products of the data, the surface term `S` and the three coefficients
 //! of `U` as a quadratic in a (`U = B0 + a B1 + a² B2`, `B0 = B`,
 //! `B1 = −B (cos²θi + cos²θs)`, `B2 = B cos²θi cos²θs`) are formed once;
@@ -9,7 +9,7 @@ use super::corner::corner_start;
 use super::{GridAxes, GridStage, GridValues};
 use crate::free::boundary::BoundaryGroup;
 use crate::free::linear::Quadratic;
-use crate::free::model::{LayeredModel, Packed};
+use crate::free::model::{FreeModel, LayeredModel, Packed};
 use crate::free::problem::Problem;
 use crate::free::sums::{dots, total};
 use crate::model::Param;
@@ -23,7 +23,7 @@ type Layered = Problem<LayeredModel>;
 /// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
 /// four at a time (the last group padded with its last a): bit for bit
 /// one at a time, as the core's `f64x4` is its `f64` lane by lane.
-fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
+pub(super) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
     for (group, out) in a_axis.chunks(4).zip(out.chunks_mut(4)) {
         let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
         let sse = q.moments(a).solve(beta).sse.to_array();
@@ -270,11 +270,16 @@ impl GridStage for LayeredModel {
     type Shared = ModelSide;
 
     fn grid_values(problem: &Layered, axes: &GridAxes, precision: Precision) -> GridValues {
+        if problem.model.model().is_untied() {
+            return super::untied::grid_values(problem, axes, precision);
+        }
         grid_values(problem, axes, precision)
     }
 
+    /// The tied models' model side; the untied models share none.
     fn shared(problem: &Layered, axes: &GridAxes, precision: Precision) -> Option<ModelSide> {
-        Some(ModelSide::new(problem, axes, precision))
+        let tied = !problem.model.model().is_untied();
+        tied.then(|| ModelSide::new(problem, axes, precision))
     }
 
     fn grid_values_shared(
@@ -426,7 +431,6 @@ mod tests {
     use super::*;
     use crate::coverage::{noisy_sets, NoiseModel};
     use crate::free::layout::Layout;
-    use crate::free::model::FreeModel;
     use crate::grid::Grid;
     use crate::model::Model;
     use crate::objective::Objective;

@@ -1,0 +1,180 @@
+//! The untied layered models' grid stage (σ′/T′ free beside σ/T): the
+//! structure of [`super::quadratic`] with the surface and the subsurface
+//! at slopes of their own. `S` depends on σ/T alone and the base `B` on
+//! (σ′/T′, n) alone, so each is formed once per value of its own axes;
+//! per (σ/T, σ′/T′, n) only the three cross sums `Σ w S B [1, g1, g2]`
+//! remain, and every a of the axis is a 2×2 solve from the quadratic in
+//! a, as for the tied models.
+
+use super::quadratic::objectives;
+use super::{GridAxes, GridValues};
+use crate::free::linear::Quadratic;
+use crate::free::model::{LayeredModel, Packed};
+use crate::free::problem::Problem;
+use crate::free::sums::dots;
+use crate::model::Param;
+use crate::settings::precision::Precision;
+use laminar_core::{f32x8, f64x4};
+use rayon::prelude::*;
+
+/// One (σ′/T′, n) column: the weighted base against `[1, g1, g2]`, and the
+/// sums that do not involve `S`.
+struct Column {
+    /// `w B`, `w B g1`, `w B g2`.
+    weighted: [Vec<f64>; 3],
+    /// `Σ w B² g_i g_j` (`g0 = 1`).
+    bb: [[f64; 3]; 3],
+    /// `Σ w D B g_i`.
+    db: [f64; 3],
+}
+
+/// The objective of an untied model's `problem` at every grid point of
+/// `axes` (σ/T, σ′/T′, n, a in the table's order), the bases in
+/// `precision`.
+pub fn grid_values(
+    problem: &Problem<LayeredModel>,
+    axes: &GridAxes,
+    precision: Precision,
+) -> GridValues {
+    match precision {
+        Precision::F64 => values::<f64x4>(problem, axes),
+        Precision::F32 => values::<f32x8>(problem, axes),
+    }
+}
+
+fn values<L: Packed>(problem: &Problem<LayeredModel>, axes: &GridAxes) -> GridValues {
+    let model = &problem.model;
+    let axis = |p: Param| axes.of(p).expect("an untied model's grid has this axis");
+    let (slopes, subs, ns) = (axis(Param::Slope), axis(Param::SubSlope), axis(Param::N));
+    let a_axis = axis(Param::A);
+    let (w, wd) = (&problem.weight[..], &problem.weighted_data[..]);
+    let (ci, cs) = model.cosines();
+    // The factors that turn B into B1 and B2 (quadratic.rs).
+    let g1: Vec<f64> = ci.iter().zip(cs).map(|(i, s)| -(i + s)).collect();
+    let g2: Vec<f64> = ci.iter().zip(cs).map(|(i, s)| i * s).collect();
+    let times =
+        |x: &[f64], y: &[f64]| -> Vec<f64> { x.iter().zip(y).map(|(a, b)| a * b).collect() };
+    let boundaries: Vec<_> = ns.par_iter().map(|&n| model.boundary::<L>(n)).collect();
+    let columns: Vec<Column> = (0..subs.len() * ns.len())
+        .into_par_iter()
+        .map(|c| {
+            let (sub, n) = (subs[c / ns.len()], c % ns.len());
+            let b = model.base::<L>(sub, &boundaries[n]);
+            let (bg1, bg2) = (times(&b, &g1), times(&b, &g2));
+            let wb = times(w, &b);
+            let (wbg1, wbg2) = (times(&wb, &g1), times(&wb, &g2));
+            let [b00, b01, b02] = dots(&b, [&wb, &wbg1, &wbg2]);
+            let [b11, b12] = dots(&bg1, [&wbg1, &wbg2]);
+            let [b22] = dots(&bg2, [&wbg2]);
+            Column {
+                bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
+                db: dots(wd, [&b, &bg1, &bg2]),
+                weighted: [wb, wbg1, wbg2],
+            }
+        })
+        .collect();
+    let row_len = columns.len() * a_axis.len();
+    let rows: Vec<Vec<f64>> = slopes
+        .par_iter()
+        .map(|&slope| {
+            let s = model.surface(slope);
+            let ws = times(w, &s);
+            let [ss, ds] = dots(&s, [&ws, wd]);
+            let mut out = vec![0.0; row_len];
+            for (column, out) in columns.iter().zip(out.chunks_mut(a_axis.len())) {
+                let [x, y, z] = &column.weighted;
+                let q = Quadratic {
+                    dd: problem.dd,
+                    ds,
+                    ss,
+                    db: column.db,
+                    sb: dots(&s, [x, y, z]),
+                    bb: column.bb,
+                };
+                objectives(&q, a_axis, problem.beta, out);
+            }
+            out
+        })
+        .collect();
+    GridValues {
+        lens: axes.lens(),
+        sse: rows.concat(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::coverage::{noisy_sets, NoiseModel};
+    use crate::free::model::FreeModel;
+    use crate::model::Model;
+    use crate::objective::Objective;
+    use crate::synthetic;
+
+    /// Every grid value of an untied model is its objective evaluated
+    /// directly at that point, in both precisions' bases, and the two
+    /// slopes enter apart (swapping the axes changes the values).
+    #[test]
+    fn grid_values_are_the_objective_at_each_point() {
+        let angles = synthetic::geometries();
+        for model in [Model::Exp2, Model::Gauss2] {
+            let scene = noisy_sets(
+                &angles,
+                model,
+                Objective::Free,
+                NoiseModel::Every(0.01),
+                1,
+                7,
+            )
+            .remove(0);
+            let slope = (libm::log(0.02), libm::log(20.0));
+            let bounds = vec![slope, slope, (1.0, 2.5), (0.0, 1.0)];
+            let problem = Problem::<LayeredModel>::new(
+                &scene,
+                (model, None),
+                (bounds.clone(), bounds),
+                vec![(-7.0, 7.0), (-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
+                (0.0, 1.0),
+            );
+            let table = LayeredModel::new(model, &angles).table().clone();
+            let axes = GridAxes {
+                params: table.entries().to_vec(),
+                axes: vec![
+                    vec![0.05, 0.4, 3.0],
+                    vec![0.1, 1.0],
+                    vec![1.0, 1.5, 2.5],
+                    vec![0.0, 0.3, 1.0],
+                ],
+            };
+            let values = grid_values(&problem, &axes, Precision::F64);
+            assert_eq!(values.sse.len(), 3 * 2 * 3 * 3);
+            for (flat, &sse) in values.sse.iter().enumerate() {
+                let at = values.indices(flat);
+                let theta = axes.theta(&at);
+                let direct = problem.evaluate(&theta, problem.beta).0.sse;
+                assert!(
+                    (sse - direct).abs() <= 1e-10 * problem.dd,
+                    "{model} at {at:?}: grid {sse}, direct {direct}"
+                );
+            }
+            let single = grid_values(&problem, &axes, Precision::F32);
+            for (s, d) in single.sse.iter().zip(&values.sse) {
+                assert!(
+                    (s - d).abs() <= 1e-4 * problem.dd,
+                    "{model}: {s} against {d}"
+                );
+            }
+            let swapped = GridAxes {
+                axes: vec![
+                    vec![0.1, 1.0],
+                    vec![0.05, 0.4, 3.0],
+                    axes.axes[2].clone(),
+                    axes.axes[3].clone(),
+                ],
+                ..axes.clone()
+            };
+            let other = grid_values(&problem, &swapped, Precision::F64);
+            assert_ne!(other.sse[..9], values.sse[..9]);
+        }
+    }
+}
