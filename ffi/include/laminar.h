@@ -105,6 +105,23 @@ typedef struct LaminarAngles {
   double phi_s;
 } LaminarAngles;
 
+// The untied model's parameters (`exp2`, `gauss2`: eqs. 3–4 with the
+// subsurface's own roughness): σ/T of the surface term, σ′/T′ of the
+// subsurface term, β, n, a. At `sub_slope == slope` it is
+// [`LaminarParams`], bit for bit.
+typedef struct LaminarParamsUntied {
+  // σ/T.
+  double slope;
+  // σ′/T′.
+  double sub_slope;
+  // β.
+  double beta;
+  // n.
+  double n;
+  // a.
+  double a;
+} LaminarParamsUntied;
+
 // The model's parameters in `f32`, for the `f32` functions: validated
 // and used in `f32` without any `f64` operation.
 typedef struct LaminarParamsF32 {
@@ -310,6 +327,25 @@ enum LaminarStatus laminar_components_f64(uint32_t corr,
                                           const struct LaminarAngles *angles_in,
                                           size_t count,
                                           double *out);
+
+// Checks the untied model's parameters: [`Status::Ok`] or the first
+// one out of its domain (`sub_slope` as `slope`: [`Status::BadSlope`]).
+enum LaminarStatus laminar_validate_params_untied(struct LaminarParamsUntied p);
+
+// [`laminar_total_radiance_f64`] of the untied model.
+enum LaminarStatus laminar_total_radiance_untied_f64(uint32_t corr,
+                                                     struct LaminarParamsUntied p,
+                                                     const struct LaminarAngles *angles,
+                                                     size_t count,
+                                                     double *out);
+
+// [`laminar_components_f64`] of the untied model: the surface term at
+// σ/T, the subsurface term at σ′/T′.
+enum LaminarStatus laminar_components_untied_f64(uint32_t corr,
+                                                 struct LaminarParamsUntied p,
+                                                 const struct LaminarAngles *angles_in,
+                                                 size_t count,
+                                                 double *out);
 
 // Checks `f32` parameters: [`Status::Ok`] or the first one out of its
 // domain (the same domains as [`laminar_validate_params`]).

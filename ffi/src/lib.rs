@@ -103,6 +103,25 @@ pub struct LaminarParams {
     pub a: f64,
 }
 
+/// The untied model's parameters (`exp2`, `gauss2`: eqs. 3–4 with the
+/// subsurface's own roughness): σ/T of the surface term, σ′/T′ of the
+/// subsurface term, β, n, a. At `sub_slope == slope` it is
+/// [`LaminarParams`], bit for bit.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaminarParamsUntied {
+    /// σ/T.
+    pub slope: f64,
+    /// σ′/T′.
+    pub sub_slope: f64,
+    /// β.
+    pub beta: f64,
+    /// n.
+    pub n: f64,
+    /// a.
+    pub a: f64,
+}
+
 /// The model's parameters in `f32`, for the `f32` functions: validated
 /// and used in `f32` without any `f64` operation.
 #[repr(C)]
@@ -163,8 +182,25 @@ fn correlation(code: u32) -> Result<Correlation, Status> {
     Correlation::from_code(code).ok_or(Status::BadCorrelation)
 }
 
-fn params(p: &LaminarParams) -> Result<Params, Status> {
-    Params::new(p.slope, p.beta, p.n, p.a).map_err(status_of)
+/// A C parameter struct: checked into the core's [`Params`].
+trait ToParams {
+    fn params(&self) -> Result<Params, Status>;
+}
+
+impl ToParams for LaminarParams {
+    fn params(&self) -> Result<Params, Status> {
+        Params::new(self.slope, self.beta, self.n, self.a).map_err(status_of)
+    }
+}
+
+impl ToParams for LaminarParamsUntied {
+    fn params(&self) -> Result<Params, Status> {
+        Params::untied(self.slope, self.sub_slope, self.beta, self.n, self.a).map_err(status_of)
+    }
+}
+
+fn params(p: &impl ToParams) -> Result<Params, Status> {
+    p.params()
 }
 
 #[inline(always)] // built in place: no copy of the parameters (a memcpy at "s")
@@ -184,7 +220,7 @@ fn status(result: Result<(), Status>) -> Status {
 /// `angles_in`, every one of them checked (before anything is written).
 fn checked<'a>(
     corr: u32,
-    p: &LaminarParams,
+    p: &impl ToParams,
     angles_in: *const LaminarAngles,
     count: usize,
 ) -> Result<(Correlation, Params, &'a [LaminarAngles]), Status> {
@@ -208,7 +244,7 @@ struct Writer<F> {
 /// `count` checked geometries at `angles_in` (parameters rounded to the
 /// lane precision once per call).
 fn evaluate<L: Lane>(
-    (corr, p): (u32, &LaminarParams),
+    (corr, p): (u32, &impl ToParams),
     (angles_in, count): (*const LaminarAngles, usize),
     out: *mut L,
     writer: Writer<impl Fn(&Geometry<L>, Correlation, &LaneParams<L::Scalar>, &mut [L])>,
@@ -285,7 +321,7 @@ fn all_components<L: Lane>(
 /// The total radiance (eq. 8) in `L` precision at `count` geometries.
 fn total_at<L: Lane>(
     corr: u32,
-    p: &LaminarParams,
+    p: &impl ToParams,
     input: (*const LaminarAngles, usize),
     out: *mut L,
 ) -> Status {
@@ -346,6 +382,42 @@ mod exports {
     pub extern "C" fn laminar_components_f64(
         corr: u32,
         p: LaminarParams,
+        angles_in: *const LaminarAngles,
+        count: usize,
+        out: *mut f64,
+    ) -> Status {
+        let writer = Writer {
+            width: LAMINAR_COMPONENTS,
+            each: all_components::<f64>,
+        };
+        status(evaluate((corr, &p), (angles_in, count), out, writer))
+    }
+
+    /// Checks the untied model's parameters: [`Status::Ok`] or the first
+    /// one out of its domain (`sub_slope` as `slope`: [`Status::BadSlope`]).
+    #[no_mangle]
+    pub extern "C" fn laminar_validate_params_untied(p: LaminarParamsUntied) -> Status {
+        status(params(&p).map(|_| ()))
+    }
+
+    /// [`laminar_total_radiance_f64`] of the untied model.
+    #[no_mangle]
+    pub extern "C" fn laminar_total_radiance_untied_f64(
+        corr: u32,
+        p: LaminarParamsUntied,
+        angles: *const LaminarAngles,
+        count: usize,
+        out: *mut f64,
+    ) -> Status {
+        total_at(corr, &p, (angles, count), out)
+    }
+
+    /// [`laminar_components_f64`] of the untied model: the surface term at
+    /// σ/T, the subsurface term at σ′/T′.
+    #[no_mangle]
+    pub extern "C" fn laminar_components_untied_f64(
+        corr: u32,
+        p: LaminarParamsUntied,
         angles_in: *const LaminarAngles,
         count: usize,
         out: *mut f64,
@@ -623,6 +695,68 @@ mod tests {
         };
         assert_eq!(laminar_validate_angles(nan), Status::BadPhiS);
         assert_eq!(laminar_validate_params(P), Status::Ok);
+    }
+
+    /// The untied functions are the core's untied model, bit for bit, the
+    /// tied ones at σ′/T′ = σ/T, and a bad σ′/T′ is `BadSlope` with nothing
+    /// written.
+    #[test]
+    fn untied_components_are_the_cores() {
+        let geometries = [probe::angles(3), probe::angles(40)];
+        let untied = LaminarParamsUntied {
+            slope: 0.2,
+            sub_slope: 1.5,
+            beta: 0.3,
+            n: 1.45,
+            a: 0.2,
+        };
+        let mut out = [0.0f64; 2 * LAMINAR_COMPONENTS];
+        let s = laminar_components_untied_f64(0, untied, geometries.as_ptr(), 2, out.as_mut_ptr());
+        assert_eq!(s, Status::Ok);
+        let p = Params::untied(0.2, 1.5, 0.3, 1.45, 0.2).unwrap();
+        for (k, a) in geometries.iter().enumerate() {
+            let g = Geometry::<f64>::splat(&angles(a).unwrap());
+            let want = laminar_core::components(&g, Correlation::Exponential, &p).to_array();
+            assert_eq!(
+                &out[k * LAMINAR_COMPONENTS..(k + 1) * LAMINAR_COMPONENTS],
+                &want[..]
+            );
+        }
+        let mut total = [0.0f64; 2];
+        let s = laminar_total_radiance_untied_f64(
+            0,
+            untied,
+            geometries.as_ptr(),
+            2,
+            total.as_mut_ptr(),
+        );
+        assert_eq!((s, total[1]), (Status::Ok, out[2 * LAMINAR_COMPONENTS - 1]));
+        let tied = LaminarParamsUntied {
+            slope: P.slope,
+            sub_slope: P.slope,
+            beta: P.beta,
+            n: P.n,
+            a: P.a,
+        };
+        let (mut a, mut b) = ([0.0f64; 2], [0.0f64; 2]);
+        laminar_total_radiance_untied_f64(1, tied, geometries.as_ptr(), 2, a.as_mut_ptr());
+        laminar_total_radiance_f64(1, P, geometries.as_ptr(), 2, b.as_mut_ptr());
+        assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        let mut untouched = [7.0f64; 2];
+        let bad = LaminarParamsUntied {
+            sub_slope: f64::NAN,
+            ..untied
+        };
+        let s = laminar_total_radiance_untied_f64(
+            0,
+            bad,
+            geometries.as_ptr(),
+            2,
+            untouched.as_mut_ptr(),
+        );
+        assert_eq!((s, untouched), (Status::BadSlope, [7.0; 2]));
+        assert_eq!(laminar_validate_params_untied(bad), Status::BadSlope);
+        assert_eq!(laminar_validate_params_untied(untied), Status::Ok);
     }
 
     #[test]

@@ -22,13 +22,25 @@ pub struct Covariance {
 /// trade-off between two parameters.
 pub const TRADE_OFF: f64 = 0.9;
 
+/// `a · b`, summed in index order: nalgebra's products of dynamic
+/// matrices above a few rows go through `matrixmultiply`, which picks FMA
+/// kernels at run time, so the same fit gave other bits on another CPU or
+/// in wasm (the untied models' six parameters did).
+pub(crate) fn product(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(a.nrows(), b.ncols(), |i, j| {
+        (0..a.ncols()).map(|k| a[(i, k)] * b[(k, j)]).sum()
+    })
+}
+
 impl Covariance {
     /// `s² (JᵀJ)⁻¹` of the Jacobian `jacobian` (one column per parameter
     /// of `names`), or `None` when `JᵀJ` is singular (a parameter the data
     /// do not constrain at all).
     pub fn from_jacobian(names: &[Param], jacobian: &DMatrix<f64>, s2: f64) -> Option<Self> {
         let p = jacobian.ncols();
-        let inverse = (jacobian.transpose() * jacobian).cholesky()?.inverse();
+        let inverse = product(&jacobian.transpose(), jacobian)
+            .cholesky()?
+            .inverse();
         let matrix = (0..p)
             .map(|i| (0..p).map(|j| s2 * inverse[(i, j)]).collect())
             .collect();

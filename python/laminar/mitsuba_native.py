@@ -89,6 +89,11 @@ def eq8_forms(models):
                 f"{m.label}: the native BSDF draws the layered models (exp, gauss and their rh- variants); "
                 f"{m.model} is drawn by the 'laminar' plugin"
             )
+        if "sub_slope" in form:
+            raise ValueError(
+                f"{m.label}: the native BSDF draws the tied layered models; {m.model} (σ′/T′ of its own) "
+                "is drawn by the 'laminar' plugin"
+            )
         forms.append(form)
     if len({f["correlation"] for f in forms}) != 1:
         raise ValueError("select: the channels' fits use different correlations; the native BSDF needs one")

@@ -304,6 +304,11 @@ def test_a_baseline_is_refused_by_name():
     mi = mitsuba_variant("scalar_rgb")
     with pytest.raises(Exception, match="drawn by the 'laminar' plugin"):
         mi.load_dict({"type": "laminar_native", "model": "jensen", "sigma_a": 0.1, "sigma_s": 0.5})
+    # An untied model too: the native lobe has one slope (its σ′/T′ would
+    # be dropped, not drawn).
+    untied = {"model": "exp2", "slope": 0.2, "sub_slope": 1.2, "beta": 0.4, "n": 1.4, "a": 0.1}
+    with pytest.raises(Exception, match="exp2 .*drawn by the 'laminar' plugin"):
+        mi.load_dict({"type": "laminar_native", **untied})
 
 
 #: A sharp fit: a narrow surface lobe (small σ/T), little subsurface.

@@ -2,6 +2,7 @@
 //! model-based one, and the sandwich (Huber–White) one that holds when the
 //! model does not fit the data exactly (docs/estimation.md).
 
+use crate::covariance::product;
 use crate::free::coordinate::Coordinate;
 use crate::free::model::FreeModel;
 use crate::free::problem::{Point, Problem};
@@ -76,7 +77,7 @@ impl JacobianCovariance {
             }
         };
         let meat = meat(&problem.weight, &residuals, &inverse, scaled_rows);
-        let sandwich = &inverse * meat * &inverse;
+        let sandwich = product(&product(&inverse, &meat), &inverse);
         let mut matrix = vec![vec![None; jac.len()]; jac.len()];
         let mut robust = vec![vec![None; jac.len()]; jac.len()];
         for (a, &i) in kept.iter().enumerate() {
