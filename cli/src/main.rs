@@ -21,6 +21,7 @@ struct Cli {
 enum Command {
     Fit(commands::fit::FitArgs),
     FitBatch(commands::fit_batch::FitBatchArgs),
+    FitJoint(commands::fit_joint::FitJointArgs),
     Predict(commands::predict::PredictArgs),
     Export(commands::export::ExportArgs),
     Albedo(commands::albedo::AlbedoArgs),
@@ -70,6 +71,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Fit(args) => commands::fit::run(args).map(|_| true),
         Command::FitBatch(args) => commands::fit_batch::run(args).map(|_| true),
+        Command::FitJoint(args) => commands::fit_joint::run(args).map(|_| true),
         Command::Predict(args) => commands::predict::run(args).map(|_| true),
         Command::Export(args) => commands::export::run(args).map(|_| true),
         Command::Albedo(args) => commands::albedo::run(args).map(|_| true),

@@ -1809,3 +1809,81 @@ fn noise_and_untied_models_are_refused_where_they_do_not_apply() {
         assert!(r["rank"]["rank"].is_u64(), "{r}");
     }
 }
+
+/// `fit-joint` on two channels made by one untied surface with two
+/// absorptions: one row per channel, the shared parameters equal in both,
+/// each channel's a near its own, the joint objective the channels' sum,
+/// and one channel refused.
+#[test]
+fn fit_joint_shares_the_geometry_across_channels() {
+    use laminar_core::{Correlation, Params};
+    let d = tempfile::tempdir().unwrap();
+    let angles = laminar_fit::synthetic::geometries();
+    let made = |a: f64| {
+        let p = Params::untied(0.3, 1.5, 0.39, 1.44, a).unwrap();
+        laminar_fit::synthetic::normalised(Correlation::Exponential, &p, &angles)
+    };
+    let (r, g) = (made(0.1), made(0.6));
+    let mut text = String::from("theta_i,theta_s,phi_s,r,g\n");
+    for (k, a) in angles.iter().enumerate() {
+        let (ti, ts, ps) = (a.theta_i(), a.theta_s(), a.phi_s());
+        text += &format!("{ti},{ts},{ps},{},{}\n", r[k], g[k]);
+    }
+    let file = d.path().join("paint.csv");
+    std::fs::write(&file, text).unwrap();
+    let path = file.to_str().unwrap();
+    let out = ok(&[
+        "fit-joint",
+        "--measurements",
+        path,
+        "--quantity",
+        "radiance",
+        "--resamples",
+        "20",
+    ]);
+    let rows: Vec<csv::StringRecord> = csv::Reader::from_reader(out.as_bytes())
+        .records()
+        .map(Result::unwrap)
+        .collect();
+    let header = csv::Reader::from_reader(out.as_bytes())
+        .headers()
+        .unwrap()
+        .clone();
+    let at = |row: &csv::StringRecord, name: &str| -> f64 {
+        let i = header.iter().position(|h| h == name).unwrap();
+        row[i].parse().unwrap()
+    };
+    assert_eq!(rows.len(), 2);
+    for name in [
+        "slope",
+        "sub_slope",
+        "n",
+        "slope_lo95",
+        "n_hi95",
+        "joint_sse",
+    ] {
+        assert_eq!(at(&rows[0], name), at(&rows[1], name), "{name}");
+    }
+    assert!((at(&rows[0], "slope") / 0.3 - 1.0).abs() < 1e-3, "{out}");
+    assert!(
+        (at(&rows[0], "sub_slope") / 1.5 - 1.0).abs() < 1e-3,
+        "{out}"
+    );
+    assert!((at(&rows[0], "a") - 0.1).abs() < 1e-3 && (at(&rows[1], "a") - 0.6).abs() < 1e-3);
+    let sum = at(&rows[0], "sse") + at(&rows[1], "sse");
+    assert!((at(&rows[0], "joint_sse") - sum).abs() <= 1e-12 * sum.max(1e-300));
+    assert_eq!(at(&rows[0], "parameters"), 9.0);
+    assert_eq!(at(&rows[0], "resamples"), 20.0);
+    fails(
+        &[
+            "fit-joint",
+            "--measurements",
+            path,
+            "--channels",
+            "r",
+            "--quantity",
+            "radiance",
+        ],
+        &["joint fit: 1 channel given"],
+    );
+}

@@ -329,6 +329,9 @@ pub enum FitError {
     /// The noise model.
     #[error(transparent)]
     Noise(#[from] crate::noise::NoiseError),
+    /// A joint fit across channels that cannot be made.
+    #[error("joint fit: {0}")]
+    Joint(JointError),
     /// The worker threads.
     #[error("cannot start {threads} worker threads: {message}")]
     Threads {
@@ -337,4 +340,34 @@ pub enum FitError {
         /// Why.
         message: String,
     },
+}
+
+/// Why channels cannot be fitted jointly ([`crate::Fitter::fit_joint`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum JointError {
+    /// A model without the layered geometry to share.
+    #[error("{model} is not a layered model; the channels share a layered model's σ/T and n")]
+    NotLayered {
+        /// The model's name.
+        model: &'static str,
+    },
+    /// Fewer than two channels.
+    #[error("{count} channel given; a joint fit needs at least two")]
+    TooFewChannels {
+        /// Channels given.
+        count: usize,
+    },
+    /// Channels measured at different geometries.
+    #[error("channel `{channel}` is not on the geometry of `{first}`; the channels must share their measurements' directions")]
+    GeometryDiffers {
+        /// The channel that differs.
+        channel: String,
+        /// The first channel.
+        first: String,
+    },
+    /// The paper objective.
+    #[error(
+        "the paper objective fits one channel at a time; a joint fit needs the free objective"
+    )]
+    PaperObjective,
 }

@@ -4,9 +4,10 @@
 //! `crate::paper::driver`. Both end in a [`Fit`] ([`crate::report`]).
 
 use crate::analysis::Analysis;
-use crate::error::FitError;
+use crate::error::{FitError, JointError};
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
+use crate::free::joint::JointFit;
 use crate::grid::Grid;
 use crate::model::Model;
 use crate::noise::Noise;
@@ -388,6 +389,52 @@ impl Fitter {
             ),
             Objective::Paper => self.paper(&tick).fit_batch(scenes, model),
         })
+    }
+
+    /// One fit of `model` (a layered model) across `scenes`, the channels
+    /// of one sample on one geometry: σ/T, σ′/T′ (untied models) and n
+    /// shared, a, β and the amplitude per channel, weighted by the fitter's
+    /// noise model, in its box, with the analysis's bootstrap resamples
+    /// (none when the uncertainty is off) for the percentile intervals
+    /// (`crate::free::joint`).
+    ///
+    /// # Errors
+    /// [`FitError::Joint`] for a baseline, fewer than two channels,
+    /// channels on different geometries, or the paper objective.
+    pub fn fit_joint(&self, scenes: &[Scene], model: Model) -> Result<JointFit, FitError> {
+        let refuse = |e: JointError| Err(FitError::Joint(e));
+        if self.objective == Objective::Paper {
+            return refuse(JointError::PaperObjective);
+        }
+        if !model.is_layered() {
+            return refuse(JointError::NotLayered {
+                model: model.name(),
+            });
+        }
+        let Some(first) = scenes.first().filter(|_| scenes.len() >= 2) else {
+            return refuse(JointError::TooFewChannels {
+                count: scenes.len(),
+            });
+        };
+        if let Some(other) = scenes.iter().find(|s| s.angles() != first.angles()) {
+            return refuse(JointError::GeometryDiffers {
+                channel: other.channel().to_string(),
+                first: first.channel().to_string(),
+            });
+        }
+        let resamples = match self.analysis.uncertainty {
+            crate::Uncertainty::Off => 0,
+            _ => self.analysis.resamples,
+        };
+        let scenes = self.weighed(scenes);
+        Ok(self.run(|| {
+            free::joint::fit(
+                &scenes,
+                model,
+                (&self.grid, self.precision),
+                (resamples, self.analysis.seed),
+            )
+        }))
     }
 
     /// `scenes` weighted by the noise model (copies only when it changes them).

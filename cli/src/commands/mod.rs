@@ -5,6 +5,7 @@ pub mod eval;
 pub mod export;
 pub mod fit;
 pub mod fit_batch;
+pub mod fit_joint;
 pub mod options;
 pub mod parity;
 pub mod predict;

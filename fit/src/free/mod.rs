@@ -28,6 +28,7 @@ pub(crate) mod dispatch;
 pub(crate) mod driver;
 pub(crate) mod estimate;
 pub(crate) mod jacobian;
+pub(crate) mod joint;
 pub(crate) mod layout;
 pub(crate) mod linear;
 pub(crate) mod model;

@@ -75,7 +75,7 @@ pub const MAX_ITERATIONS: u64 = 400;
 /// objective's spread over the simplex is below `tolerance` times the
 /// start's; the best vertex, projected, and its cost. Never worse than
 /// `start`.
-fn nelder_mead(
+pub(crate) fn nelder_mead(
     cost: impl Fn(&[f64]) -> f64,
     bounds: &[(f64, f64)],
     (start, steps): (&[f64], &[f64]),

@@ -22,6 +22,14 @@ impl Scale {
         }
     }
 
+    /// `value` of this coordinate in model units.
+    pub fn external(self, value: f64) -> f64 {
+        match self {
+            Self::Linear => value,
+            Self::Log => libm::exp(value),
+        }
+    }
+
     /// A `[lo, hi]` range (model units) in this coordinate.
     pub fn range(self, (lo, hi): (f64, f64)) -> (f64, f64) {
         (self.internal(lo), self.internal(hi))

@@ -247,6 +247,25 @@ pub fn grid_starts(values: &GridValues, most: usize) -> Vec<(Vec<usize>, f64)> {
         .collect()
 }
 
+/// Asserts that every grid value of `values` is `problem`'s objective
+/// evaluated directly at that point, from the residuals, to 10⁻¹⁰ of
+/// `Σ w D²` (the moments form cancels digits of it).
+#[cfg(test)]
+pub(crate) fn assert_grid_is_the_objective<M: FreeModel>(
+    problem: &Problem<M>,
+    axes: &GridAxes,
+    values: &GridValues,
+) {
+    for (flat, &sse) in values.sse.iter().enumerate() {
+        let at = values.indices(flat);
+        let direct = problem.evaluate(&axes.theta(&at), problem.beta).0.sse;
+        assert!(
+            (sse - direct).abs() <= 1e-10 * problem.dd,
+            "at {at:?}: grid {sse}, direct {direct}"
+        );
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

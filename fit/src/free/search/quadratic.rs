@@ -23,7 +23,7 @@ type Layered = Problem<LayeredModel>;
 /// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
 /// four at a time (the last group padded with its last a): bit for bit
 /// one at a time, as the core's `f64x4` is its `f64` lane by lane.
-pub(super) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
+pub(crate) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
     for (group, out) in a_axis.chunks(4).zip(out.chunks_mut(4)) {
         let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
         let sse = q.moments(a).solve(beta).sse.to_array();
@@ -492,15 +492,7 @@ mod tests {
         // And each grid value is the objective evaluated directly there,
         // from the residuals (the moments form cancels digits of Σ w D²).
         for (problem, values) in problems.iter().zip(&together) {
-            for (flat, &sse) in values.sse.iter().enumerate() {
-                let at = values.indices(flat);
-                let theta = axes.theta(&at);
-                let direct = problem.evaluate(&theta, problem.beta).0.sse;
-                assert!(
-                    (sse - direct).abs() <= 1e-10 * problem.dd,
-                    "at {at:?}: grid {sse}, direct {direct}"
-                );
-            }
+            super::super::assert_grid_is_the_objective(problem, &axes, values);
         }
     }
 

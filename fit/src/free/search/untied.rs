@@ -19,7 +19,7 @@ use rayon::prelude::*;
 
 /// One (σ′/T′, n) column: the weighted base against `[1, g1, g2]`, and the
 /// sums that do not involve `S`.
-struct Column {
+pub(crate) struct Column {
     /// `w B`, `w B g1`, `w B g2`.
     weighted: [Vec<f64>; 3],
     /// `Σ w B² g_i g_j` (`g0 = 1`).
@@ -42,35 +42,81 @@ pub fn grid_values(
     }
 }
 
+/// `x_k y_k` for each k.
+fn times(x: &[f64], y: &[f64]) -> Vec<f64> {
+    x.iter().zip(y).map(|(a, b)| a * b).collect()
+}
+
+/// The factors that turn the base `B` into `B1` and `B2` (quadratic.rs):
+/// `−(cos²θi + cos²θs)` and `cos²θi cos²θs`.
+pub(crate) fn factors(model: &LayeredModel) -> [Vec<f64>; 2] {
+    let (ci, cs) = model.cosines();
+    [
+        ci.iter().zip(cs).map(|(i, s)| -(i + s)).collect(),
+        ci.iter().zip(cs).map(|(i, s)| i * s).collect(),
+    ]
+}
+
+impl Column {
+    /// The column of base `b` for `problem`'s weights and data, `g` its
+    /// [`factors`].
+    pub(crate) fn new(
+        problem: &Problem<LayeredModel>,
+        b: &[f64],
+        [g1, g2]: &[Vec<f64>; 2],
+    ) -> Self {
+        let (w, wd) = (&problem.weight[..], &problem.weighted_data[..]);
+        let (bg1, bg2) = (times(b, g1), times(b, g2));
+        let wb = times(w, b);
+        let (wbg1, wbg2) = (times(&wb, g1), times(&wb, g2));
+        let [b00, b01, b02] = dots(b, [&wb, &wbg1, &wbg2]);
+        let [b11, b12] = dots(&bg1, [&wbg1, &wbg2]);
+        let [b22] = dots(&bg2, [&wbg2]);
+        Column {
+            bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
+            db: dots(wd, [b, &bg1, &bg2]),
+            weighted: [wb, wbg1, wbg2],
+        }
+    }
+
+    /// The quadratic in a of this column against the surface term `s`
+    /// (its sums `[Σ w S², Σ w D S]`: [`surface_sums`]).
+    pub(crate) fn quadratic(
+        &self,
+        problem: &Problem<LayeredModel>,
+        s: &[f64],
+        [ss, ds]: [f64; 2],
+    ) -> Quadratic<f64> {
+        let [x, y, z] = &self.weighted;
+        Quadratic {
+            dd: problem.dd,
+            ds,
+            ss,
+            db: self.db,
+            sb: dots(s, [x, y, z]),
+            bb: self.bb,
+        }
+    }
+}
+
+/// `[Σ w S², Σ w D S]` of the surface term `s`.
+pub(crate) fn surface_sums(problem: &Problem<LayeredModel>, s: &[f64]) -> [f64; 2] {
+    let ws = times(&problem.weight, s);
+    dots(s, [&ws, &problem.weighted_data])
+}
+
 fn values<L: Packed>(problem: &Problem<LayeredModel>, axes: &GridAxes) -> GridValues {
     let model = &problem.model;
     let axis = |p: Param| axes.of(p).expect("an untied model's grid has this axis");
     let (slopes, subs, ns) = (axis(Param::Slope), axis(Param::SubSlope), axis(Param::N));
     let a_axis = axis(Param::A);
-    let (w, wd) = (&problem.weight[..], &problem.weighted_data[..]);
-    let (ci, cs) = model.cosines();
-    // The factors that turn B into B1 and B2 (quadratic.rs).
-    let g1: Vec<f64> = ci.iter().zip(cs).map(|(i, s)| -(i + s)).collect();
-    let g2: Vec<f64> = ci.iter().zip(cs).map(|(i, s)| i * s).collect();
-    let times =
-        |x: &[f64], y: &[f64]| -> Vec<f64> { x.iter().zip(y).map(|(a, b)| a * b).collect() };
+    let g = factors(model);
     let boundaries: Vec<_> = ns.par_iter().map(|&n| model.boundary::<L>(n)).collect();
     let columns: Vec<Column> = (0..subs.len() * ns.len())
         .into_par_iter()
         .map(|c| {
             let (sub, n) = (subs[c / ns.len()], c % ns.len());
-            let b = model.base::<L>(sub, &boundaries[n]);
-            let (bg1, bg2) = (times(&b, &g1), times(&b, &g2));
-            let wb = times(w, &b);
-            let (wbg1, wbg2) = (times(&wb, &g1), times(&wb, &g2));
-            let [b00, b01, b02] = dots(&b, [&wb, &wbg1, &wbg2]);
-            let [b11, b12] = dots(&bg1, [&wbg1, &wbg2]);
-            let [b22] = dots(&bg2, [&wbg2]);
-            Column {
-                bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
-                db: dots(wd, [&b, &bg1, &bg2]),
-                weighted: [wb, wbg1, wbg2],
-            }
+            Column::new(problem, &model.base::<L>(sub, &boundaries[n]), &g)
         })
         .collect();
     let row_len = columns.len() * a_axis.len();
@@ -78,20 +124,15 @@ fn values<L: Packed>(problem: &Problem<LayeredModel>, axes: &GridAxes) -> GridVa
         .par_iter()
         .map(|&slope| {
             let s = model.surface(slope);
-            let ws = times(w, &s);
-            let [ss, ds] = dots(&s, [&ws, wd]);
+            let sums = surface_sums(problem, &s);
             let mut out = vec![0.0; row_len];
             for (column, out) in columns.iter().zip(out.chunks_mut(a_axis.len())) {
-                let [x, y, z] = &column.weighted;
-                let q = Quadratic {
-                    dd: problem.dd,
-                    ds,
-                    ss,
-                    db: column.db,
-                    sb: dots(&s, [x, y, z]),
-                    bb: column.bb,
-                };
-                objectives(&q, a_axis, problem.beta, out);
+                objectives(
+                    &column.quadratic(problem, &s, sums),
+                    a_axis,
+                    problem.beta,
+                    out,
+                );
             }
             out
         })
@@ -148,15 +189,7 @@ mod tests {
             };
             let values = grid_values(&problem, &axes, Precision::F64);
             assert_eq!(values.sse.len(), 3 * 2 * 3 * 3);
-            for (flat, &sse) in values.sse.iter().enumerate() {
-                let at = values.indices(flat);
-                let theta = axes.theta(&at);
-                let direct = problem.evaluate(&theta, problem.beta).0.sse;
-                assert!(
-                    (sse - direct).abs() <= 1e-10 * problem.dd,
-                    "{model} at {at:?}: grid {sse}, direct {direct}"
-                );
-            }
+            super::super::assert_grid_is_the_objective(&problem, &axes, &values);
             let single = grid_values(&problem, &axes, Precision::F32);
             for (s, d) in single.sse.iter().zip(&values.sse) {
                 assert!(

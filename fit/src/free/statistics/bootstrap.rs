@@ -35,15 +35,16 @@ fn generator(seed: u64, b: usize) -> Noise {
     Noise::new(seed ^ (b as u64).wrapping_mul(0xD605_BBB5_8C8A_BBAD))
 }
 
-/// `problem` with each measurement's weight times its count in a resample.
-fn resampled<M>(problem: &Problem<M>, rng: &mut Noise) -> Problem<M> {
-    let k = problem.data.len();
+/// Each of `k` measurements' count in resample `b` of a bootstrap seeded
+/// `seed` (multinomial, the counts sum to `k`).
+pub(crate) fn resample_counts(k: usize, seed: u64, b: usize) -> Vec<f64> {
+    let mut rng = generator(seed, b);
     let mut counts = vec![0.0; k];
     for _ in 0..k {
         let i = ((rng.uniform() * k as f64) as usize).min(k - 1);
         counts[i] += 1.0;
     }
-    reweighted(problem, &counts)
+    counts
 }
 
 /// `problem` with measurement `k`'s weight times `counts[k]` (a resample's
@@ -103,7 +104,7 @@ pub fn bootstrap<M: FreeModel>(
     let values: Vec<Vec<f64>> = (0..resamples)
         .into_par_iter()
         .map(|b| {
-            let p = resampled(problem, &mut generator(seed, b));
+            let p = reweighted(problem, &resample_counts(problem.data.len(), seed, b));
             let point = minimise(&p, &minimum.theta, &free, p.beta, SCREENING).point;
             layout
                 .coordinates
@@ -130,7 +131,7 @@ pub fn bootstrap<M: FreeModel>(
 /// The percentile intervals (68.27%, 95%) of one parameter's `sorted`
 /// resampled values around its estimate `value`, in its box, and the
 /// largest Monte Carlo standard deviation of their four ends.
-fn percentile_intervals(
+pub(crate) fn percentile_intervals(
     sorted: &[f64],
     value: f64,
     (lo, hi): (f64, f64),

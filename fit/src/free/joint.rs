@@ -1,0 +1,363 @@
+//! One fit across a material's channels (docs/conventions.md §4c): the
+//! channels share their geometry (σ/T, σ′/T′ of an untied model, n) and
+//! each has its own absorption a and its own linear coefficients
+//! (amplitude and β), so C channels have `s + 3C` parameters (s shared)
+//! where C separate fits have `C (s + 3)`.
+//!
+//! The objective is `J = Σ_c F_c`, each channel's free objective. At a
+//! point of the shared parameters each `F_c` is a quadratic in its own a
+//! (the grid stage's form, [`Column::quadratic`]), so each a is found
+//! alone: a scan of [`A_SCAN`] values, then a golden-section search
+//! between the scan's neighbours of the best. The grid stage is each
+//! channel's ([`GridStage::grid_values`]) with every channel's best a per
+//! shared point summed; the best shared point starts a Nelder–Mead search
+//! of `J` over the shared parameters in the box (the paper objective's,
+//! [`crate::paper::refine`]); each channel's fit is then evaluated
+//! exactly there. Intervals: a pairs bootstrap over the geometries (the
+//! same resampled geometries in every channel, so the channels'
+//! correlation is kept), each resample refined from the estimate; the
+//! percentile intervals hold under misfit as the single fits' do
+//! (docs/estimation.md).
+
+use super::layout::Layout;
+use super::model::{FreeModel, LayeredModel};
+use super::problem::Problem;
+use super::search::quadratic::objectives;
+use super::search::untied::{factors, surface_sums, Column};
+use super::search::GridStage;
+use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
+use crate::grid::Grid;
+use crate::model::{attainable_domain, Model, Param};
+use crate::paper::refine::{nelder_mead, TOLERANCE};
+use crate::profile::Interval;
+use crate::scene::Scene;
+use crate::settings::Precision;
+use laminar_core::f64x4;
+use rayon::prelude::*;
+use std::sync::Arc;
+
+/// Values of a in each channel's scan before its golden-section search.
+pub const A_SCAN: usize = 21;
+
+/// Golden-section steps after the scan (the bracket shrinks by 0.618 per
+/// step: 10⁻¹⁰ of the scan's spacing).
+const GOLDEN_STEPS: usize = 48;
+
+/// One parameter of a joint fit: its value and percentile intervals.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointValue {
+    /// The parameter.
+    pub name: Param,
+    /// Its estimate.
+    pub value: f64,
+    /// The bootstrap's 68.27% and 95% percentile intervals (none without
+    /// resamples).
+    pub intervals: Option<[Interval; 2]>,
+}
+
+/// One channel of a joint fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointChannel {
+    /// The channel's name.
+    pub channel: String,
+    /// Its absorption a (`None` for a Ragheb–Hancock model, a = 0).
+    pub a: Option<JointValue>,
+    /// β of eq. 8.
+    pub beta: f64,
+    /// The amplitude `c` (of the data divided by their max).
+    pub amplitude: f64,
+    /// Its weighted objective `F_c` at the joint estimate.
+    pub sse: f64,
+    /// Its measurements' normalisation (the max it was divided by).
+    pub data_scale: f64,
+}
+
+/// A fit of one model to several channels on one geometry, the geometry's
+/// parameters shared ([`crate::Fitter::fit_joint`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointFit {
+    /// The set's sample label.
+    pub sample: String,
+    /// The model.
+    pub model: Model,
+    /// The shared parameters (σ/T, σ′/T′ for an untied model, n).
+    pub shared: Vec<JointValue>,
+    /// Each channel, in the order given.
+    pub channels: Vec<JointChannel>,
+    /// `J = Σ_c F_c` at the estimate.
+    pub sse: f64,
+    /// Measurements per channel.
+    pub measurements: usize,
+    /// Fitted parameters in all: the shared ones and 3 per channel (a, β,
+    /// amplitude; 2 without a).
+    pub parameter_count: usize,
+    /// Bootstrap resamples behind the intervals.
+    pub resamples: usize,
+}
+
+/// The joint objective of the channels' problems on one layered model.
+struct Joint<'a> {
+    model: &'a LayeredModel,
+    /// θ's positions of the shared parameters, in table order.
+    shared: Vec<usize>,
+    /// θ's position of a, when the model has it.
+    a_at: Option<usize>,
+    a_box: (f64, f64),
+    factors: [Vec<f64>; 2],
+}
+
+impl Joint<'_> {
+    /// The full θ of shared values `x` and absorption `a`.
+    fn theta(&self, x: &[f64], a: f64) -> Vec<f64> {
+        let mut theta = vec![0.0; self.shared.len() + usize::from(self.a_at.is_some())];
+        for (&j, &v) in self.shared.iter().zip(x) {
+            theta[j] = v;
+        }
+        if let Some(j) = self.a_at {
+            theta[j] = a;
+        }
+        theta
+    }
+
+    /// `J` at shared values `x` and each channel's best a there.
+    fn at(&self, problems: &[Problem<LayeredModel>], x: &[f64]) -> (f64, Vec<f64>) {
+        let theta = self.theta(x, 0.0);
+        let (slope, n, _) = self.model.slope_n_a(&theta);
+        let s = self.model.surface(slope);
+        let boundary = self.model.boundary::<f64x4>(n);
+        let b = self
+            .model
+            .base::<f64x4>(self.model.sub_slope(&theta), &boundary);
+        let mut total = 0.0;
+        let mut best = Vec::with_capacity(problems.len());
+        for problem in problems {
+            let q = Column::new(problem, &b, &self.factors).quadratic(
+                problem,
+                &s,
+                surface_sums(problem, &s),
+            );
+            let f = |a: f64| {
+                let mut out = [0.0];
+                objectives(&q, &[a], problem.beta, &mut out);
+                out[0]
+            };
+            let (a, value) = match self.a_at {
+                Some(_) => minimise_in(f, self.a_box),
+                None => (0.0, f(0.0)),
+            };
+            total += value;
+            best.push(a);
+        }
+        (total, best)
+    }
+}
+
+/// The smallest of `f` over `[lo, hi]`: the best of [`A_SCAN`] values, then
+/// a golden-section search between its neighbours.
+fn minimise_in(f: impl Fn(f64) -> f64, (lo, hi): (f64, f64)) -> (f64, f64) {
+    let step = (hi - lo) / (A_SCAN - 1) as f64;
+    let (mut best, mut value) = (lo, f(lo));
+    for i in 1..A_SCAN {
+        let a = lo + step * i as f64;
+        let v = f(a);
+        if v < value {
+            (best, value) = (a, v);
+        }
+    }
+    let (mut a, mut b) = ((best - step).max(lo), (best + step).min(hi));
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut fc, mut fd) = (f(c), f(d));
+    for _ in 0..GOLDEN_STEPS {
+        if fc < fd {
+            (b, d, fd) = (d, c, fc);
+            c = b - r * (b - a);
+            fc = f(c);
+        } else {
+            (a, c, fc) = (c, d, fd);
+            d = a + r * (b - a);
+            fd = f(d);
+        }
+    }
+    for (x, v) in [(c, fc), (d, fd)] {
+        if v < value {
+            (best, value) = (x, v);
+        }
+    }
+    (best, value)
+}
+
+/// The joint fit of `model` (a layered model) to `scenes` (channels of one
+/// sample on one geometry, already weighted by the noise model) in the box
+/// of `grid`, the grid stage in `precision`, with `resamples` bootstrap
+/// resamples seeded by `seed`.
+pub fn fit(
+    scenes: &[Scene],
+    model: Model,
+    (grid, precision): (&Grid, Precision),
+    (resamples, seed): (usize, u64),
+) -> JointFit {
+    let built = Arc::new(LayeredModel::new(model, scenes[0].angles()));
+    let layout = Layout::new(&*built, grid);
+    let problems: Vec<Problem<LayeredModel>> = scenes
+        .iter()
+        .map(|scene| {
+            Problem::new(
+                scene,
+                (model, Some(Arc::clone(&built))),
+                (layout.bounds.clone(), layout.reported.clone()),
+                layout.domain.clone(),
+                layout.beta,
+            )
+        })
+        .collect();
+    let table = built.table();
+    let a_at = table.position(Param::A);
+    let shared: Vec<usize> = (0..table.entries().len())
+        .filter(|&j| Some(j) != a_at)
+        .collect();
+    let joint = Joint {
+        model: &built,
+        a_box: a_at.map_or((0.0, 0.0), |j| layout.bounds[j]),
+        shared,
+        a_at,
+        factors: factors(&built),
+    };
+    let start = grid_start(&problems, &layout, &joint, precision);
+    let (x, a) = refine(&joint, &problems, &start);
+    let estimate: Vec<_> = problems
+        .iter()
+        .zip(&a)
+        .map(|(p, &a)| p.evaluate(&joint.theta(&x, a), p.beta).0)
+        .collect();
+    let bootstrapped = bootstrap(&joint, &problems, &x, (resamples, seed));
+    // On a face of the box, the face as the user gave it (`ln` and `exp`
+    // do not round-trip).
+    let in_units = |j: usize, v: f64| {
+        let ((lo, hi), (ilo, ihi)) = (layout.reported[j], layout.bounds[j]);
+        match v {
+            v if v <= ilo => lo,
+            v if v >= ihi => hi,
+            v => table.entries()[j].scale.external(v).clamp(lo, hi),
+        }
+    };
+    let value_of = |j: usize, value: f64, column: usize| {
+        let name = table.entries()[j].name;
+        JointValue {
+            name,
+            value,
+            intervals: bootstrapped.as_ref().map(|values| {
+                let mut sorted: Vec<f64> = values.iter().map(|v| v[column]).collect();
+                sorted.sort_by(f64::total_cmp);
+                percentile_intervals(&sorted, value, layout.reported[j], attainable_domain(name)).0
+            }),
+        }
+    };
+    let shared: Vec<JointValue> = (joint.shared.iter().enumerate())
+        .map(|(i, &j)| value_of(j, in_units(j, x[i]), i))
+        .collect();
+    let channels = (scenes.iter().zip(&estimate).enumerate())
+        .map(|(c, (scene, point))| JointChannel {
+            channel: scene.channel().to_string(),
+            a: a_at.map(|j| value_of(j, a[c], joint.shared.len() + c)),
+            beta: point.linear.beta(layout.beta.0),
+            amplitude: point.linear.amplitude(),
+            sse: point.sse,
+            data_scale: scene.data_scale(),
+        })
+        .collect();
+    let per_channel = 2 + usize::from(a_at.is_some());
+    JointFit {
+        sample: scenes[0].sample().to_string(),
+        model,
+        shared,
+        channels,
+        sse: estimate.iter().map(|p| p.sse).sum(),
+        measurements: scenes[0].len(),
+        parameter_count: joint.shared.len() + per_channel * scenes.len(),
+        resamples: if bootstrapped.is_some() { resamples } else { 0 },
+    }
+}
+
+/// The best shared grid point: each channel's grid stage, every channel's
+/// best a per shared point summed (a is the table's last axis).
+fn grid_start(
+    problems: &[Problem<LayeredModel>],
+    layout: &Layout,
+    joint: &Joint<'_>,
+    precision: Precision,
+) -> Vec<f64> {
+    let values: Vec<_> = problems
+        .par_iter()
+        .map(|p| LayeredModel::grid_values(p, &layout.axes, precision))
+        .collect();
+    let last = values[0].lens.last().copied().unwrap_or(1);
+    let per_a = if joint.a_at.is_some() { last } else { 1 };
+    let points = values[0].sse.len() / per_a;
+    let summed = (0..points).map(|i| {
+        let at = |v: &super::search::GridValues| {
+            v.sse[i * per_a..(i + 1) * per_a]
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min)
+        };
+        values.iter().map(at).sum::<f64>()
+    });
+    let best = (summed.enumerate())
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or(0, |(i, _)| i);
+    let theta = layout.axes.theta(&values[0].indices(best * per_a));
+    joint.shared.iter().map(|&j| theta[j]).collect()
+}
+
+/// Nelder–Mead on `J` over the shared parameters in their box from
+/// `start` (first steps a tenth of each box), restarted once from its best
+/// with steps ten times shorter; the shared values and each channel's a.
+fn refine(
+    joint: &Joint<'_>,
+    problems: &[Problem<LayeredModel>],
+    start: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let bounds: Vec<(f64, f64)> = joint
+        .shared
+        .iter()
+        .map(|&j| problems[0].bounds[j])
+        .collect();
+    let cost = |x: &[f64]| joint.at(problems, x).0;
+    let mut x = start.to_vec();
+    for fraction in [0.1, 0.01] {
+        let steps: Vec<f64> = bounds.iter().map(|(lo, hi)| fraction * (hi - lo)).collect();
+        x = nelder_mead(cost, &bounds, (&x, &steps), TOLERANCE).x;
+    }
+    let a = joint.at(problems, &x).1;
+    (x, a)
+}
+
+/// Each resample's shared values (model units) then each channel's a:
+/// the geometries resampled alike in every channel, each refined from the
+/// estimate `x`. `None` with fewer than two resamples.
+fn bootstrap(
+    joint: &Joint<'_>,
+    problems: &[Problem<LayeredModel>],
+    x: &[f64],
+    (resamples, seed): (usize, u64),
+) -> Option<Vec<Vec<f64>>> {
+    if resamples < 2 {
+        return None;
+    }
+    let entries = joint.model.table().entries();
+    let values = (0..resamples)
+        .into_par_iter()
+        .map(|b| {
+            let counts = resample_counts(problems[0].data.len(), seed, b);
+            let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
+            let (xb, ab) = refine(joint, &resampled, x);
+            let mut v: Vec<f64> = (joint.shared.iter().zip(&xb))
+                .map(|(&j, &v)| entries[j].scale.external(v))
+                .collect();
+            v.extend(ab);
+            v
+        })
+        .collect();
+    Some(values)
+}
