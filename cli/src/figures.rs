@@ -223,3 +223,125 @@ pub fn profile_svg(title: &str, curve: &ProfileCurve) -> Result<String, String> 
     }
     Ok(svg)
 }
+
+/// One channel of a spectrum: where it sits on the x axis, a value and its
+/// 68% and 95% intervals (none without a bootstrap).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpectrumPoint {
+    /// The wavelength (nm), or the channel's index.
+    pub x: f64,
+    /// The value.
+    pub value: f64,
+    /// `[(lo68, hi68), (lo95, hi95)]`.
+    pub bands: Option<[(f64, f64); 2]>,
+}
+
+/// A spectrum across a material's channels: one panel per named series
+/// (`a(λ)`, `β(λ)`, each in [0, 1]), each the values as a line with
+/// points and, where given, the 68% band (darker) inside the 95% band
+/// (lighter). `x_desc` names the x axis; `x_names`, when not empty, label
+/// the channels at x = 0, 1, … (else x is a wavelength).
+///
+/// # Errors
+/// The drawing backend's message when the SVG cannot be drawn.
+pub fn spectrum_svg(
+    title: &str,
+    (x_desc, x_names): (&str, &[String]),
+    series: &[(&str, Vec<SpectrumPoint>)],
+) -> Result<String, String> {
+    let x_label = |x: &f64| {
+        if x_names.is_empty() {
+            return format!("{x:.0}");
+        }
+        let i = x.round();
+        let name = (i >= 0.0 && (x - i).abs() < 1e-6).then(|| x_names.get(i as usize));
+        name.flatten().cloned().unwrap_or_default()
+    };
+    let xs = series
+        .iter()
+        .flat_map(|(_, points)| points.iter().map(|p| p.x));
+    let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let pad = ((x1 - x0) * 0.03).max(0.5);
+    let (x0, x1) = (x0 - pad, x1 + pad);
+    let mut svg = String::new();
+    {
+        let height = 60 + 300 * series.len() as u32;
+        let root = SVGBackend::with_string(&mut svg, (720, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let root = root.titled(title, ("sans-serif", 18)).map_err(failed)?;
+        for ((name, points), area) in series.iter().zip(root.split_evenly((series.len(), 1))) {
+            let top = points
+                .iter()
+                .flat_map(|p| {
+                    let ends = p.bands.map_or([p.value; 2], |[_, (_, hi)]| [hi, p.value]);
+                    ends.into_iter()
+                })
+                .fold(1.0_f64, f64::max);
+            let mut chart = ChartBuilder::on(&area)
+                .margin(12)
+                .x_label_area_size(40)
+                .y_label_area_size(56)
+                .build_cartesian_2d(x0..x1, 0.0..top * 1.02)
+                .map_err(failed)?;
+            chart
+                .configure_mesh()
+                .x_desc(x_desc)
+                .y_desc(*name)
+                .x_label_formatter(&x_label)
+                .light_line_style(BLACK.mix(0.04))
+                .draw()
+                .map_err(failed)?;
+            for (level, shade) in [(1, 0.15), (0, 0.3)] {
+                let banded: Vec<&SpectrumPoint> =
+                    points.iter().filter(|p| p.bands.is_some()).collect();
+                if banded.len() < 2 {
+                    continue;
+                }
+                let band = |p: &SpectrumPoint| p.bands.map_or((p.value, p.value), |b| b[level]);
+                let outline: Vec<(f64, f64)> = (banded.iter().map(|p| (p.x, band(p).0)))
+                    .chain(banded.iter().rev().map(|p| (p.x, band(p).1)))
+                    .collect();
+                chart
+                    .draw_series(std::iter::once(Polygon::new(
+                        outline,
+                        BLUE.mix(shade).filled(),
+                    )))
+                    .map_err(failed)?
+                    .label(if level == 0 {
+                        "68% interval"
+                    } else {
+                        "95% interval"
+                    })
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 5), (x + 18, y + 5)], BLUE.mix(shade).filled())
+                    });
+            }
+            chart
+                .draw_series(LineSeries::new(
+                    points.iter().map(|p| (p.x, p.value)),
+                    BLUE.stroke_width(2),
+                ))
+                .map_err(failed)?
+                .label("estimate")
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], BLUE.stroke_width(2)));
+            chart
+                .draw_series(
+                    points
+                        .iter()
+                        .map(|p| Circle::new((p.x, p.value), 3, BLUE.filled())),
+                )
+                .map_err(failed)?;
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK.mix(0.3))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(failed)?;
+        }
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}

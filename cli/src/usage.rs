@@ -92,6 +92,9 @@ pub enum UsageError {
         /// The model.
         model: Model,
     },
+    /// `fit-joint --plot` of more or fewer than one sample.
+    #[error("--plot draws one sample's spectrum; the input has {0} samples (give one file, or one CUReT sample)")]
+    PlotOfSamples(usize),
     /// Parameters or angles outside their domain.
     #[error(transparent)]
     Input(#[from] InputError),

@@ -1832,6 +1832,7 @@ fn fit_joint_shares_the_geometry_across_channels() {
     let file = d.path().join("paint.csv");
     std::fs::write(&file, text).unwrap();
     let path = file.to_str().unwrap();
+    let plot = d.path().join("spectrum.svg");
     let out = ok(&[
         "fit-joint",
         "--measurements",
@@ -1840,7 +1841,21 @@ fn fit_joint_shares_the_geometry_across_channels() {
         "radiance",
         "--resamples",
         "20",
+        "--plot",
+        plot.to_str().unwrap(),
     ]);
+    // The spectrum: a panel for a and one for β, the channels by name.
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg"), "{svg}");
+    for text in [
+        "absorption a",
+        "β (eq. 8)",
+        "95% interval",
+        "\nr\n</text>",
+        "\ng\n</text>",
+    ] {
+        assert!(svg.contains(text), "the spectrum lacks {text}");
+    }
     let rows: Vec<csv::StringRecord> = csv::Reader::from_reader(out.as_bytes())
         .records()
         .map(Result::unwrap)

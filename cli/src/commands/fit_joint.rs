@@ -4,6 +4,8 @@ use super::options::{
     check_out, emit, jobs, layered_model, report_time, ChannelArgs, CuretArgs, FileArgs, FitterArgs,
 };
 use clap::Args;
+use laminar_cli::figures::{spectrum_svg, SpectrumPoint};
+use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::{JointFit, JointValue, Model, Scene};
 use std::path::PathBuf;
@@ -46,6 +48,12 @@ pub struct FitJointArgs {
     /// Write the CSV to FILE instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also draw the absorption spectrum a(λ) with its 68% and 95% bands,
+    /// and β(λ), into FILE (SVG; one sample). The x axis is the wavelength
+    /// when every channel is named by one (`450nm`, `532`), else the
+    /// channel's place.
+    #[arg(long)]
+    plot: Option<PathBuf>,
 }
 
 /// Runs `laminar fit-joint`.
@@ -53,6 +61,7 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
     let start = Instant::now();
     let inputs: Vec<PathBuf> = args.file.measurements.iter().cloned().collect();
     check_out(args.out.as_ref(), &inputs)?;
+    check_out(args.plot.as_ref(), &inputs)?;
     let fitter = args.fitting.fitter()?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     // Each sample's channels, in the order read.
@@ -67,9 +76,68 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
         .iter()
         .map(|scenes| fitter.fit_joint(scenes, args.model))
         .collect::<Result<Vec<JointFit>, _>>()?;
+    if let Some(plot) = &args.plot {
+        let [fit] = &fits[..] else {
+            return Err(UsageError::PlotOfSamples(fits.len()).into());
+        };
+        emit(Some(plot), &spectrum(fit).map_err(CliError::Figure)?)?;
+    }
     emit(args.out.as_ref(), &csv(&fits))?;
     report_time("fit-joint", start, fits.len() as f64, "samples");
     Ok(())
+}
+
+/// The wavelength (nm) a channel is named by: its leading number
+/// (`450nm`, `532`), when it has one.
+fn wavelength(channel: &str) -> Option<f64> {
+    let end = channel
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(channel.len());
+    channel[..end].parse().ok().filter(|w: &f64| *w > 0.0)
+}
+
+/// The spectrum figure of `fit`: a(λ) with its bands, and β(λ).
+fn spectrum(fit: &JointFit) -> Result<String, String> {
+    let named: Option<Vec<f64>> = fit
+        .channels
+        .iter()
+        .map(|c| wavelength(&c.channel))
+        .collect();
+    let (xs, x_desc, names) = match named {
+        Some(xs) => (xs, "wavelength (nm)", Vec::new()),
+        None => {
+            let names: Vec<String> = fit.channels.iter().map(|c| c.channel.clone()).collect();
+            let xs = (0..names.len()).map(|i| i as f64).collect();
+            (xs, "channel", names)
+        }
+    };
+    let point = |x: f64, v: &JointValue| SpectrumPoint {
+        x,
+        value: v.value,
+        bands: v
+            .intervals
+            .map(|[i68, i95]| [(i68.lo, i68.hi), (i95.lo, i95.hi)]),
+    };
+    let mut series = Vec::new();
+    let a: Option<Vec<SpectrumPoint>> = (fit.channels.iter().zip(&xs))
+        .map(|(c, &x)| c.a.as_ref().map(|a| point(x, a)))
+        .collect();
+    if let Some(a) = a {
+        series.push(("absorption a", a));
+    }
+    let beta = (fit.channels.iter().zip(&xs))
+        .map(|(c, &x)| SpectrumPoint {
+            x,
+            value: c.beta,
+            bands: None,
+        })
+        .collect();
+    series.push(("β (eq. 8)", beta));
+    let shared: Vec<String> = (fit.shared.iter())
+        .map(|v| format!("{} = {:.3}", v.name.symbol(), v.value))
+        .collect();
+    let title = format!("{} {}: {}", fit.sample, fit.model, shared.join(", "));
+    spectrum_svg(&title, (x_desc, &names), &series)
 }
 
 /// A value and its intervals as five cells (empty where absent).
