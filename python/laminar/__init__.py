@@ -28,6 +28,7 @@ import numpy as np
 from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
 from ._laminar import evaluate as _evaluate
 from ._laminar import compare
+from ._laminar import fit_joint
 from ._laminar import fit as _fit
 from ._laminar import fit_batch as _fit_batch
 
@@ -35,6 +36,7 @@ __all__ = [
     "evaluate",
     "fit",
     "compare",
+    "fit_joint",
     "fit_batch",
     "Measurements",
     "FitResult",

@@ -12,6 +12,7 @@ from ._laminar import GRID_AXES as GRID_AXES
 from ._laminar import MODELS as MODELS
 from ._laminar import FitResult as FitResult
 from ._laminar import compare as compare
+from ._laminar import fit_joint as fit_joint
 from ._laminar import fit as fit
 from ._laminar import FittedModel as FittedModel
 from ._laminar import render as render

@@ -1,7 +1,7 @@
 """Type stubs of the native module."""
 
 from os import PathLike
-from typing import Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Literal, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -186,6 +186,18 @@ def compare(
     noise: Noise = "given",
     noise_floor: float = 0.1,
 ) -> list[FitResult]: ...
+def fit_joint(
+    measurements: Sequence[Measurements],
+    model: LayeredModel = "exp2",
+    grid: Grid = None,
+    uncertainty: Uncertainty = "both",
+    threads: Optional[int] = None,
+    resamples: int = 200,
+    seed: int = 0,
+    precision: Precision = "f64",
+    noise: Noise = "given",
+    noise_floor: float = 0.1,
+) -> dict[str, Any]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
     values: npt.NDArray[np.float64],

@@ -18,6 +18,7 @@ mod convert;
 mod evaluate;
 mod fit_result;
 mod fitted_model;
+mod joint;
 mod measurements;
 
 use laminar_fit::{Edge, Grid, Model, Param};
@@ -31,6 +32,7 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_result::fit, m)?)?;
     m.add_function(wrap_pyfunction!(batch::fit_batch, m)?)?;
     m.add_function(wrap_pyfunction!(fit_result::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(joint::fit_joint, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::paper_angles, m)?)?;
     m.add_class::<measurements::Measurements>()?;
     m.add_class::<fit_result::FitResult>()?;

@@ -109,6 +109,40 @@ def test_relative_noise_and_untied_models_equal_the_cli(tmp_path):
         laminar.fit_batch(g, radiance(g)[None, :], "exp2", quantity="radiance")
 
 
+def test_fit_joint_equals_the_cli(tmp_path):
+    """One fit across two channels: the CLI's `fit-joint` numbers, the
+    shared parameters once, each channel's a with its intervals."""
+    import csv
+
+    g = geometry()
+    r, b = radiance(g, a=0.1, seed=3), radiance(g, a=0.6, seed=4)
+    path = tmp_path / "paint.csv"
+    with open(path, "w") as f:
+        f.write("theta_i,phi_i,theta_v,phi_v,r,b\n")
+        for row, x, y in zip(g, r, b):
+            f.write(",".join(repr(float(v)) for v in (*row, x, y)) + "\n")
+    channels = [laminar.Measurements.from_csv(path, quantity="radiance", channel=c) for c in ("r", "b")]
+    joint = laminar.fit_joint(channels, grid=GRID, noise="relative", resamples=30, seed=2)
+    text = cli("fit-joint", "--measurements", path, "--quantity", "radiance", *GRID_ARGS,
+               "--noise", "relative", "--resamples", 30, "--seed", 2)
+    rows = list(csv.DictReader(text.splitlines()))
+    assert [c["channel"] for c in joint["channels"]] == [row["channel"] for row in rows] == ["r", "b"]
+    assert joint["model"] == "exp2" and set(joint["shared"]) == {"slope", "sub_slope", "n"}
+    for name, v in joint["shared"].items():
+        for key in ("", "_lo68", "_hi68", "_lo95", "_hi95"):
+            got = v["value"] if key == "" else v[key[1:]]
+            assert got == float(rows[0][name + key]) == float(rows[1][name + key]), name + key
+    for c, row in zip(joint["channels"], rows):
+        assert c["a"]["value"] == float(row["a"]) and c["a"]["lo95"] == float(row["a_lo95"])
+        assert c["beta"] == float(row["beta"]) and c["sse"] == float(row["sse"])
+    assert joint["parameters"] == 9 and joint["resamples"] == 30
+    assert joint["channels"][0]["a"]["value"] < joint["channels"][1]["a"]["value"]
+    with pytest.raises(ValueError, match="1 channel given"):
+        laminar.fit_joint(channels[:1])
+    with pytest.raises(TypeError, match="a sequence of Measurements"):
+        laminar.fit_joint([1, 2])
+
+
 def test_compare_equals_the_cli_with_every_model(tmp_path):
     g = geometry()
     path = write_csv(tmp_path / "set.csv", g, radiance(g))

@@ -1,0 +1,110 @@
+//! `fit_joint`: one fit across a material's channels.
+
+use crate::convert::{parse, value_error};
+use crate::fit_result::{fitter, refine_threads, whole_or, Named};
+use crate::measurements::Measurements;
+use laminar_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_fit::noise::DEFAULT_FLOOR;
+use laminar_fit::{JointValue, Model};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::collections::HashMap;
+
+/// A value and its intervals as a dict (`value`, `lo68`, `hi68`, `lo95`,
+/// `hi95`, `open_below`, `open_above`; the ends None without a bootstrap).
+fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("value", v.value)?;
+    let [i68, i95] = v.intervals.map_or([None, None], |[a, b]| [Some(a), Some(b)]);
+    out.set_item("lo68", i68.map(|i| i.lo))?;
+    out.set_item("hi68", i68.map(|i| i.hi))?;
+    out.set_item("lo95", i95.map(|i| i.lo))?;
+    out.set_item("hi95", i95.map(|i| i.hi))?;
+    out.set_item("open_below", i95.is_some_and(|i| i.open_below))?;
+    out.set_item("open_above", i95.is_some_and(|i| i.open_above))?;
+    Ok(out)
+}
+
+/// Fits one layered `model` (default ``exp2``) across the channels
+/// ``measurements`` (a sequence of ``Measurements`` of one sample on one
+/// geometry): σ/T, σ′/T′ and n shared, a, β and the amplitude per channel,
+/// as ``laminar fit-joint``. Returns a dict: ``model``, ``shared`` (each
+/// shared parameter's name to its ``value``, ``lo68``, ``hi68``, ``lo95``,
+/// ``hi95``: the pairs bootstrap's percentile intervals, and
+/// ``open_below``/``open_above``), ``channels`` (per channel: ``channel``,
+/// ``a`` as the shared ones, ``beta``, ``amplitude``, ``data_scale``,
+/// ``sse``), ``sse`` (their sum), ``measurements``, ``parameters`` and
+/// ``resamples``.
+#[pyfunction]
+#[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn fit_joint<'py>(
+    py: Python<'py>,
+    measurements: Bound<'py, PyAny>,
+    model: &str,
+    grid: Option<HashMap<String, Bound<'py, PyAny>>>,
+    uncertainty: &str,
+    threads: Option<Bound<'py, PyAny>>,
+    resamples: Option<Bound<'py, PyAny>>,
+    seed: Option<Bound<'py, PyAny>>,
+    precision: &str,
+    noise: &str,
+    noise_floor: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let model: Model = parse("model", model)?;
+    let not_a_sequence =
+        || PyTypeError::new_err("measurements: give a sequence of Measurements, one per channel");
+    let scenes = measurements
+        .try_iter()
+        .map_err(|_| not_a_sequence())?
+        .map(|m| {
+            let m = m?;
+            let m = m.cast::<Measurements>().map_err(|_| not_a_sequence())?;
+            m.borrow().scene()
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    let (_, threads) = refine_threads(None, threads.as_ref())?;
+    let named = Named {
+        objective: "free",
+        uncertainty,
+        precision,
+        resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
+        seed: whole_or("seed", seed.as_ref(), 0)?,
+        folds: 0,
+        noise,
+        noise_floor,
+    };
+    let fitter = fitter(grid, threads, true, named)?;
+    let fit = py
+        .detach(|| fitter.fit_joint(&scenes, model))
+        .map_err(value_error)?;
+    let out = PyDict::new(py);
+    out.set_item("sample", &fit.sample)?;
+    out.set_item("model", fit.model.name())?;
+    let shared = PyDict::new(py);
+    for v in &fit.shared {
+        shared.set_item(v.name.name(), value(py, v)?)?;
+    }
+    out.set_item("shared", shared)?;
+    let channels = fit
+        .channels
+        .iter()
+        .map(|c| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("channel", &c.channel)?;
+            d.set_item("a", c.a.as_ref().map(|a| value(py, a)).transpose()?)?;
+            d.set_item("beta", c.beta)?;
+            d.set_item("amplitude", c.amplitude)?;
+            d.set_item("data_scale", c.data_scale)?;
+            d.set_item("sse", c.sse)?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    out.set_item("channels", channels)?;
+    out.set_item("sse", fit.sse)?;
+    out.set_item("measurements", fit.measurements)?;
+    out.set_item("parameters", fit.parameter_count)?;
+    out.set_item("resamples", fit.resamples)?;
+    Ok(out)
+}
