@@ -63,8 +63,10 @@ pub(crate) fn evaluate<'py>(
         }
         (false, None) => slope.clone(),
     };
-    let columns =
-        [&theta_i, &theta_s, &phi_s, &slope, &beta, &n, &a, &sub_slope].map(|c| c.as_array());
+    let columns = [
+        &theta_i, &theta_s, &phi_s, &slope, &beta, &n, &a, &sub_slope,
+    ]
+    .map(|c| c.as_array());
     let len = columns[0].len();
     if columns.iter().any(|c| c.len() != len) {
         return Err(value_error("all arrays must have the same length"));

@@ -341,7 +341,10 @@ pub(crate) fn fit(
         noise_floor,
     };
     let fitter = fitter(grid, threads, refine, named)?;
-    fitter.objective_of_fits().takes(model).map_err(value_error)?;
+    fitter
+        .objective_of_fits()
+        .takes(model)
+        .map_err(value_error)?;
     let scene = measurements.scene()?;
     let fit = py.detach(|| fitter.fit(&scene, model));
     Ok(FitResult { fit })

@@ -16,7 +16,9 @@ use std::collections::HashMap;
 fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
     out.set_item("value", v.value)?;
-    let [i68, i95] = v.intervals.map_or([None, None], |[a, b]| [Some(a), Some(b)]);
+    let [i68, i95] = v
+        .intervals
+        .map_or([None, None], |[a, b]| [Some(a), Some(b)]);
     out.set_item("lo68", i68.map(|i| i.lo))?;
     out.set_item("hi68", i68.map(|i| i.hi))?;
     out.set_item("lo95", i95.map(|i| i.lo))?;
