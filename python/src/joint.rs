@@ -5,7 +5,7 @@ use crate::fit_result::{fitter, refine_threads, whole_or, Named};
 use crate::measurements::Measurements;
 use laminar_fit::analysis::DEFAULT_RESAMPLES;
 use laminar_fit::noise::DEFAULT_FLOOR;
-use laminar_fit::{JointValue, Model};
+use laminar_fit::{Chromatic, JointValue, Model};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -36,8 +36,9 @@ fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
 /// ``hi95``: the pairs bootstrap's percentile intervals, and
 /// ``open_below``/``open_above``), ``channels`` (per channel: ``channel``,
 /// ``a`` as the shared ones, ``beta``, ``amplitude``, ``data_scale``,
-/// ``sse``), ``sse`` (their sum), ``measurements``, ``parameters`` and
-/// ``resamples``.
+/// ``sse``), ``sse`` (their sum), ``measurements``, ``parameters``,
+/// ``resamples`` and ``chromatic`` (the test of one a for every channel:
+/// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why).
 #[pyfunction]
 #[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
 #[allow(clippy::too_many_arguments)]
@@ -108,5 +109,24 @@ pub(crate) fn fit_joint<'py>(
     out.set_item("measurements", fit.measurements)?;
     out.set_item("parameters", fit.parameter_count)?;
     out.set_item("resamples", fit.resamples)?;
+    let chromatic = PyDict::new(py);
+    match &fit.chromatic {
+        Chromatic::Tested {
+            statistic,
+            df1,
+            df2,
+            p_value,
+        } => {
+            chromatic.set_item("p_value", p_value)?;
+            chromatic.set_item("statistic", statistic)?;
+            chromatic.set_item("df", (df1, df2))?;
+        }
+        Chromatic::AtAFace(channels) => {
+            chromatic.set_item("untested", "a on a face of its box")?;
+            chromatic.set_item("channels", channels)?;
+        }
+        Chromatic::Untestable(why) => chromatic.set_item("untested", why)?,
+    }
+    out.set_item("chromatic", chromatic)?;
     Ok(out)
 }

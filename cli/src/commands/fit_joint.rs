@@ -7,7 +7,7 @@ use clap::Args;
 use laminar_cli::figures::{spectrum_svg, SpectrumPoint};
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
-use laminar_fit::{JointFit, JointValue, Model, Scene};
+use laminar_fit::{Chromatic, JointFit, JointValue, Model, Scene};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -28,9 +28,13 @@ use std::time::Instant;
 /// parameter and a with _lo68, _hi68, _lo95, _hi95, then beta (eq. 8's),
 /// amplitude (of the data divided by their max), data_scale (that max),
 /// sse (the channel's weighted objective), joint_sse (their sum),
-/// measurements (per channel), parameters (fitted in all), resamples, and
-/// edges (an interval that reaches a face of the box that is not a bound
-/// of the parameter: name:open_below or name:open_above).
+/// measurements (per channel), parameters (fitted in all), resamples,
+/// chromatic_p (the p-value of one a for every channel: Hotelling's T² of
+/// the contrasts a_c − a_1 with the bootstrap's covariance) or
+/// chromatic_note (why it is not tested: an a on a face of its box, too
+/// few resamples), and edges (an interval that reaches a face of the box
+/// that is not a bound of the parameter: name:open_below or
+/// name:open_above).
 #[derive(Args, Debug)]
 #[command(verbatim_doc_comment)]
 pub struct FitJointArgs {
@@ -157,6 +161,18 @@ fn cells(v: &JointValue, row: &mut Vec<String>, edges: &mut Vec<String>) {
     }
 }
 
+/// The chromatic test's two cells: its p-value, and why there is none.
+fn chromatic(test: &Chromatic) -> [String; 2] {
+    match test {
+        Chromatic::Tested { p_value, .. } => [p_value.to_string(), String::new()],
+        Chromatic::AtAFace(channels) => [
+            String::new(),
+            format!("a on a face of its box in {}", channels.join(" ")),
+        ],
+        Chromatic::Untestable(why) => [String::new(), why.to_string()],
+    }
+}
+
 /// The CSV of `fits` (header from the first fit's parameters).
 fn csv(fits: &[JointFit]) -> String {
     let Some(first) = fits.first() else {
@@ -182,6 +198,8 @@ fn csv(fits: &[JointFit]) -> String {
             "measurements",
             "parameters",
             "resamples",
+            "chromatic_p",
+            "chromatic_note",
             "edges",
         ]
         .map(String::from),
@@ -211,6 +229,7 @@ fn csv(fits: &[JointFit]) -> String {
             row.extend(
                 [fit.measurements, fit.parameter_count, fit.resamples].map(|x| x.to_string()),
             );
+            row.extend(chromatic(&fit.chromatic));
             row.push(edges.join(";"));
             out += &(row.join(",") + "\n");
         }

@@ -17,7 +17,8 @@
 //! same resampled geometries in every channel, so the channels'
 //! correlation is kept), each resample refined from the estimate; the
 //! percentile intervals hold under misfit as the single fits' do
-//! (docs/estimation.md).
+//! (docs/estimation.md). Is the absorption chromatic: the contrasts
+//! `a_c − a_1` against their bootstrap covariance ([`Chromatic`]).
 
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel};
@@ -33,7 +34,9 @@ use crate::profile::Interval;
 use crate::scene::Scene;
 use crate::settings::Precision;
 use laminar_core::f64x4;
+use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
+use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 use std::sync::Arc;
 
 /// Values of a in each channel's scan before its golden-section search.
@@ -72,6 +75,30 @@ pub struct JointChannel {
     pub data_scale: f64,
 }
 
+/// Is the absorption chromatic: the test of one a for every channel
+/// against one per channel (module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Chromatic {
+    /// Hotelling's T² of the contrasts `a_c − a_1` with the bootstrap's
+    /// covariance, and its p-value from `F(df1, df2)`.
+    Tested {
+        /// T².
+        statistic: f64,
+        /// `C − 1`.
+        df1: usize,
+        /// `B − C + 1`.
+        df2: usize,
+        /// The p-value of one a for all channels.
+        p_value: f64,
+    },
+    /// Not tested: an a on a face of its box (the test's χ²/F calibration
+    /// holds inside the box only), named.
+    AtAFace(Vec<String>),
+    /// Not tested: no a (a Ragheb–Hancock model), too few resamples for the
+    /// channels (B ≤ C − 1), or their covariance singular.
+    Untestable(&'static str),
+}
+
 /// A fit of one model to several channels on one geometry, the geometry's
 /// parameters shared ([`crate::Fitter::fit_joint`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -93,6 +120,8 @@ pub struct JointFit {
     pub parameter_count: usize,
     /// Bootstrap resamples behind the intervals.
     pub resamples: usize,
+    /// Is the absorption chromatic ([`Chromatic`]).
+    pub chromatic: Chromatic,
 }
 
 /// The joint objective of the channels' problems on one layered model.
@@ -266,6 +295,13 @@ pub fn fit(
             data_scale: scene.data_scale(),
         })
         .collect();
+    let chromatic = chromatic(
+        &a,
+        joint.a_box,
+        bootstrapped.as_deref(),
+        scenes,
+        joint.shared.len(),
+    );
     let per_channel = 2 + usize::from(a_at.is_some());
     JointFit {
         sample: scenes[0].sample().to_string(),
@@ -276,6 +312,64 @@ pub fn fit(
         measurements: scenes[0].len(),
         parameter_count: joint.shared.len() + per_channel * scenes.len(),
         resamples: if bootstrapped.is_some() { resamples } else { 0 },
+        chromatic: if a_at.is_some() {
+            chromatic
+        } else {
+            Chromatic::Untestable("the model has no absorption")
+        },
+    }
+}
+
+/// The test of one a for every channel ([`Chromatic`]): the contrasts
+/// `d_c = a_c − a_1` at the estimate `a`, their covariance `S` over the
+/// bootstrap's resamples (whose values follow `shared` shared ones),
+/// `T² = dᵀ S⁻¹ d`, and `(B − p) T² / (p (B − 1))` against `F(p, B − p)`,
+/// `p = C − 1` (Hotelling's, for a covariance estimated from B draws).
+fn chromatic(
+    a: &[f64],
+    (lo, hi): (f64, f64),
+    bootstrapped: Option<&[Vec<f64>]>,
+    scenes: &[Scene],
+    shared: usize,
+) -> Chromatic {
+    let faces: Vec<String> = (scenes.iter().zip(a))
+        .filter(|(_, &v)| v <= lo || v >= hi)
+        .map(|(s, _)| s.channel().to_string())
+        .collect();
+    if !faces.is_empty() {
+        return Chromatic::AtAFace(faces);
+    }
+    let p = a.len() - 1;
+    let Some(values) = bootstrapped.filter(|v| v.len() > p + 1) else {
+        return Chromatic::Untestable("too few bootstrap resamples for the channels");
+    };
+    let b = values.len();
+    let contrasts = |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| v[c] - v[0]).collect() };
+    let d = DVector::from_vec(contrasts(a));
+    let draws: Vec<Vec<f64>> = values.iter().map(|v| contrasts(&v[shared..])).collect();
+    let mean: Vec<f64> = (0..p)
+        .map(|i| draws.iter().map(|x| x[i]).sum::<f64>() / b as f64)
+        .collect();
+    let covariance = DMatrix::from_fn(p, p, |i, j| {
+        let sum: f64 = (draws.iter())
+            .map(|x| (x[i] - mean[i]) * (x[j] - mean[j]))
+            .sum();
+        sum / (b - 1) as f64
+    });
+    let Some(cholesky) = covariance.cholesky() else {
+        return Chromatic::Untestable("the bootstrap's covariance of the absorptions is singular");
+    };
+    let statistic = d.dot(&cholesky.solve(&d));
+    let (df1, df2) = (p, b - p);
+    let f = (df2 as f64) * statistic / (df1 as f64 * (b - 1) as f64);
+    let p_value = FisherSnedecor::new(df1 as f64, df2 as f64)
+        .map(|dist| dist.sf(f))
+        .unwrap_or(f64::NAN);
+    Chromatic::Tested {
+        statistic,
+        df1,
+        df2,
+        p_value,
     }
 }
 
