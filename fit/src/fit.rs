@@ -234,7 +234,7 @@ impl Fitter {
         let tick = || self.tick();
         self.run(|| match self.objective {
             Objective::Free => {
-                let scene = &self.noise.weigh(scene);
+                let scene = &self.weighed(std::slice::from_ref(scene))[0];
                 let fit = free::driver::fit(scene, model, (&self.grid, self.precision), analysis);
                 tick();
                 fit
