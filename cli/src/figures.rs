@@ -345,3 +345,77 @@ pub fn spectrum_svg(
     }
     Ok(svg)
 }
+
+/// Data against model per channel: one small log–log panel per channel
+/// (`(name, data, model)`, both normalised), the points whose data and
+/// prediction are positive, with the line y = x of a perfect fit; a panel
+/// says how many points it leaves out.
+///
+/// # Errors
+/// The drawing backend's message when the SVG cannot be drawn.
+pub fn channels_vs_model_svg(
+    title: &str,
+    panels: &[(String, Vec<f64>, Vec<f64>)],
+) -> Result<String, String> {
+    let columns = (panels.len() as f64).sqrt().ceil().max(1.0) as usize;
+    let rows = panels.len().div_ceil(columns).max(1);
+    let mut svg = String::new();
+    {
+        let (w, h) = (250 * columns as u32, 40 + 250 * rows as u32);
+        let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(failed)?;
+        let root = root.titled(title, ("sans-serif", 18)).map_err(failed)?;
+        for ((name, data, model), area) in panels.iter().zip(root.split_evenly((rows, columns))) {
+            let points: Vec<(f64, f64)> = (data.iter().zip(model))
+                .filter(|(d, p)| **d > 0.0 && **p > 0.0 && d.is_finite() && p.is_finite())
+                .map(|(&d, &p)| (d, p))
+                .collect();
+            let (lo, hi) = points
+                .iter()
+                .fold((f64::INFINITY, 0.0_f64), |(lo, hi), &(d, p)| {
+                    (lo.min(d).min(p), hi.max(d).max(p))
+                });
+            let (lo, hi) = if lo < hi {
+                (lo / 1.5, hi * 1.5)
+            } else {
+                (1e-3, 1.0)
+            };
+            let left_out = data.len() - points.len();
+            let caption = if left_out > 0 {
+                format!("{name} ({left_out} ≤ 0 left out)")
+            } else {
+                name.clone()
+            };
+            let mut chart = ChartBuilder::on(&area)
+                .caption(caption, ("sans-serif", 13))
+                .margin(8)
+                .x_label_area_size(30)
+                .y_label_area_size(42)
+                .build_cartesian_2d((lo..hi).log_scale(), (lo..hi).log_scale())
+                .map_err(failed)?;
+            chart
+                .configure_mesh()
+                .x_labels(4)
+                .y_labels(4)
+                .x_label_formatter(&|x| format!("{x:.0e}"))
+                .y_label_formatter(&|y| format!("{y:.0e}"))
+                .x_desc("data")
+                .y_desc("model")
+                .light_line_style(BLACK.mix(0.04))
+                .draw()
+                .map_err(failed)?;
+            chart
+                .draw_series(LineSeries::new([(lo, lo), (hi, hi)], BLACK.mix(0.5)))
+                .map_err(failed)?;
+            chart
+                .draw_series(
+                    points
+                        .iter()
+                        .map(|&p| Circle::new(p, 1, BLUE.mix(0.5).filled())),
+                )
+                .map_err(failed)?;
+        }
+        root.present().map_err(failed)?;
+    }
+    Ok(svg)
+}

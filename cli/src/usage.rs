@@ -92,8 +92,8 @@ pub enum UsageError {
         /// The model.
         model: Model,
     },
-    /// `fit-joint --plot` of more or fewer than one sample.
-    #[error("--plot draws one sample's spectrum; the input has {0} samples (give one file, or one CUReT sample)")]
+    /// `fit-joint --plot`/`--plot-fit` of more or fewer than one sample.
+    #[error("--plot and --plot-fit draw one sample; the input has {0} samples (give one file, or one CUReT sample)")]
     PlotOfSamples(usize),
     /// Parameters or angles outside their domain.
     #[error(transparent)]

@@ -1843,7 +1843,17 @@ fn fit_joint_shares_the_geometry_across_channels() {
         "20",
         "--plot",
         plot.to_str().unwrap(),
+        "--plot-fit",
+        d.path().join("fit.svg").to_str().unwrap(),
     ]);
+    let fit = std::fs::read_to_string(d.path().join("fit.svg")).unwrap();
+    assert!(fit.starts_with("<svg") && fit.contains("data against model per channel"));
+    // One point per positive measurement in each channel's panel.
+    assert!(
+        fit.matches("<circle").count() >= 2 * 190,
+        "{}",
+        fit.matches("<circle").count()
+    );
     // The spectrum: a panel for a and one for β, the channels by name.
     let svg = std::fs::read_to_string(&plot).unwrap();
     assert!(svg.starts_with("<svg"), "{svg}");

@@ -151,3 +151,29 @@ fn the_chromatic_test_holds_its_rate_and_sees_colour() {
     assert!(rejected <= 5, "{rejected} of {sets} rejected at 5%");
     assert!(p_value(&channels()) < 1e-6);
 }
+
+/// Each channel's fitted model at the joint estimate predicts its data as
+/// the joint objective says: `Σ (D − P)²` over the channel is its `sse`
+/// (unweighted data).
+#[test]
+fn each_channels_fitted_model_is_the_joint_estimate() {
+    let scenes = channels();
+    let fitter = Fitter::new(Grid::user()).unwrap();
+    let joint = fitter.fit_joint(&scenes, Model::Exp2).unwrap();
+    for (c, scene) in scenes.iter().enumerate() {
+        let fitted = joint.fitted(c).unwrap();
+        let p = fitted.predict(scene.angles()).unwrap();
+        let sse: f64 = scene
+            .data()
+            .iter()
+            .zip(&p)
+            .map(|(d, p)| (d - p).powi(2))
+            .sum();
+        let want = joint.channels[c].sse;
+        assert!(
+            (sse - want).abs() <= 1e-9 * want,
+            "{c}: {sse} against {want}"
+        );
+    }
+    assert!(joint.fitted(3).is_none());
+}

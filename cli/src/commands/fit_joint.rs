@@ -4,7 +4,7 @@ use super::options::{
     check_out, emit, jobs, layered_model, report_time, ChannelArgs, CuretArgs, FileArgs, FitterArgs,
 };
 use clap::Args;
-use laminar_cli::figures::{spectrum_svg, SpectrumPoint};
+use laminar_cli::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
 use laminar_cli::usage::UsageError;
 use laminar_cli::CliError;
 use laminar_fit::{Chromatic, JointFit, JointValue, Model, Scene};
@@ -58,6 +58,11 @@ pub struct FitJointArgs {
     /// channel's place.
     #[arg(long)]
     plot: Option<PathBuf>,
+    /// Also draw data against model per channel into FILE (SVG; one
+    /// sample): log–log, each channel's normalised data against its
+    /// prediction at the joint estimate.
+    #[arg(long)]
+    plot_fit: Option<PathBuf>,
 }
 
 /// Runs `laminar fit-joint`.
@@ -66,6 +71,7 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
     let inputs: Vec<PathBuf> = args.file.measurements.iter().cloned().collect();
     check_out(args.out.as_ref(), &inputs)?;
     check_out(args.plot.as_ref(), &inputs)?;
+    check_out(args.plot_fit.as_ref(), &inputs)?;
     let fitter = args.fitting.fitter()?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     // Each sample's channels, in the order read.
@@ -80,11 +86,16 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
         .iter()
         .map(|scenes| fitter.fit_joint(scenes, args.model))
         .collect::<Result<Vec<JointFit>, _>>()?;
-    if let Some(plot) = &args.plot {
-        let [fit] = &fits[..] else {
+    if args.plot.is_some() || args.plot_fit.is_some() {
+        let ([fit], [scenes]) = (&fits[..], &samples[..]) else {
             return Err(UsageError::PlotOfSamples(fits.len()).into());
         };
-        emit(Some(plot), &spectrum(fit).map_err(CliError::Figure)?)?;
+        if let Some(plot) = &args.plot {
+            emit(Some(plot), &spectrum(fit).map_err(CliError::Figure)?)?;
+        }
+        if let Some(plot) = &args.plot_fit {
+            emit(Some(plot), &against_model(fit, scenes)?)?;
+        }
     }
     emit(args.out.as_ref(), &csv(&fits))?;
     report_time("fit-joint", start, fits.len() as f64, "samples");
@@ -142,6 +153,24 @@ fn spectrum(fit: &JointFit) -> Result<String, String> {
         .collect();
     let title = format!("{} {}: {}", fit.sample, fit.model, shared.join(", "));
     spectrum_svg(&title, (x_desc, &names), &series)
+}
+
+/// The data-against-model figure of `fit` on its channels `scenes`.
+fn against_model(fit: &JointFit, scenes: &[Scene]) -> Result<String, CliError> {
+    let panels = (scenes.iter().enumerate())
+        .map(|(c, scene)| {
+            let fitted = fit.fitted(c).ok_or_else(|| {
+                CliError::Figure(format!("channel {} has no fitted model", scene.channel()))
+            })?;
+            let model = fitted.predict(scene.angles())?;
+            Ok((scene.channel().to_string(), scene.data().to_vec(), model))
+        })
+        .collect::<Result<Vec<_>, CliError>>()?;
+    let title = format!(
+        "{} {}: data against model per channel",
+        fit.sample, fit.model
+    );
+    channels_vs_model_svg(&title, &panels).map_err(CliError::Figure)
 }
 
 /// A value and its intervals as five cells (empty where absent).

@@ -27,6 +27,7 @@ use super::search::quadratic::objectives;
 use super::search::untied::{factors, surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
+use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::Grid;
 use crate::model::{attainable_domain, Model, Param};
 use crate::paper::refine::{nelder_mead, TOLERANCE};
@@ -122,6 +123,29 @@ pub struct JointFit {
     pub resamples: usize,
     /// Is the absorption chromatic ([`Chromatic`]).
     pub chromatic: Chromatic,
+}
+
+impl JointFit {
+    /// Channel `c`'s fitted model at the joint estimate (the shared
+    /// parameters, its a, β and amplitude): what `predict`, `render` and the
+    /// renderers take. `None` for a channel it does not have.
+    pub fn fitted(&self, c: usize) -> Option<FittedModel> {
+        let channel = self.channels.get(c)?;
+        let value = |p: Param| self.shared.iter().find(|v| v.name == p).map(|v| v.value);
+        let params = ModelParams::Layered {
+            slope: value(Param::Slope)?,
+            beta: channel.beta,
+            n: value(Param::N)?,
+            a: channel.a.as_ref().map_or(0.0, |a| a.value),
+            sub_slope: value(Param::SubSlope),
+        };
+        Some(FittedModel::with_amplitude(
+            self.model,
+            params,
+            channel.amplitude,
+            channel.data_scale,
+        ))
+    }
 }
 
 /// The joint objective of the channels' problems on one layered model.
