@@ -64,6 +64,8 @@ fn a_shared_geometry_and_a_chromatic_absorption_are_recovered() {
             (0.0..=1.0).contains(&channel.beta) && channel.amplitude > 0.0,
             "{channel:?}"
         );
+        // The model made the data: its residuals show no lack of fit.
+        assert!(!channel.adequacy.lack_of_fit, "{channel:?}");
     }
     let separate: f64 = scenes
         .iter()

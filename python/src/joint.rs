@@ -36,7 +36,7 @@ fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
 /// ``hi95``: the pairs bootstrap's percentile intervals, and
 /// ``open_below``/``open_above``), ``channels`` (per channel: ``channel``,
 /// ``a`` as the shared ones, ``beta``, ``amplitude``, ``data_scale``,
-/// ``sse``), ``sse`` (their sum), ``measurements``, ``parameters``,
+/// ``sse``, ``adequacy``: ``chi2_p``, ``runs_p``, ``lack_of_fit``), ``sse`` (their sum), ``measurements``, ``parameters``,
 /// ``resamples`` and ``chromatic`` (the test of one a for every channel:
 /// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why).
 #[pyfunction]
@@ -101,6 +101,11 @@ pub(crate) fn fit_joint<'py>(
             d.set_item("amplitude", c.amplitude)?;
             d.set_item("data_scale", c.data_scale)?;
             d.set_item("sse", c.sse)?;
+            let adequacy = PyDict::new(py);
+            adequacy.set_item("chi2_p", c.adequacy.chi2_p)?;
+            adequacy.set_item("runs_p", c.adequacy.runs_p)?;
+            adequacy.set_item("lack_of_fit", c.adequacy.lack_of_fit)?;
+            d.set_item("adequacy", adequacy)?;
             Ok(d)
         })
         .collect::<PyResult<Vec<_>>>()?;

@@ -135,6 +135,8 @@ def test_fit_joint_equals_the_cli(tmp_path):
     for c, row in zip(joint["channels"], rows):
         assert c["a"]["value"] == float(row["a"]) and c["a"]["lo95"] == float(row["a_lo95"])
         assert c["beta"] == float(row["beta"]) and c["sse"] == float(row["sse"])
+        assert c["adequacy"]["runs_p"] == float(row["runs_p"])
+        assert c["adequacy"]["lack_of_fit"] == (row["lack_of_fit"] == "true")
     assert joint["parameters"] == 8 and joint["resamples"] == 30
     assert joint["channels"][0]["a"]["value"] < joint["channels"][1]["a"]["value"]
     # The two channels' absorptions differ (0.1 and 0.6 made them): the

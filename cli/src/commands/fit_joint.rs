@@ -27,7 +27,9 @@ use std::time::Instant;
 /// CSV, one row per channel: sample, model, channel, then each shared
 /// parameter and a with _lo68, _hi68, _lo95, _hi95, then beta (eq. 8's),
 /// amplitude (of the data divided by their max), data_scale (that max),
-/// sse (the channel's weighted objective), joint_sse (their sum),
+/// sse (the channel's weighted objective), runs_p and lack_of_fit (the
+/// adequacy of its residuals at the joint estimate, as `fit`'s), joint_sse
+/// (their sum),
 /// measurements (per channel), parameters (fitted in all), resamples,
 /// chromatic_p (the p-value of one a for every channel: Hotelling's T² of
 /// the contrasts a_c − a_1 with the bootstrap's covariance) or
@@ -173,12 +175,18 @@ fn against_model(fit: &JointFit, scenes: &[Scene]) -> Result<String, CliError> {
     channels_vs_model_svg(&title, &panels).map_err(CliError::Figure)
 }
 
+/// A number as the shortest text that reads back to it, with an exponent
+/// where it is very small or large (`1.27e-34`, not 34 zeros).
+fn number(x: f64) -> String {
+    format!("{x:?}")
+}
+
 /// A value and its intervals as five cells (empty where absent).
 fn cells(v: &JointValue, row: &mut Vec<String>, edges: &mut Vec<String>) {
-    row.push(v.value.to_string());
+    row.push(number(v.value));
     match v.intervals {
         Some([i68, i95]) => {
-            row.extend([i68.lo, i68.hi, i95.lo, i95.hi].map(|x| x.to_string()));
+            row.extend([i68.lo, i68.hi, i95.lo, i95.hi].map(number));
             if i95.open_below {
                 edges.push(format!("{}:open_below", v.name));
             }
@@ -193,7 +201,7 @@ fn cells(v: &JointValue, row: &mut Vec<String>, edges: &mut Vec<String>) {
 /// The chromatic test's two cells: its p-value, and why there is none.
 fn chromatic(test: &Chromatic) -> [String; 2] {
     match test {
-        Chromatic::Tested { p_value, .. } => [p_value.to_string(), String::new()],
+        Chromatic::Tested { p_value, .. } => [number(*p_value), String::new()],
         Chromatic::AtAFace(channels) => [
             String::new(),
             format!("a on a face of its box in {}", channels.join(" ")),
@@ -223,6 +231,8 @@ fn csv(fits: &[JointFit]) -> String {
             "amplitude",
             "data_scale",
             "sse",
+            "runs_p",
+            "lack_of_fit",
             "joint_sse",
             "measurements",
             "parameters",
@@ -251,10 +261,13 @@ fn csv(fits: &[JointFit]) -> String {
                     channel.amplitude,
                     channel.data_scale,
                     channel.sse,
-                    fit.sse,
                 ]
-                .map(|x| x.to_string()),
+                .map(number),
             );
+            let adequacy = &channel.adequacy;
+            row.push(adequacy.runs_p.map(number).unwrap_or_default());
+            row.push(adequacy.lack_of_fit.to_string());
+            row.push(number(fit.sse));
             row.extend(
                 [fit.measurements, fit.parameter_count, fit.resamples].map(|x| x.to_string()),
             );

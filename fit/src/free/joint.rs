@@ -27,6 +27,7 @@ use super::search::quadratic::objectives;
 use super::search::untied::{factors, surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
+use crate::adequacy::{Adequacy, RunsOrder};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::Grid;
 use crate::model::{attainable_domain, Model, Param};
@@ -74,6 +75,10 @@ pub struct JointChannel {
     pub sse: f64,
     /// Its measurements' normalisation (the max it was divided by).
     pub data_scale: f64,
+    /// Whether its residuals at the joint estimate say the model fits
+    /// ([`crate::adequacy`]; the χ² test counts the shared parameters in
+    /// full for each channel).
+    pub adequacy: Adequacy,
 }
 
 /// Is the absorption chromatic: the test of one a for every channel
@@ -278,11 +283,25 @@ pub fn fit(
     };
     let start = grid_start(&problems, &layout, &joint, precision);
     let (x, a) = refine(&joint, &problems, &start);
-    let estimate: Vec<_> = problems
+    let evaluated: Vec<_> = problems
         .iter()
         .zip(&a)
-        .map(|(p, &a)| p.evaluate(&joint.theta(&x, a), p.beta).0)
+        .map(|(p, &a)| p.evaluate(&joint.theta(&x, a), p.beta))
         .collect();
+    let per_channel = 2 + usize::from(a_at.is_some());
+    let runs_order = RunsOrder::new(scenes[0].angles());
+    let adequacy: Vec<Adequacy> = (problems.iter().zip(&evaluated))
+        .map(|(p, (point, columns))| {
+            let e = p.residuals(columns, &point.linear);
+            Adequacy::in_order(
+                &runs_order,
+                &e,
+                joint.shared.len() + per_channel,
+                p.weighted,
+            )
+        })
+        .collect();
+    let estimate: Vec<_> = evaluated.into_iter().map(|(point, _)| point).collect();
     let bootstrapped = bootstrap(&joint, &problems, &x, (resamples, seed));
     // On a face of the box, the face as the user gave it (`ln` and `exp`
     // do not round-trip).
@@ -317,6 +336,7 @@ pub fn fit(
             amplitude: point.linear.amplitude(),
             sse: point.sse,
             data_scale: scene.data_scale(),
+            adequacy: adequacy[c],
         })
         .collect();
     let chromatic = chromatic(
@@ -326,7 +346,6 @@ pub fn fit(
         scenes,
         joint.shared.len(),
     );
-    let per_channel = 2 + usize::from(a_at.is_some());
     JointFit {
         sample: scenes[0].sample().to_string(),
         model,
