@@ -318,6 +318,21 @@ fn all_components<L: Lane>(
     chunk.copy_from_slice(&components_in(g, c, p).to_array());
 }
 
+/// Every component in `L` precision at `count` geometries
+/// ([`LAMINAR_COMPONENTS`] per geometry).
+fn components_at<L: Lane>(
+    corr: u32,
+    p: &impl ToParams,
+    input: (*const LaminarAngles, usize),
+    out: *mut L,
+) -> Status {
+    let writer = Writer {
+        width: LAMINAR_COMPONENTS,
+        each: all_components::<L>,
+    };
+    status(evaluate((corr, p), input, out, writer))
+}
+
 /// The total radiance (eq. 8) in `L` precision at `count` geometries.
 fn total_at<L: Lane>(
     corr: u32,
@@ -386,11 +401,7 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        let writer = Writer {
-            width: LAMINAR_COMPONENTS,
-            each: all_components::<f64>,
-        };
-        status(evaluate((corr, &p), (angles_in, count), out, writer))
+        components_at(corr, &p, (angles_in, count), out)
     }
 
     /// Checks the untied model's parameters: [`Status::Ok`] or the first
@@ -422,11 +433,7 @@ mod exports {
         count: usize,
         out: *mut f64,
     ) -> Status {
-        let writer = Writer {
-            width: LAMINAR_COMPONENTS,
-            each: all_components::<f64>,
-        };
-        status(evaluate((corr, &p), (angles_in, count), out, writer))
+        components_at(corr, &p, (angles_in, count), out)
     }
 
     /// Checks `f32` parameters: [`Status::Ok`] or the first one out of its
