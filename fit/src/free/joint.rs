@@ -24,7 +24,7 @@ use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel};
 use super::problem::Problem;
 use super::search::quadratic::objectives;
-use super::search::untied::{factors, surface_sums, Column};
+use super::search::untied::{surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use crate::adequacy::{Adequacy, RunsOrder};
@@ -279,7 +279,7 @@ pub fn fit(
         a_box: a_at.map_or((0.0, 0.0), |j| layout.bounds[j]),
         shared,
         a_at,
-        factors: factors(&built),
+        factors: built.factors(),
     };
     let start = grid_start(&problems, &layout, &joint, precision);
     let (x, a) = refine(&joint, &problems, &start);

@@ -267,6 +267,17 @@ impl LayeredModel {
         unpack(L::widened(self.base_groups(slope, boundary)), self.len())
     }
 
+    /// The factors that turn the base `B` into `B1` and `B2` of `U`'s
+    /// quadratic in a (`U = B + a B1 + a² B2`), per measurement:
+    /// `−(cos²θi + cos²θs)` and `cos²θi cos²θs`.
+    pub fn factors(&self) -> [Vec<f64>; 2] {
+        let (ci, cs) = (&self.cos2_i, &self.cos2_s);
+        [
+            ci.iter().zip(cs).map(|(i, s)| -(i + s)).collect(),
+            ci.iter().zip(cs).map(|(i, s)| i * s).collect(),
+        ]
+    }
+
     /// `cos²θi` and `cos²θs` of each measurement.
     pub fn cosines(&self) -> (&[f64], &[f64]) {
         (&self.cos2_i, &self.cos2_s)

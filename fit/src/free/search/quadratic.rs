@@ -204,12 +204,9 @@ impl ModelSide {
     }
 
     fn formed(problem: &Layered, axes: &GridAxes, precision: Precision, one_set: bool) -> Self {
-        let (ci, cs) = problem.model.cosines();
-        let k = problem.data.len();
         // Per measurement, the factors that turn B into B1 and B2, and the
         // products of the quadratic's coefficients: B_i B_j = B² g_ij.
-        let g1: Vec<f64> = (0..k).map(|i| -(ci[i] + cs[i])).collect();
-        let g2: Vec<f64> = (0..k).map(|i| ci[i] * cs[i]).collect();
+        let [g1, g2] = problem.model.factors();
         let g11: Vec<f64> = g1.iter().map(|g| g * g).collect();
         let g12: Vec<f64> = g1.iter().zip(&g2).map(|(a, b)| a * b).collect();
         let g22: Vec<f64> = g2.iter().map(|g| g * g).collect();

@@ -47,19 +47,9 @@ fn times(x: &[f64], y: &[f64]) -> Vec<f64> {
     x.iter().zip(y).map(|(a, b)| a * b).collect()
 }
 
-/// The factors that turn the base `B` into `B1` and `B2` (quadratic.rs):
-/// `−(cos²θi + cos²θs)` and `cos²θi cos²θs`.
-pub(crate) fn factors(model: &LayeredModel) -> [Vec<f64>; 2] {
-    let (ci, cs) = model.cosines();
-    [
-        ci.iter().zip(cs).map(|(i, s)| -(i + s)).collect(),
-        ci.iter().zip(cs).map(|(i, s)| i * s).collect(),
-    ]
-}
-
 impl Column {
     /// The column of base `b` for `problem`'s weights and data, `g` its
-    /// [`factors`].
+    /// factors ([`LayeredModel::factors`]).
     pub(crate) fn new(
         problem: &Problem<LayeredModel>,
         b: &[f64],
@@ -110,7 +100,7 @@ fn values<L: Packed>(problem: &Problem<LayeredModel>, axes: &GridAxes) -> GridVa
     let axis = |p: Param| axes.of(p).expect("an untied model's grid has this axis");
     let (slopes, subs, ns) = (axis(Param::Slope), axis(Param::SubSlope), axis(Param::N));
     let a_axis = axis(Param::A);
-    let g = factors(model);
+    let g = model.factors();
     let boundaries: Vec<_> = ns.par_iter().map(|&n| model.boundary::<L>(n)).collect();
     let columns: Vec<Column> = (0..subs.len() * ns.len())
         .into_par_iter()
