@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the npm package of laminar-wasm into OUT (default target/npm): the
-# whole package and the evaluation-only one (`laminar-wasm/eval`, OUT/eval),
+# whole package and the evaluation-only one (`laminar-brdf/eval`, OUT/eval),
 # each in a plain and a +simd128 build through `wasm-bindgen --target web`,
 # beside the loader (npm/loader.js) that picks one by feature detection.
 # Needs the wasm32-unknown-unknown target and the `wasm-bindgen` command of

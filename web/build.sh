@@ -12,7 +12,7 @@ if [ -z "$package" ]; then
   bash "$root/wasm/build.sh" "$package"
 fi
 rm -rf "$out"
-mkdir -p "$out/laminar-wasm"
+mkdir -p "$out/laminar-brdf"
 cp "$root"/web/src/* "$out/"
-cp -r "$package"/index.js "$package"/loader.js "$package"/plain "$package"/simd "$package"/eval "$out/laminar-wasm/"
+cp -r "$package"/index.js "$package"/loader.js "$package"/plain "$package"/simd "$package"/eval "$out/laminar-brdf/"
 echo "$out"

@@ -2,9 +2,9 @@
 //! data-against-model plots of Figs. 3–4 and the parameters' profiles,
 //! drawn with `plotters`.
 
-use laminar_core::energy_budget;
-use laminar_fit::profile::{DELTA_68, DELTA_95};
-use laminar_fit::ProfileCurve;
+use laminar_brdf_core::energy_budget;
+use laminar_brdf_fit::profile::{DELTA_68, DELTA_95};
+use laminar_brdf_fit::ProfileCurve;
 use plotters::prelude::*;
 
 /// Absorption values drawn in Fig. 2.

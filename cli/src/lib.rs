@@ -1,9 +1,9 @@
-//! # laminar-cli
+//! # laminar-brdf
 //!
 //! The `laminar` command's building blocks: which data a command runs on
 //! ([`selection`]), the paper's experiment ([`reproduce`], [`tables`],
 //! [`figures`]) and the speed-against-error report ([`speed`]). The fitting
-//! itself is `laminar-fit`; files are read and written by `laminar-io`.
+//! itself is `laminar-brdf-fit`; files are read and written by `laminar-brdf-io`.
 
 pub mod figures;
 pub mod reproduce;
@@ -27,19 +27,19 @@ use thiserror::Error;
 pub enum CliError {
     /// A file.
     #[error(transparent)]
-    Read(#[from] laminar_io::ReadError),
+    Read(#[from] laminar_brdf_io::ReadError),
     /// A fit.
     #[error(transparent)]
-    Fit(#[from] laminar_fit::FitError),
+    Fit(#[from] laminar_brdf_fit::FitError),
     /// The grid.
     #[error(transparent)]
-    Grid(#[from] laminar_fit::GridError),
+    Grid(#[from] laminar_brdf_fit::GridError),
     /// A model or its parameters.
     #[error(transparent)]
-    Model(#[from] laminar_fit::ModelError),
+    Model(#[from] laminar_brdf_fit::ModelError),
     /// Measurements that cannot be fitted.
     #[error(transparent)]
-    Measurements(#[from] laminar_fit::MeasurementError),
+    Measurements(#[from] laminar_brdf_fit::MeasurementError),
     /// A CSV output could not be written.
     #[error("writing {to}: {source}")]
     Output {

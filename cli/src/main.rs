@@ -62,7 +62,7 @@ fn main() -> ExitCode {
         Err(e) if e.use_stderr() => {
             eprint!(
                 "{}",
-                laminar_cli::terminal::escaped(&e.render().to_string())
+                laminar_brdf::terminal::escaped(&e.render().to_string())
             );
             return ExitCode::from(u8::try_from(e.exit_code()).unwrap_or(2));
         }
@@ -85,7 +85,7 @@ fn main() -> ExitCode {
         Ok(true) => ExitCode::SUCCESS,
         Ok(false) => ExitCode::FAILURE,
         Err(e) => {
-            laminar_cli::note!("error: {e}");
+            laminar_brdf::note!("error: {e}");
             ExitCode::from(2)
         }
     }

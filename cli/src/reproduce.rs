@@ -7,10 +7,10 @@ use crate::selection::{material, Job};
 use crate::tables::paper_tables;
 use crate::usage::UsageError;
 use crate::CliError;
-use laminar_fit::preview::{render, Stage};
-use laminar_fit::{Baseline, Fit, Fitter, Model, ModelParams};
-use laminar_io::fits::csv as fit_csv;
-use laminar_io::write_atomic;
+use laminar_brdf_fit::preview::{render, Stage};
+use laminar_brdf_fit::{Baseline, Fit, Fitter, Model, ModelParams};
+use laminar_brdf_io::fits::csv as fit_csv;
+use laminar_brdf_io::write_atomic;
 use std::path::{Path, PathBuf};
 
 /// Samples drawn as data against model (the paper's Figs. 3–4).
@@ -60,7 +60,7 @@ fn is_ours(name: &str) -> bool {
 /// The names of the files in `out` (none if it does not exist), which must
 /// all be files a reproduction writes: the directory is replaced whole.
 fn previous_files(out: &Path) -> Result<Vec<String>, CliError> {
-    let io = |e| laminar_io::ReadError::io(out, "read", e);
+    let io = |e| laminar_brdf_io::ReadError::io(out, "read", e);
     if !out.exists() {
         return Ok(Vec::new());
     }
@@ -106,7 +106,7 @@ pub fn fit_job(fitter: &Fitter, job: &Job, model: Model) -> Result<Fit, CliError
 /// # Errors
 /// As [`fit_job`].
 pub fn fit_jobs(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> Result<Vec<Fit>, CliError> {
-    let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
+    let scenes: Vec<laminar_brdf_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
     Ok(fitter.fit_all(&scenes, models, |j, model| given(&jobs[j], model))?)
 }
 
@@ -123,7 +123,7 @@ fn given(job: &Job, model: Model) -> Option<ModelParams> {
 
 /// Progress calls of [`fit_jobs`].
 pub fn fit_jobs_shards(fitter: &Fitter, jobs: &[Job], models: &[Model]) -> u64 {
-    let scenes: Vec<laminar_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
+    let scenes: Vec<laminar_brdf_fit::Scene> = jobs.iter().map(|j| j.scene.clone()).collect();
     fitter.fit_all_shards(&scenes, models)
 }
 
@@ -139,22 +139,22 @@ pub fn prepare_out_dir(out: &Path) -> Result<(), CliError> {
     previous_files(out)?;
     if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent)
-            .map_err(|e| laminar_io::ReadError::io(parent, "create", e))?;
+            .map_err(|e| laminar_brdf_io::ReadError::io(parent, "create", e))?;
     }
-    laminar_io::check_writable(&laminar_io::staging::sibling(out, "probe"))?;
+    laminar_brdf_io::check_writable(&laminar_brdf_io::staging::sibling(out, "probe"))?;
     Ok(())
 }
 
 /// Moves the finished `staging` directory to `out`, replacing an earlier
 /// run as a whole (two renames; the earlier run is then deleted).
 fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
-    let io = |p: &Path, e| CliError::Read(laminar_io::ReadError::io(p, "rename", e));
+    let io = |p: &Path, e| CliError::Read(laminar_brdf_io::ReadError::io(p, "rename", e));
     if out.exists() {
-        let old = laminar_io::staging::sibling(out, "old");
+        let old = laminar_brdf_io::staging::sibling(out, "old");
         std::fs::rename(out, &old).map_err(|e| io(out, e))?;
         std::fs::rename(staging, out).map_err(|e| io(staging, e))?;
         std::fs::remove_dir_all(&old)
-            .map_err(|e| CliError::Read(laminar_io::ReadError::io(&old, "remove", e)))?;
+            .map_err(|e| CliError::Read(laminar_brdf_io::ReadError::io(&old, "remove", e)))?;
     } else {
         std::fs::rename(staging, out).map_err(|e| io(staging, e))?;
     }
@@ -171,16 +171,16 @@ fn replace_dir(staging: &Path, out: &Path) -> Result<(), CliError> {
 pub fn reproduce(fitter: &Fitter, jobs: &[Job], out: &Path) -> Result<Reproduction, CliError> {
     // Staging directories of earlier killed runs go; this run's are kept
     // from a concurrent run's sweep while it lives.
-    let _claim = laminar_io::staging::claim(out)?;
+    let _claim = laminar_brdf_io::staging::claim(out)?;
     let previous = previous_files(out)?;
     let records = fit_jobs(fitter, jobs, &FITTED)?;
     let pairs = records
         .iter()
         .map(|r| r.evaluated as f64 * r.measurements as f64)
         .sum();
-    let staging = laminar_io::staging::sibling(out, "partial");
+    let staging = laminar_brdf_io::staging::sibling(out, "partial");
     std::fs::create_dir_all(&staging)
-        .map_err(|e| laminar_io::ReadError::io(&staging, "create", e))?;
+        .map_err(|e| laminar_brdf_io::ReadError::io(&staging, "create", e))?;
     let written = write_set(fitter, jobs, &records, &staging);
     let files = match written.and_then(|files| replace_dir(&staging, out).map(|_| files)) {
         Ok(files) => files,
@@ -259,7 +259,7 @@ fn write_set(
                     job.scene.channel()
                 ));
                 let side = PREVIEW_SIZE as u32;
-                laminar_io::image::write_png(&path, side, side, &image.to_srgb8())?;
+                laminar_brdf_io::image::write_png(&path, side, side, &image.to_srgb8())?;
                 files.push(path);
                 for curve in fitter.profiles(&job.scene, r, PROFILE_POINTS) {
                     let title = format!(

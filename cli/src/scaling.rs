@@ -2,9 +2,11 @@
 //! measurements K and with the grid, for one set at a time and for a batch
 //! of sets on one geometry, with the fitted power-law exponents.
 
-use laminar_core::Correlation;
-use laminar_fit::{synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Objective, Scene};
-use laminar_io::fits::markdown_table;
+use laminar_brdf_core::Correlation;
+use laminar_brdf_fit::{
+    synthetic, Analysis, Axis, FitError, Fitter, Grid, Model, Objective, Scene,
+};
+use laminar_brdf_io::fits::markdown_table;
 use std::time::Instant;
 
 /// One measured configuration.

@@ -4,9 +4,9 @@
 
 use crate::usage::UsageError;
 use crate::CliError;
-use laminar_fit::{synthetic, MeasurementSet, Scene};
-use laminar_io::curet::{CuretDir, OrenNayarRow};
-use laminar_io::{merl, read_csv, read_geometry, AngleUnit, ReadError};
+use laminar_brdf_fit::{synthetic, MeasurementSet, Scene};
+use laminar_brdf_io::curet::{CuretDir, OrenNayarRow};
+use laminar_brdf_io::{merl, read_csv, read_geometry, AngleUnit, ReadError};
 use std::path::{Path, PathBuf};
 
 /// The paper's 13 samples (docs/conventions.md §8).
@@ -142,7 +142,7 @@ pub struct FileInput {
     /// Unit of the angles in CSV files.
     pub angles: AngleUnit,
     /// What the values are (CSV; MERL is always BRDF).
-    pub quantity: laminar_fit::Quantity,
+    pub quantity: laminar_brdf_fit::Quantity,
     /// Geometries to sample a MERL file at.
     pub sample_at: Option<PathBuf>,
     /// Tolerance of the specular test, radians (default: the library's).
@@ -182,9 +182,9 @@ impl FileInput {
     fn read_format(&self) -> Result<MeasurementSet, CliError> {
         match self.format()? {
             InputFormat::Csv => Ok(read_csv(&self.path, self.angles, self.quantity)?),
-            InputFormat::Astm => Ok(laminar_io::astm::read_astm(&self.path)?),
-            InputFormat::Nist => Ok(laminar_io::nist::read_nist(&self.path)?),
-            InputFormat::Rgl => Ok(laminar_io::rgl::read_rgl(&self.path)?),
+            InputFormat::Astm => Ok(laminar_brdf_io::astm::read_astm(&self.path)?),
+            InputFormat::Nist => Ok(laminar_brdf_io::nist::read_nist(&self.path)?),
+            InputFormat::Rgl => Ok(laminar_brdf_io::rgl::read_rgl(&self.path)?),
             InputFormat::Merl => {
                 let at = self
                     .sample_at

@@ -7,10 +7,10 @@
 //! `direct_slopes` σ/T values) and states how far the two `f64` paths are
 //! apart there. The direct paths are timed and compared on that slice only.
 
-use laminar_fit::paper::search::{error_surface, search};
-use laminar_fit::{Arith, Method, SearchPath};
-use laminar_fit::{Axis, Grid, GridError, Model, Scene};
-use laminar_io::fits::markdown_table;
+use laminar_brdf_fit::paper::search::{error_surface, search};
+use laminar_brdf_fit::{Arith, Method, SearchPath};
+use laminar_brdf_fit::{Axis, Grid, GridError, Model, Scene};
+use laminar_brdf_io::fits::markdown_table;
 use std::time::Instant;
 
 /// One path's totals over the fits.

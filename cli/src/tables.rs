@@ -2,9 +2,9 @@
 //! rendered as Markdown and CSV by one [`Table`] type.
 
 use crate::selection::material;
-use laminar_fit::fitted::format_value;
-use laminar_fit::{Edge, Estimate, Fit, Model, Parameter};
-use laminar_io::fits::markdown_table;
+use laminar_brdf_fit::fitted::format_value;
+use laminar_brdf_fit::{Edge, Estimate, Fit, Model, Parameter};
+use laminar_brdf_io::fits::markdown_table;
 
 /// A titled table of text cells.
 #[derive(Debug, Clone, PartialEq)]

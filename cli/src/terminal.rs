@@ -10,7 +10,7 @@ use std::borrow::Cow;
 /// Rust's `\u{…}` escape; borrowed unchanged when it has none.
 ///
 /// ```
-/// use laminar_cli::terminal::escaped;
+/// use laminar_brdf::terminal::escaped;
 /// assert_eq!(escaped("21/avg/exp"), "21/avg/exp");
 /// assert_eq!(escaped("x\u{1b}]0;title\u{7}"), "x\\u{1b}]0;title\\u{7}");
 /// assert_eq!(escaped("two\nlines\r"), "two\nlines\\r");

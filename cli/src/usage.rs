@@ -2,8 +2,8 @@
 //! values out of their range, inputs that do not match. One variant per
 //! case, each with the values its message names.
 
-use laminar_core::InputError;
-use laminar_fit::Model;
+use laminar_brdf_core::InputError;
+use laminar_brdf_fit::Model;
 use std::path::PathBuf;
 use thiserror::Error;
 
@@ -192,7 +192,7 @@ pub enum UsageError {
         /// The fitted-model file.
         file: PathBuf,
         /// What the selection rule says.
-        source: laminar_io::selection::SelectError,
+        source: laminar_brdf_io::selection::SelectError,
     },
 }
 

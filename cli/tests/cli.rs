@@ -736,7 +736,7 @@ fn csv_measurements_are_fitted_by_channel_with_the_file_stem_as_sample() {
 /// geometries the MERL binning changes the values by up to 3% here.
 #[test]
 fn export_merl_and_fit_it_back() {
-    use laminar_io::merl::bin_centre;
+    use laminar_brdf_io::merl::bin_centre;
     let d = tempfile::tempdir().unwrap();
     let (_, _, fits) = eval_and_fit_paper(d.path(), "0.001:1:1000");
     let merl = d.path().join("model.binary");
@@ -1614,7 +1614,7 @@ fn albedo_and_render_of_a_fitted_model() {
 /// option; every layered model evaluates; `--help` describes each model.
 #[test]
 fn every_model_and_parameter_of_the_descriptor_is_taken() {
-    use laminar_fit::{Grid, Model};
+    use laminar_brdf_fit::{Grid, Model};
     let help = ok(&["fit", "--help"]);
     for model in Model::ALL {
         let described = help.lines().any(|l| {
@@ -1795,7 +1795,7 @@ fn noise_and_untied_models_are_refused_where_they_do_not_apply() {
         file["fits"].as_array().expect("fits").clone()
     };
     let (relative, given) = (fits("relative"), fits("given"));
-    assert_eq!(relative.len(), laminar_fit::Model::ALL.len());
+    assert_eq!(relative.len(), laminar_brdf_fit::Model::ALL.len());
     assert!(relative.iter().any(|f| f["model"] == "exp2"));
     for (r, g) in relative.iter().zip(&given) {
         assert_eq!(r["model"], g["model"]);
@@ -1816,12 +1816,12 @@ fn noise_and_untied_models_are_refused_where_they_do_not_apply() {
 /// and one channel refused.
 #[test]
 fn fit_joint_shares_the_geometry_across_channels() {
-    use laminar_core::{Correlation, Params};
+    use laminar_brdf_core::{Correlation, Params};
     let d = tempfile::tempdir().unwrap();
-    let angles = laminar_fit::synthetic::geometries();
+    let angles = laminar_brdf_fit::synthetic::geometries();
     let made = |a: f64| {
         let p = Params::untied(0.3, 1.5, 0.39, 1.44, a).unwrap();
-        laminar_fit::synthetic::normalised(Correlation::Exponential, &p, &angles)
+        laminar_brdf_fit::synthetic::normalised(Correlation::Exponential, &p, &angles)
     };
     let (r, g) = (made(0.1), made(0.6));
     let mut text = String::from("theta_i,theta_s,phi_s,r,g\n");

@@ -1,6 +1,6 @@
 //! Every command in the README's and `docs/`'s `sh` blocks runs, so the
 //! docs cannot go stale (docs/testing.md):
-//! - each `laminar …` line (and `cargo run … -p laminar-cli -- …`) runs
+//! - each `laminar …` line (and `cargo run … -p laminar-brdf -- …`) runs
 //!   through the built binary, in the order of its page, in a directory of
 //!   its own holding the files the pages name (`felt.csv`,
 //!   `directions.csv`, `geometry.csv`, `values.npy`), and must succeed;
@@ -10,7 +10,7 @@
 //!   that runs it, and that file must still mention it.
 //!
 //! The Python blocks run in `python/tests/test_docs.py`, the TypeScript ones
-//! in `cli/tests/web.rs`, the Rust ones as doctests of `laminar-cli`.
+//! in `cli/tests/web.rs`, the Rust ones as doctests of `laminar-brdf`.
 
 mod common;
 
@@ -41,9 +41,9 @@ const RUN_ELSEWHERE: &[(&str, &str, &str)] = &[
     ("(cd target/npm && npm pack)", "cli/tests/web.rs", "\"pack\""),
     ("bash web/build.sh", "cli/tests/web.rs", "web/build.sh"),
     (
-        "cargo build -p laminar-ffi --release",
+        "cargo build -p laminar-brdf-ffi --release",
         "ffi/tests/c_example.rs",
-        "\"build\", \"-p\", \"laminar-ffi\"",
+        "\"build\", \"-p\", \"laminar-brdf-ffi\"",
     ),
     (
         "cc -std=c99 -I ffi/include ffi/examples/evaluate.c",
@@ -51,9 +51,9 @@ const RUN_ELSEWHERE: &[(&str, &str, &str)] = &[
         "examples/evaluate.c",
     ),
     (
-        "cargo rustc -p laminar-ffi --release --target thumbv7em-none-eabihf --crate-type staticlib",
+        "cargo rustc -p laminar-brdf-ffi --release --target thumbv7em-none-eabihf --crate-type staticlib",
         ".ci/run",
-        "cargo rustc -p laminar-ffi --release --target thumbv7em-none-eabihf --crate-type staticlib",
+        "cargo rustc -p laminar-brdf-ffi --release --target thumbv7em-none-eabihf --crate-type staticlib",
     ),
     (
         "arm-none-eabi-gcc -mcpu=cortex-m4",
@@ -84,7 +84,7 @@ const RUN_ELSEWHERE: &[(&str, &str, &str)] = &[
 
 /// The prefix that runs the CLI from the source tree, as the README's
 /// main job does.
-const CARGO_RUN: &str = "cargo run --release -p laminar-cli -- ";
+const CARGO_RUN: &str = "cargo run --release -p laminar-brdf -- ";
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

@@ -25,7 +25,7 @@ fn skip_or_fail(why: &str) {
 fn python_package() {
     if let Err(why) = common::integration(
         "LAMINAR_REQUIRE_PYTHON",
-        "cargo test -p laminar-cli --test python",
+        "cargo test -p laminar-brdf --test python",
     ) {
         return skip_or_fail(&why);
     }

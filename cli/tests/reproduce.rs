@@ -1,9 +1,9 @@
 //! `reproduce` end to end on a CUReT-format directory the test writes:
 //! tables, figures, given Oren–Nayar parameters, stale figures.
 
-use laminar_cli::reproduce::{prepare_out_dir, reproduce, FITTED};
-use laminar_cli::selection::curet_jobs;
-use laminar_fit::{Axis, Fitter, Grid, Model, Objective};
+use laminar_brdf::reproduce::{prepare_out_dir, reproduce, FITTED};
+use laminar_brdf::selection::curet_jobs;
+use laminar_brdf_fit::{Axis, Fitter, Grid, Model, Objective};
 use std::path::{Path as FsPath, PathBuf};
 
 fn write(dir: &FsPath, name: &str, text: &str) -> PathBuf {

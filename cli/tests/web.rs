@@ -22,8 +22,8 @@
 mod common;
 
 use common::{run, stdout};
-use laminar_core::{probe, total_radiance, Angles, Correlation, Geometry, Params};
-use laminar_fit::Model;
+use laminar_brdf_core::{probe, total_radiance, Angles, Correlation, Geometry, Params};
+use laminar_brdf_fit::Model;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -58,7 +58,7 @@ fn package() -> Result<&'static Package, String> {
         .get_or_init(|| {
             common::integration(
                 "LAMINAR_REQUIRE_WEB",
-                "cargo test -p laminar-cli --test web",
+                "cargo test -p laminar-brdf --test web",
             )?;
             for tool in ["node", "npm", "wasm-bindgen"] {
                 run(Command::new(tool).arg("--version"))
@@ -103,7 +103,7 @@ fn package() -> Result<&'static Package, String> {
 fn web_tools() -> Result<PathBuf, String> {
     common::integration(
         "LAMINAR_REQUIRE_WEB",
-        "cargo test -p laminar-cli --test web",
+        "cargo test -p laminar-brdf --test web",
     )?;
     let web = root().join("web");
     let modules = web.join("node_modules");
@@ -290,7 +290,7 @@ fn near(documented: usize, measured: usize) -> bool {
     documented.abs_diff(measured) * 50 <= measured
 }
 
-/// The evaluation-only package (`laminar-wasm/eval`) fits a page's budget:
+/// The evaluation-only package (`laminar-brdf/eval`) fits a page's budget:
 /// each build's `.wasm` at most 40 KiB gzip; and docs/javascript.md's sizes
 /// (each build's `.wasm`, plain and gzip, and the tarball) are within 2% of
 /// the built ones. Needs binaryen's `wasm-opt` (wasm/build.sh runs it on the
@@ -514,7 +514,7 @@ fn packed_package_imports_in_typescript() {
     let correlations: Vec<&str> = Correlation::ALL.iter().map(|c| c.name()).collect();
     assert_eq!(v["correlations"], serde_json::json!(correlations));
     assert_eq!(v["lobes"], serde_json::json!(vec![2; correlations.len()]));
-    // `laminar-wasm/eval` types and runs: the same bits as the whole package.
+    // `laminar-brdf/eval` types and runs: the same bits as the whole package.
     assert_eq!(
         (&v["evalSame"], &v["evalSimd"]),
         (&true.into(), &true.into()),

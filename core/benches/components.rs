@@ -3,7 +3,7 @@
 //! geometries evaluated. Run: `cargo bench --bench components`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use laminar_core::{
+use laminar_brdf_core::{
     absorption_factor, f32x8, fresnel, inverse_slope_squared, subsurface_radiance,
     surface_radiance, total_radiance, Angles, Correlation, Geometry, Interface, Lane, Params,
 };

@@ -1,4 +1,4 @@
-//! # laminar-core
+//! # laminar-brdf-core
 //!
 //! `no_std` evaluation of the absorptive scattering model for rough laminar
 //! surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the Ragheb–Hancock
@@ -8,7 +8,7 @@
 //! each equation to the function that computes it.
 //!
 //! ```
-//! use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
+//! use laminar_brdf_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
 //! // σ/T = 0.5, β = 0.4, n = 1.45, a = 0.2; θi = 30°, θs = 40°, φs = 1 rad.
 //! let p = Params::new(0.5, 0.4, 1.45, 0.2)?;
 //! let a = Angles::new(30f64.to_radians(), 40f64.to_radians(), 1.0)?;
@@ -17,9 +17,9 @@
 //! assert!((c.total - (0.4 * c.subsurface + 0.6 * c.surface)).abs() < 1e-15);
 //! // The same in f32, and eight geometries at once in f32x8 (same bits per lane).
 //! let one = total_radiance(&Geometry::<f32>::splat(&a), Correlation::Exponential, &p);
-//! let eight = total_radiance(&Geometry::<laminar_core::f32x8>::splat(&a), Correlation::Exponential, &p);
+//! let eight = total_radiance(&Geometry::<laminar_brdf_core::f32x8>::splat(&a), Correlation::Exponential, &p);
 //! assert_eq!(eight.to_array()[5].to_bits(), one.to_bits());
-//! # Ok::<(), laminar_core::InputError>(())
+//! # Ok::<(), laminar_brdf_core::InputError>(())
 //! ```
 //!
 //! ## One implementation, four lane types
@@ -95,7 +95,7 @@ pub mod measures;
 pub mod onepass;
 pub mod param;
 pub mod prediction;
-/// Test fixture shared with `laminar-ffi`, the firmware and the wasm probe:
+/// Test fixture shared with `laminar-brdf-ffi`, the firmware and the wasm probe:
 /// not part of the API.
 #[doc(hidden)]
 pub mod probe;

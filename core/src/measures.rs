@@ -58,7 +58,7 @@ impl DataFault {
 /// (0 for [`DataFault::NoPositiveValue`]).
 ///
 /// ```
-/// use laminar_core::measures::{check_data, DataFault};
+/// use laminar_brdf_core::measures::{check_data, DataFault};
 /// assert_eq!(check_data(&[0.5, 1.0, 0.0]), Ok(()));
 /// assert_eq!(check_data(&[0.5, f64::NAN]), Err((1, DataFault::NotFinite)));
 /// assert_eq!(check_data(&[0.0, -1.0]), Err((0, DataFault::NoPositiveValue)));

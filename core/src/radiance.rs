@@ -39,14 +39,14 @@ impl Params {
     /// (eqs. 3–4 as printed). At `sub_slope == slope` it is [`Params::new`].
     ///
     /// ```
-    /// use laminar_core::{total_radiance, Angles, Correlation, Geometry, Params};
+    /// use laminar_brdf_core::{total_radiance, Angles, Correlation, Geometry, Params};
     /// let g = Geometry::<f64>::splat(&Angles::new(0.3, 0.9, 2.1)?);
     /// let smooth_top = Params::untied(0.1, 0.8, 0.5, 1.5, 0.3)?;
     /// let tied = Params::untied(0.1, 0.1, 0.5, 1.5, 0.3)?;
     /// let corr = Correlation::Exponential;
     /// assert_eq!(tied, Params::new(0.1, 0.5, 1.5, 0.3)?);
     /// assert_ne!(total_radiance(&g, corr, &smooth_top), total_radiance(&g, corr, &tied));
-    /// # Ok::<(), laminar_core::InputError>(())
+    /// # Ok::<(), laminar_brdf_core::InputError>(())
     /// ```
     ///
     /// # Errors
@@ -282,12 +282,12 @@ pub fn components_in<L: Lane>(
 /// Total radiance (eq. 8), computing only the terms with non-zero weight:
 ///
 /// ```
-/// use laminar_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
+/// use laminar_brdf_core::{components, total_radiance, Angles, Correlation, Geometry, Params};
 /// let g = Geometry::<f64>::splat(&Angles::new(0.3, 0.9, 2.1)?);
 /// let p = Params::new(0.5, 0.0, 1.45, 0.3)?; // β = 0: the surface term only
 /// let t = total_radiance(&g, Correlation::Gaussian, &p);
 /// assert_eq!(t.to_bits(), components(&g, Correlation::Gaussian, &p).total.to_bits());
-/// # Ok::<(), laminar_core::InputError>(())
+/// # Ok::<(), laminar_brdf_core::InputError>(())
 /// ```
 ///
 /// no subsurface work at β = 0, no surface work at β = 1, no absorption

@@ -20,7 +20,7 @@
 mod reference;
 
 use core::f64::consts::{FRAC_PI_2, PI};
-use laminar_core::{components, Angles, Components, Correlation, Geometry, Params};
+use laminar_brdf_core::{components, Angles, Components, Correlation, Geometry, Params};
 use reference::{Corr, Reference};
 
 /// The largest error allowed, in ulps of the precision, outside the tail.

@@ -4,16 +4,16 @@
 mod common;
 
 use core::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
-use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{
+use laminar_brdf_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
+use laminar_brdf_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
-use laminar_core::exp::exp;
-use laminar_core::{
+use laminar_brdf_core::exp::exp;
+use laminar_brdf_core::{
     components, energy_budget, fresnel, subsurface_base, total_radiance, Angles, Components,
     Correlation, Geometry, Interface, Lane, Params,
 };
-use laminar_core::{f32x8, f64x4, inverse_slope_squared};
+use laminar_brdf_core::{f32x8, f64x4, inverse_slope_squared};
 use proptest::prelude::*;
 
 fn fields<L: Copy>(c: &Components<L>) -> [L; 7] {

@@ -14,7 +14,7 @@
 
 mod common;
 
-use laminar_core::{components, Correlation, Geometry, Interface, Params};
+use laminar_brdf_core::{components, Correlation, Geometry, Interface, Params};
 use proptest::prelude::*;
 
 const EPS: f64 = f32::EPSILON as f64;
@@ -35,7 +35,7 @@ fn f32_rounded(p: &Params) -> Params {
 }
 
 /// Scaled errors of every component for one case, in f32 epsilons.
-fn scaled_errors(angles: &laminar_core::Angles, corr: Correlation, p: &Params) -> [f64; 7] {
+fn scaled_errors(angles: &laminar_brdf_core::Angles, corr: Correlation, p: &Params) -> [f64; 7] {
     // The f64 reference runs at the parameters as the f32 path sees them
     // (rounded to f32), so the budget measures arithmetic error only.
     let p = &f32_rounded(p);
@@ -120,7 +120,7 @@ fn grazing_forward_specular_stays_within_budget() {
         (1.2, 1.2 + 1e-7, 0.0),
     ];
     for (ti, ts, ps) in cases {
-        let a = laminar_core::Angles::new(ti, ts, ps).unwrap();
+        let a = laminar_brdf_core::Angles::new(ti, ts, ps).unwrap();
         for corr in [Correlation::Exponential, Correlation::Gaussian] {
             for slope in [0.12, 0.5, 4.04] {
                 let p = Params::new(slope, 0.5, 1.5, 0.5).unwrap();

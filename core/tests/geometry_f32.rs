@@ -3,7 +3,7 @@
 //! the `f64` one, per field and for the total radiance they lead to, in
 //! `f32` ulps relative to the `f64` value (docs/conventions.md §2).
 
-use laminar_core::{total_radiance, Angles, Correlation, Directions, Geometry, Params};
+use laminar_brdf_core::{total_radiance, Angles, Correlation, Directions, Geometry, Params};
 
 /// Relative distance of `got` from `want` in `f32` ulps at `want`.
 fn ulps(got: f32, want: f64) -> f64 {
@@ -163,7 +163,7 @@ fn f32_geometry_is_within_its_budget() {
 
 #[test]
 fn f32_constructors_reject_bad_input_by_name() {
-    use laminar_core::InputError;
+    use laminar_brdf_core::InputError;
     let name = |r: Result<Geometry<f32>, InputError>| match r {
         Err(InputError::OutOfRange { input, .. }) => input.name(),
         other => panic!("expected an error, got {other:?}"),

@@ -64,12 +64,12 @@ pub trait Scratch: sealed::Sealed {}
 
 mod sealed {
     pub trait Sealed {}
-    impl Sealed for laminar_core::small_fit::Scratch {}
-    impl Sealed for laminar_core::small_free_fit::FreeScratch<f32> {}
+    impl Sealed for laminar_brdf_core::small_fit::Scratch {}
+    impl Sealed for laminar_brdf_core::small_free_fit::FreeScratch<f32> {}
 }
 
-impl Scratch for laminar_core::small_fit::Scratch {}
-impl Scratch for laminar_core::small_free_fit::FreeScratch<f32> {}
+impl Scratch for laminar_brdf_core::small_fit::Scratch {}
+impl Scratch for laminar_brdf_core::small_free_fit::FreeScratch<f32> {}
 
 /// The fit's scratch words at `ptr` as one of the core's scratch memories,
 /// or [`Status::NullPointer`].

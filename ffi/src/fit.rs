@@ -1,15 +1,15 @@
 //! The on-device fits of the C ABI, over a grid the caller gives, in
 //! scratch memory the caller owns: the paper objective's small fit
-//! (`laminar_core::small_fit`, the library's `onepass-f32` search) and the
-//! free amplitude's (`laminar_core::small_free_fit`).
+//! (`laminar_brdf_core::small_fit`, the library's `onepass-f32` search) and the
+//! free amplitude's (`laminar_brdf_core::small_free_fit`).
 
 use crate::scratch::LaminarFitScratch;
 use crate::{buffers, correlation, status_of, LaminarGeometry, Status};
-use laminar_core::onepass::rms_of_sum;
-use laminar_core::small_fit::{self, Axes, AxisError, SmallFitError, MAX_MEASUREMENTS};
-use laminar_core::small_free_fit::{fit_free as core_fit_free, FreeAxes, FreeScratch};
+use laminar_brdf_core::onepass::rms_of_sum;
+use laminar_brdf_core::small_fit::{self, Axes, AxisError, SmallFitError, MAX_MEASUREMENTS};
+use laminar_brdf_core::small_free_fit::{fit_free as core_fit_free, FreeAxes, FreeScratch};
 
-/// Most measurements `laminar_fit` takes: a literal, so that the header's
+/// Most measurements `laminar_brdf_fit` takes: a literal, so that the header's
 /// macro is a number C can use (equal to the core's `MAX_MEASUREMENTS`,
 /// checked at compile time).
 pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = 64;
@@ -67,7 +67,7 @@ pub struct LaminarFitResult {
     pub rh_rms: f64,
 }
 
-/// The fit behind [`crate::laminar_fit`].
+/// The fit behind [`crate::laminar_brdf_fit`].
 pub fn fit(
     corr: u32,
     (geometries, data, count): (*const LaminarGeometry, *const f64, usize),

@@ -3,7 +3,7 @@
 //! constructors and then evaluated at any number of parameter sets.
 
 use crate::{angles, status_of, LaminarAngles, Status};
-use laminar_core::{Directions, Geometry};
+use laminar_brdf_core::{Directions, Geometry};
 
 /// One measurement's geometry, ready to evaluate (the core's
 /// `Geometry<f32>`: the model's terms that depend on the angles only).

@@ -1,6 +1,6 @@
-//! # laminar-ffi
+//! # laminar-brdf-ffi
 //!
-//! The C ABI of `laminar-core`: the absorptive scattering model (Dahlan &
+//! The C ABI of `laminar-brdf-core`: the absorptive scattering model (Dahlan &
 //! Hancock, ICPR 2016) evaluated at arrays of geometries in caller-owned
 //! buffers. `no_std`, no allocation, no panics on any input: every function
 //! returns a [`Status`], and writes its outputs only when it returns
@@ -12,7 +12,7 @@
 //! finite value in `double`, in [−π, π] in `float`; the repository's
 //! docs/conventions.md §1). The header's opening comment states the rules
 //! for buffers, counts and aliasing. Parameters are
-//! checked as `laminar_core::Params::new` checks them.
+//! checked as `laminar_brdf_core::Params::new` checks them.
 //!
 //! On targets without SIMD (Cortex-M) the scalar f32 path is the one to
 //! use: it gives the same bits as every other target's.
@@ -39,7 +39,7 @@ pub use fit::{
     LAMINAR_FIT_MAX_MEASUREMENTS,
 };
 pub use geometry::{LaminarAnglesF32, LaminarDirections, LaminarGeometry};
-use laminar_core::{
+use laminar_brdf_core::{
     components_in, total_radiance_in, Angle, Angles, Correlation, Geometry, Input, InputError,
     Lane, LaneParams, Param, Params,
 };
@@ -524,7 +524,7 @@ mod exports {
     /// onepass-f32` at geometries built by [`laminar_geometry_from_angles`]).
     /// Allocation-free: `scratch` is the working memory. Writes `out`.
     #[no_mangle]
-    pub extern "C" fn laminar_fit(
+    pub extern "C" fn laminar_brdf_fit(
         corr: u32,
         geometries: *const LaminarGeometry,
         data: *const f64,
@@ -678,7 +678,7 @@ mod tests {
         let s = laminar_components_f64(1, P, geometries.as_ptr(), 2, out.as_mut_ptr());
         assert_eq!(s, Status::Ok);
         let p = Params::new(0.8, 0.3, 1.45, 0.2).unwrap();
-        use laminar_core::components;
+        use laminar_brdf_core::components;
         for (k, a) in geometries.iter().enumerate() {
             let g = Geometry::<f64>::splat(&angles(a).unwrap());
             let want = components(&g, Correlation::Gaussian, &p).to_array();
@@ -723,7 +723,7 @@ mod tests {
         let p = Params::untied(0.2, 1.5, 0.3, 1.45, 0.2).unwrap();
         for (k, a) in geometries.iter().enumerate() {
             let g = Geometry::<f64>::splat(&angles(a).unwrap());
-            let want = laminar_core::components(&g, Correlation::Exponential, &p).to_array();
+            let want = laminar_brdf_core::components(&g, Correlation::Exponential, &p).to_array();
             assert_eq!(
                 &out[k * LAMINAR_COMPONENTS..(k + 1) * LAMINAR_COMPONENTS],
                 &want[..]

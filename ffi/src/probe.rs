@@ -1,6 +1,6 @@
 //! The probe cases of the firmware test (`ffi/firmware`, run on an
 //! emulated Cortex-M4 by `ffi/tests/firmware.rs`): the core's parity cases
-//! ([`laminar_core::probe`]) in the C ABI's types, and the values the
+//! ([`laminar_brdf_core::probe`]) in the C ABI's types, and the values the
 //! device and the host both compute from them through the C ABI.
 
 use crate::{
@@ -9,11 +9,11 @@ use crate::{
     LaminarDirections, LaminarGeometry, LaminarParams, LaminarParamsF32, Status,
     LAMINAR_COMPONENTS,
 };
-pub use laminar_core::probe::{GEOMETRIES, PARAMS};
+pub use laminar_brdf_core::probe::{GEOMETRIES, PARAMS};
 
-/// Geometry `g` ([`laminar_core::probe::angles`]).
+/// Geometry `g` ([`laminar_brdf_core::probe::angles`]).
 pub fn angles(g: u32) -> LaminarAngles {
-    let (theta_i, theta_s, phi_s) = laminar_core::probe::angles(g);
+    let (theta_i, theta_s, phi_s) = laminar_brdf_core::probe::angles(g);
     LaminarAngles {
         theta_i,
         theta_s,
@@ -21,9 +21,9 @@ pub fn angles(g: u32) -> LaminarAngles {
     }
 }
 
-/// Parameter set `j` ([`laminar_core::probe::params`]).
+/// Parameter set `j` ([`laminar_brdf_core::probe::params`]).
 pub fn params(j: u32) -> LaminarParams {
-    let (slope, beta, n, a) = laminar_core::probe::params(j);
+    let (slope, beta, n, a) = laminar_brdf_core::probe::params(j);
     LaminarParams { slope, beta, n, a }
 }
 
@@ -122,9 +122,9 @@ pub fn geometry_values(g: u32) -> [u32; 16] {
     out
 }
 
-/// The paper's grid (σ/T, n, a, β): [`laminar_core::small_fit::PAPER`].
+/// The paper's grid (σ/T, n, a, β): [`laminar_brdf_core::small_fit::PAPER`].
 pub fn paper_axes() -> ([f64; 50], [f64; 11], [f64; 101], [f64; 100]) {
-    use laminar_core::small_fit::{stepped, PAPER};
+    use laminar_brdf_core::small_fit::{stepped, PAPER};
     let axis = |(start, step, _): (f64, f64, usize)| move |i| stepped(start, step, i);
     (
         core::array::from_fn(axis(PAPER[0])),
@@ -157,7 +157,7 @@ pub fn fit_case(k: usize) -> ([LaminarGeometry; 64], [f64; 64]) {
     (geometry, data)
 }
 
-/// [`crate::laminar_fit`] of [`fit_case`] `k` on the paper grid: the
+/// [`crate::laminar_brdf_fit`] of [`fit_case`] `k` on the paper grid: the
 /// status, and the result's index and Δ_RMS bits.
 pub fn fit_values(k: usize) -> (Status, usize, u64) {
     let (slope, n, a, beta) = paper_axes();
@@ -174,7 +174,7 @@ pub fn fit_values(k: usize) -> (Status, usize, u64) {
     let (geometry, data) = fit_case(k);
     let mut scratch = crate::LaminarFitScratch::new();
     let mut out = crate::LaminarFitResult::default();
-    let s = crate::laminar_fit(
+    let s = crate::laminar_brdf_fit(
         0,
         geometry.as_ptr(),
         data.as_ptr(),

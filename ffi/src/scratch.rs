@@ -2,8 +2,8 @@
 //! caller owns: sized and aligned for every scratch memory of the core's
 //! fits (checked at compile time).
 
-use laminar_core::small_fit::Scratch;
-use laminar_core::small_free_fit::FreeScratch;
+use laminar_brdf_core::small_fit::Scratch;
+use laminar_brdf_core::small_free_fit::FreeScratch;
 
 /// 64-bit words of [`LaminarFitScratch`].
 pub const LAMINAR_FIT_SCRATCH_WORDS: usize = 640;

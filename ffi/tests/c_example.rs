@@ -3,7 +3,7 @@
 //! without one it says it was skipped, where the user sees it, unless
 //! `LAMINAR_REQUIRE_CC=1` (CI) makes that a failure.
 
-use laminar_core::{total_radiance, Angles, Correlation, Geometry, Params};
+use laminar_brdf_core::{total_radiance, Angles, Correlation, Geometry, Params};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -15,7 +15,7 @@ fn static_library() -> PathBuf {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let built = Command::new(cargo)
         .current_dir(dir)
-        .args(["build", "-p", "laminar-ffi", "--lib"])
+        .args(["build", "-p", "laminar-brdf-ffi", "--lib"])
         .env("CARGO_TARGET_DIR", &target_dir)
         .output()
         .expect("cargo runs");
@@ -24,7 +24,7 @@ fn static_library() -> PathBuf {
         "{}",
         String::from_utf8_lossy(&built.stderr)
     );
-    target_dir.join("debug/liblaminar_ffi.a")
+    target_dir.join("debug/liblaminar_brdf_ffi.a")
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 mod common;
 
-use laminar_ffi::probe;
+use laminar_brdf_ffi::probe;
 use std::io::Write;
 
 /// The lines the firmware prints, computed on the host.

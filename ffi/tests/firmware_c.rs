@@ -20,7 +20,7 @@ const ARM_FLAGS: [&str; 4] = [
     "-mfpu=fpv4-sp-d16",
 ];
 
-/// Builds laminar-ffi's static library for `target` (`None`: the host)
+/// Builds laminar-brdf-ffi's static library for `target` (`None`: the host)
 /// into `target/firmware-c` and returns its path.
 fn static_library(target: Option<&str>) -> PathBuf {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -31,7 +31,7 @@ fn static_library(target: Option<&str>) -> PathBuf {
         .args([
             "rustc",
             "-p",
-            "laminar-ffi",
+            "laminar-brdf-ffi",
             "--release",
             "--crate-type",
             "staticlib",
@@ -49,8 +49,8 @@ fn static_library(target: Option<&str>) -> PathBuf {
         String::from_utf8_lossy(&built.stderr)
     );
     match target {
-        Some(t) => target_dir.join(t).join("release/liblaminar_ffi.a"),
-        None => target_dir.join("release/liblaminar_ffi.a"),
+        Some(t) => target_dir.join(t).join("release/liblaminar_brdf_ffi.a"),
+        None => target_dir.join("release/liblaminar_brdf_ffi.a"),
     }
 }
 

@@ -114,12 +114,13 @@ fn fit_lines(images: &std::path::Path) -> String {
         let f: Vec<&str> = line.split_whitespace().collect();
         let (objective, host) = match f.first() {
             Some(&"FIT") => {
-                let (status, index, rms) = laminar_ffi::probe::fit_values(f[1].parse().unwrap());
+                let (status, index, rms) =
+                    laminar_brdf_ffi::probe::fit_values(f[1].parse().unwrap());
                 ("paper", format!("{} {} {:x}", status as u32, index, rms))
             }
             Some(&"FREE") => {
                 let (status, index, objective, rms) =
-                    laminar_ffi::probe::free_fit_values(f[1].parse().unwrap());
+                    laminar_brdf_ffi::probe::free_fit_values(f[1].parse().unwrap());
                 let host = format!("{} {} {:x} {:x}", status as u32, index, objective, rms);
                 ("free", host)
             }

@@ -19,6 +19,6 @@ fn header_is_current() {
     let committed = std::fs::read(&path).unwrap_or_default();
     assert!(
         committed == generated,
-        "{path} is stale: regenerate it with LAMINAR_BLESS=1 cargo test -p laminar-ffi --test header"
+        "{path} is stale: regenerate it with LAMINAR_BLESS=1 cargo test -p laminar-brdf-ffi --test header"
     );
 }

@@ -8,10 +8,10 @@
 //! noise of 1% of the max ([`synthetic::sets`]). Run: `cargo bench --bench batch`.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use laminar_core::{Angles, Correlation};
-use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective};
-use laminar_io::curet::CuretDir;
+use laminar_brdf_core::{Angles, Correlation};
+use laminar_brdf_fit::synthetic;
+use laminar_brdf_fit::{Analysis, Fitter, Grid, Model, Objective};
+use laminar_brdf_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 

@@ -18,11 +18,11 @@
 //! Run: `cargo bench --bench free` (one group: `cargo bench --bench free -- free_large_k`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use laminar_core::Angles;
-use laminar_fit::coverage::{noisy_sets, NoiseModel};
-use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Precision, Scene, Uncertainty};
-use laminar_io::curet::CuretDir;
+use laminar_brdf_core::Angles;
+use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel};
+use laminar_brdf_fit::synthetic;
+use laminar_brdf_fit::{Analysis, Fitter, Grid, Model, Objective, Precision, Scene, Uncertainty};
+use laminar_brdf_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 

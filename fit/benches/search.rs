@@ -8,11 +8,11 @@
 //! Run: `cargo bench --bench search`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use laminar_core::Correlation;
-use laminar_fit::paper::search::search;
-use laminar_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
-use laminar_fit::{Method, SearchPath};
-use laminar_io::curet::CuretDir;
+use laminar_brdf_core::Correlation;
+use laminar_brdf_fit::paper::search::search;
+use laminar_brdf_fit::{Analysis, Axis, Fitter, Grid, Model, Objective, Scene, Uncertainty};
+use laminar_brdf_fit::{Method, SearchPath};
+use laminar_brdf_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::PathBuf;
 
@@ -27,7 +27,10 @@ fn scene() -> (String, Scene) {
         }
         None => {
             eprintln!("CURET_DIR is not set: benchmarking the built-in synthetic scene");
-            ("synthetic".into(), laminar_fit::synthetic::default_scene())
+            (
+                "synthetic".into(),
+                laminar_brdf_fit::synthetic::default_scene(),
+            )
         }
     }
 }

@@ -4,12 +4,12 @@
 //! (`valgrind --tool=callgrind`, `perf record`). With `LAMINAR_ONE_AT_A_TIME`
 //! set, each set is fitted on its own (`Fitter::fit`, no shared model side).
 //! Run:
-//! `cargo run --release -p laminar-fit --example free_batch -- [SETS] [THREADS]`.
+//! `cargo run --release -p laminar-brdf-fit --example free_batch -- [SETS] [THREADS]`.
 
-use laminar_fit::coverage::{noisy_sets, NoiseModel};
-use laminar_fit::synthetic;
-use laminar_fit::{Analysis, Fitter, Grid, Model, Objective, Uncertainty};
-use laminar_io::curet::CuretDir;
+use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel};
+use laminar_brdf_fit::synthetic;
+use laminar_brdf_fit::{Analysis, Fitter, Grid, Model, Objective, Uncertainty};
+use laminar_brdf_io::curet::CuretDir;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

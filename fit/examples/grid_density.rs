@@ -6,14 +6,14 @@
 //! by which grid's estimate has the lower objective (`Σ w r²`, read as
 //! χ²/ν). Then the median time of one fit on CUReT sample 21's geometry
 //! (64 sets fitted one at a time, three rounds per grid). Run:
-//! `cargo run --release -p laminar-fit --example grid_density -- SLOPES:NS:AS [SETS]`
+//! `cargo run --release -p laminar-brdf-fit --example grid_density -- SLOPES:NS:AS [SETS]`
 //! (`SLOPES` log-spaced σ/T values over [0.02, 20], `NS` values of n over
 //! [1, `N_MAX`], `AS` of a over [0, 1]; `N_MAX` 2.5 unless set in the
 //! environment; the default grid is `40:11:21`). With `CURET_DIR` set,
 //! CUReT sample 21's geometry is used besides the built-in one.
 
-use laminar_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
-use laminar_fit::{Axis, Fitter, Grid, Model, Objective};
+use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
+use laminar_brdf_fit::{Axis, Fitter, Grid, Model, Objective};
 use std::time::Instant;
 
 mod common;

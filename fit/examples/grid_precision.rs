@@ -3,12 +3,12 @@
 //! fits' best grid point moved and the largest change of a refined value
 //! and of an interval's end, as a fraction of that parameter's 68.27%
 //! interval (the `f64` fit's headline). The table of docs/speed.md. Run:
-//! `cargo run --release -p laminar-fit --example grid_precision -- [SETS]`
+//! `cargo run --release -p laminar-brdf-fit --example grid_precision -- [SETS]`
 //! (with `CURET_DIR` set, CUReT sample 21's geometry is used besides the
 //! built-in one).
 
-use laminar_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
-use laminar_fit::{Fitter, Grid, Model, Objective, Precision};
+use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel, SETTINGS};
+use laminar_brdf_fit::{Fitter, Grid, Model, Objective, Precision};
 
 mod common;
 

@@ -17,7 +17,7 @@
 //! A fit is flagged `lack_of_fit` when either p-value is below
 //! [`LACK_OF_FIT`].
 
-use laminar_core::{Angles, Geometry};
+use laminar_brdf_core::{Angles, Geometry};
 use serde::{Deserialize, Serialize};
 use statrs::function::gamma::checked_gamma_ur;
 

@@ -19,7 +19,7 @@
 use crate::error::ModelError;
 use crate::fitted::FittedModel;
 use gauss_quad::legendre::GaussLegendre;
-use laminar_core::Angles;
+use laminar_brdf_core::Angles;
 use thiserror::Error;
 
 /// The relative tolerance of the quadrature: two successive rules must
@@ -85,8 +85,8 @@ pub const MOST_NODES: usize = 1024;
 /// per dimension, after which the error says how far it got).
 ///
 /// ```
-/// use laminar_fit::albedo::{directional_albedo, Tolerance};
-/// use laminar_fit::{Baseline, FittedModel, Model, ModelParams};
+/// use laminar_brdf_fit::albedo::{directional_albedo, Tolerance};
+/// use laminar_brdf_fit::{Baseline, FittedModel, Model, ModelParams};
 /// // Oren–Nayar at σ = 0 is Lambertian, ρ/π · cos θi: its albedo is ρ
 /// // (here times the amplitude 1.5 and the data's scale 2).
 /// let params = ModelParams::baseline(Baseline::OrenNayar, [0.0, 0.8]);

@@ -5,8 +5,8 @@
 //! objective's columns and a fitted model's prediction all call
 //! [`BaselineGeometry::radiance`].
 
-use laminar_core::baselines::{Baseline, BaselineModel, WithBaseline};
-use laminar_core::{Angles, InputError};
+use laminar_brdf_core::baselines::{Baseline, BaselineModel, WithBaseline};
+use laminar_brdf_core::{Angles, InputError};
 use std::fmt::Debug;
 
 /// Evaluation of one baseline's per-measurement terms (object-safe, so a

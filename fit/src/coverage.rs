@@ -20,8 +20,8 @@ use crate::profile::Interval;
 use crate::report::{Parameter, Source};
 use crate::scene::Scene;
 use crate::synthetic::{geometries, Noise};
-use laminar_core::measures::max_of;
-use laminar_core::Angles;
+use laminar_brdf_core::measures::max_of;
+use laminar_brdf_core::Angles;
 
 /// The noise of a coverage trial (the prediction's max is 1).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -17,7 +17,7 @@
 //! `x` in [1e-300, 1e300]; lanes outside it (zero, negative, infinite, NaN
 //! and the extremes) take `libm::cbrt`.
 
-use laminar_core::f64x4;
+use laminar_brdf_core::f64x4;
 
 /// The bits of `x^(-1/3)` as this minus `bits(x) / 3`: the exponent
 /// bias's four thirds, tuned for the mantissa.

@@ -2,7 +2,7 @@
 //! ([`GridError`]), measurement sets ([`MeasurementError`]), fitted models
 //! ([`ModelError`]) and fitting ([`FitError`], which wraps the others).
 
-use laminar_core::InputError;
+use laminar_brdf_core::InputError;
 use thiserror::Error;
 
 /// A name that is none of a fixed set of choices (an objective, an
@@ -97,13 +97,13 @@ pub enum GridError {
     #[error("axis {axis} is empty")]
     Empty {
         /// The axis.
-        axis: laminar_core::Param,
+        axis: laminar_brdf_core::Param,
     },
     /// A value outside the model's domain.
     #[error("axis {axis}: {error}")]
     OutOfDomain {
         /// The axis.
-        axis: laminar_core::Param,
+        axis: laminar_brdf_core::Param,
         /// The core's description of the value and its domain.
         error: InputError,
     },

@@ -7,7 +7,7 @@ use crate::fitted::{FittedModel, ModelParams};
 use crate::graphics_metrics::GraphicsMetrics;
 use crate::model::Model;
 use crate::scene::Scene;
-use laminar_core::{chi_square_per_dof, rms_error, ChiSquare};
+use laminar_brdf_core::{chi_square_per_dof, rms_error, ChiSquare};
 
 /// A fitted model with its error measures on the scene it was fitted to
 /// (computed in f64 from [`FittedModel::predict`]).

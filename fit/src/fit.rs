@@ -33,8 +33,8 @@ pub const MAX_THREADS: usize = 1024;
 /// [`Fitter::objective`] selects the paper's, with [`Grid::paper`].
 ///
 /// ```
-/// use laminar_core::{Correlation, Params};
-/// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective, Param};
+/// use laminar_brdf_core::{Correlation, Params};
+/// use laminar_brdf_fit::{synthetic, Axis, Fitter, Grid, Model, Objective, Param};
 /// // Noise-free synthetic data from the exp model (β in the paper's normalisation).
 /// let truth = Params::new(1.48, 0.39, 1.44, 0.17)?;
 /// let scene = synthetic::scene(Correlation::Exponential, &truth, 0.0, 1);
@@ -358,8 +358,8 @@ impl Fitter {
     /// collections (pixels of a texture) in blocks.
     ///
     /// ```
-    /// use laminar_core::{Correlation, Params};
-    /// use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
+    /// use laminar_brdf_core::{Correlation, Params};
+    /// use laminar_brdf_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
     /// let scenes: Vec<_> = (0..3)
     ///     .map(|seed| synthetic::scene(Correlation::Exponential, &Params::new(1.48, 0.39, 1.44, 0.2).unwrap(), 0.01, seed))
     ///     .collect();
@@ -369,7 +369,7 @@ impl Fitter {
     /// for (scene, fit) in scenes.iter().zip(&batch) {
     ///     assert_eq!(fit, &fitter.fit(scene, Model::Exp));
     /// }
-    /// # Ok::<(), laminar_fit::FitError>(())
+    /// # Ok::<(), laminar_brdf_fit::FitError>(())
     /// ```
     pub fn fit_batch(&self, scenes: &[Scene], model: Model) -> Vec<Fit> {
         self.fit_batch_with(scenes, model, self.analysis.alone())

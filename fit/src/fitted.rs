@@ -16,9 +16,9 @@ use crate::baseline::BaselineGeometry;
 use crate::error::ModelError;
 use crate::model::{Baseline, Family};
 use crate::model::{Model, Param};
-use laminar_core::measures::max_of;
-use laminar_core::prediction::scaled;
-use laminar_core::{components, mix, Angles, Geometry, Params, Scaling};
+use laminar_brdf_core::measures::max_of;
+use laminar_brdf_core::prediction::scaled;
+use laminar_brdf_core::{components, mix, Angles, Geometry, Params, Scaling};
 use serde::{Deserialize, Serialize};
 
 /// The parameters of a model, named as in every output.
@@ -462,8 +462,8 @@ impl<'de> Deserialize<'de> for NormalisationConstants {
 /// A fitted model: what is needed to predict anywhere.
 ///
 /// ```
-/// use laminar_core::Angles;
-/// use laminar_fit::{FittedModel, Model, ModelParams};
+/// use laminar_brdf_core::Angles;
+/// use laminar_brdf_fit::{FittedModel, Model, ModelParams};
 /// let fitted_on: Vec<Angles> = (0..10)
 ///     .map(|i| Angles::new(0.1 * i as f64, 0.3, 1.0).unwrap())
 ///     .collect();
@@ -475,7 +475,7 @@ impl<'de> Deserialize<'de> for NormalisationConstants {
 /// // Anywhere else it predicts on the same scale.
 /// let elsewhere = m.predict(&[Angles::new(1.2, 0.2, -2.0).unwrap()])?;
 /// assert!(elsewhere[0] > 0.0);
-/// # Ok::<(), laminar_fit::ModelError>(())
+/// # Ok::<(), laminar_brdf_fit::ModelError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
@@ -725,9 +725,9 @@ impl FittedModel {
     /// prediction (no NaN or infinity is ever returned).
     ///
     /// ```
-    /// use laminar_fit::{FittedModel, Model, ModelParams};
+    /// use laminar_brdf_fit::{FittedModel, Model, ModelParams};
     /// let params = ModelParams::Layered { slope: 1.2, beta: 0.4, n: 1.4, a: 0.2, sub_slope: None };
-    /// let angles = [laminar_core::Angles::new(0.3, 0.4, 0.5).unwrap()];
+    /// let angles = [laminar_brdf_core::Angles::new(0.3, 0.4, 0.5).unwrap()];
     /// let fine = FittedModel::with_amplitude(Model::Exp, params, 1.0, 1.0);
     /// assert!(fine.predict(&angles).unwrap()[0].is_finite());
     /// let huge = FittedModel::with_amplitude(Model::Exp, params, 1e308, 1e10);

@@ -3,8 +3,8 @@
 //! limit before anything is allocated.
 
 use crate::error::GridError;
-use laminar_core::small_fit::{stepped, Axes, AxisError, PAPER};
-use laminar_core::Param;
+use laminar_brdf_core::small_fit::{stepped, Axes, AxisError, PAPER};
+use laminar_brdf_core::Param;
 use std::fmt;
 
 /// Most values one axis may hold. [`Axis::parse`] refuses longer axes before
@@ -49,7 +49,7 @@ impl Axis {
     /// (both positive), the ends exact.
     ///
     /// ```
-    /// use laminar_fit::Axis;
+    /// use laminar_brdf_fit::Axis;
     /// let a = Axis::logspace(0.02, 20.0, 4);
     /// assert_eq!(a.values[0], 0.02);
     /// assert_eq!(a.values[3], 20.0);
@@ -93,7 +93,7 @@ impl Axis {
     /// [`MAX_AXIS_LEN`] is refused before anything is allocated.
     ///
     /// ```
-    /// use laminar_fit::Axis;
+    /// use laminar_brdf_fit::Axis;
     /// assert_eq!(Axis::parse("1.3:1.5:11").unwrap().len(), 11);
     /// assert_eq!(Axis::parse("0.5").unwrap().values, vec![0.5]);
     /// assert!(Axis::parse("0.12:4.04:100000000000").is_err());
@@ -258,12 +258,12 @@ impl Grid {
         self.axes().indices(flat)
     }
 
-    /// Checks every value against the model's domain ([`laminar_core::Params::new`]; the
+    /// Checks every value against the model's domain ([`laminar_brdf_core::Params::new`]; the
     /// domain is a box, so each axis is checked on its own) and the size
     /// against [`MAX_GRID_SIZE`].
     ///
     /// ```
-    /// use laminar_fit::{Axis, Grid};
+    /// use laminar_brdf_fit::{Axis, Grid};
     /// let mut g = Grid::paper();
     /// g.a = Axis::parse("-0.1").unwrap();
     /// assert_eq!(g.validate().unwrap_err().to_string(), "axis a: a = -0.1 is outside [0, 1]");

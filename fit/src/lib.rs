@@ -1,4 +1,4 @@
-//! # laminar-fit
+//! # laminar-brdf-fit
 //!
 //! The fitting engine of laminar: fit the absorptive scattering model for
 //! rough laminar surfaces (H. A. Dahlan and E. R. Hancock, ICPR 2016), the
@@ -8,7 +8,7 @@
 //! and every front end) or by the paper's exhaustive grid search
 //! ([`Objective::Paper`]) — and carry the
 //! fit anywhere. It names no file format (readers and writers are in
-//! `laminar-io`); every front end (the `laminar` command, and later the C,
+//! `laminar-brdf-io`); every front end (the `laminar` command, and later the C,
 //! WebAssembly and Python bindings) calls it.
 //!
 //! * [`MeasurementSet`]: measurements from any source (angles in the lab or
@@ -26,8 +26,8 @@
 //! `docs/conventions.md`; "§N" in this crate refers to its sections.
 //!
 //! ```
-//! use laminar_fit::{Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Param, Quantity};
-//! use laminar_core::{total_radiance, Correlation, Geometry, Params};
+//! use laminar_brdf_fit::{Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Param, Quantity};
+//! use laminar_brdf_core::{total_radiance, Correlation, Geometry, Params};
 //! // Radiance made by eq. 8 at known parameters, on a 12 × 12 grid of angles.
 //! let truth = Params::new(0.6, 0.4, 1.4, 0.2)?;
 //! let mut angles = Vec::new();
@@ -35,7 +35,7 @@
 //! for i in 0..12 {
 //!     for j in 0..12 {
 //!         let (ti, ts, ps) = (0.1 * i as f64, 0.12 * j as f64, 0.5 * j as f64 - 2.0);
-//!         let a = laminar_core::Angles::new(ti, ts, ps)?;
+//!         let a = laminar_brdf_core::Angles::new(ti, ts, ps)?;
 //!         angles.push(MeasurementAngles::Paper { theta_i: ti, theta_s: ts, phi_s: ps });
 //!         values.push(total_radiance(&Geometry::<f64>::splat(&a), Correlation::Exponential, &truth));
 //!     }

@@ -12,8 +12,8 @@
 
 use crate::error::{find_named, MeasurementError, UnknownName};
 use crate::scene::Scene;
-use laminar_core::measures::{check_data, DataFault};
-use laminar_core::{wrap_pi, Angle, Angles, Input, InputError};
+use laminar_brdf_core::measures::{check_data, DataFault};
+use laminar_brdf_core::{wrap_pi, Angle, Angles, Input, InputError};
 use std::f64::consts::PI;
 use std::fmt;
 use std::str::FromStr;
@@ -21,7 +21,7 @@ use std::str::FromStr;
 /// Default tolerance of the specular test, radians (docs/conventions.md §1).
 pub const SPECULAR_TOLERANCE: f64 = 1e-4;
 
-pub use laminar_core::measures::MIN_RELATIVE_VALUE;
+pub use laminar_brdf_core::measures::MIN_RELATIVE_VALUE;
 
 /// What a measured value is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -181,7 +181,7 @@ pub struct Channel {
 /// Measurements from any source: angles, named channels, what the values are.
 ///
 /// ```
-/// use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+/// use laminar_brdf_fit::{MeasurementAngles, MeasurementSet, Quantity};
 /// let angles = vec![
 ///     MeasurementAngles::Paper { theta_i: 0.2, theta_s: 0.4, phi_s: 0.1 },
 ///     MeasurementAngles::Paper { theta_i: 0.5, theta_s: 0.5, phi_s: 0.0 }, // specular
@@ -193,7 +193,7 @@ pub struct Channel {
 /// assert_eq!(scene.len(), 2); // the specular measurement is dropped
 /// assert_eq!(scene.data(), [1.0, 0.5]); // normalised by the max
 /// assert_eq!(scene.rows(), [1, 3]);
-/// # Ok::<(), laminar_fit::MeasurementError>(())
+/// # Ok::<(), laminar_brdf_fit::MeasurementError>(())
 /// ```
 #[derive(Debug, Clone, PartialEq)]
 pub struct MeasurementSet {

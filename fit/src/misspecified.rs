@@ -14,7 +14,7 @@
 use crate::coverage::NoiseModel;
 use crate::scene::Scene;
 use crate::synthetic::Noise;
-use laminar_core::{
+use laminar_brdf_core::{
     inverse_slope_squared, surface_radiance, total_radiance, Angles, Correlation, Geometry, Params,
 };
 

@@ -1,15 +1,15 @@
 //! The models laminar fits (docs/conventions.md §3, §7): the one
 //! descriptor every front end derives its lists from. Each [`Model`] names
 //! itself, its correlation function, its parameters ([`Param`], from
-//! `laminar-core`, with their domains) and which of them a fit estimates.
+//! `laminar-brdf-core`, with their domains) and which of them a fit estimates.
 //! Command-line options and help, the Python and WebAssembly accepted
 //! names, the C status codes and the TypeScript types are built from here.
 
 use crate::error::ModelError;
 use crate::grid::Axis;
-pub use laminar_core::baselines::Baseline;
-use laminar_core::Correlation;
-pub use laminar_core::Param;
+pub use laminar_brdf_core::baselines::Baseline;
+use laminar_brdf_core::Correlation;
+pub use laminar_brdf_core::Param;
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::fmt;
 use std::str::FromStr;
@@ -17,7 +17,7 @@ use std::str::FromStr;
 /// A model that laminar can fit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "typescript", derive(ts_rs::TS))]
-// Serialised by [`Model::name`]; laminar-io's test `typescript` checks
+// Serialised by [`Model::name`]; laminar-brdf-io's test `typescript` checks
 // that these names are those.
 #[cfg_attr(feature = "typescript", ts(rename_all = "kebab-case"))]
 pub enum Model {
@@ -304,7 +304,7 @@ pub fn baseline_interior(baseline: Baseline) -> [(f64, f64); 2] {
     }
 }
 
-/// The closed ends of a parameter's domain (the checks of `laminar-core`,
+/// The closed ends of a parameter's domain (the checks of `laminar-brdf-core`,
 /// [`Param::domain`]); an open end is NaN (Jensen's σa, σs′ > 0).
 pub fn domain(p: Param) -> (f64, f64) {
     let (lo, hi) = p.domain();

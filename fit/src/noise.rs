@@ -17,7 +17,7 @@
 //!   size.
 //!
 //! ```
-//! use laminar_fit::{synthetic, Noise};
+//! use laminar_brdf_fit::{synthetic, Noise};
 //! let scene = synthetic::default_scene();
 //! let relative = Noise::Relative { floor: 0.1 }.scene(&scene).unwrap();
 //! assert!(relative.sigma().is_none());
@@ -140,8 +140,13 @@ impl Noise {
                 // libm's hypot, not the C library's: glibc's changed in 2.35 (a
                 // symbol that keeps the wheel off manylinux_2_34) and may round
                 // differently between versions.
-                out.relative_sigma =
-                    Some(scene.data().iter().map(|&d| libm::hypot(d, floor)).collect());
+                out.relative_sigma = Some(
+                    scene
+                        .data()
+                        .iter()
+                        .map(|&d| libm::hypot(d, floor))
+                        .collect(),
+                );
             }
         }
         out
@@ -161,7 +166,7 @@ mod tests {
     use crate::model::{Model, Param};
     use crate::synthetic::{self, Noise as Gaussian};
     use crate::Fitter;
-    use laminar_core::{Correlation, Params};
+    use laminar_brdf_core::{Correlation, Params};
 
     /// Sets with a goniometer's noise (5% of each value) fitted with
     /// relative weights and with equal ones: the relative fits' σ/T and n

@@ -11,7 +11,7 @@ use std::str::FromStr;
 /// The objective of a fit.
 ///
 /// ```
-/// use laminar_fit::{synthetic, Fitter, Grid, Model, Objective, Param};
+/// use laminar_brdf_fit::{synthetic, Fitter, Grid, Model, Objective, Param};
 /// // The built-in scene: exp at σ/T 1.48, n 1.44, a 0.17, noise σ = 0.005.
 /// let scene = synthetic::default_scene();
 /// let fit = Fitter::new(Grid::user())?
@@ -25,7 +25,7 @@ use std::str::FromStr;
 ///     assert!(i.lo <= truth && truth <= i.hi, "{name}: {i:?}");
 /// }
 /// assert_eq!(fit.objective, Objective::Free);
-/// # Ok::<(), laminar_fit::FitError>(())
+/// # Ok::<(), laminar_brdf_fit::FitError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, Serialize, Deserialize)]
 #[cfg_attr(feature = "typescript", derive(ts_rs::TS))]

@@ -187,7 +187,7 @@ pub fn render(models: &[FittedModel], scene: &Stage) -> Result<Image, ModelError
 
 /// The paper-frame angles of light `l` at a point of normal `n` seen along
 /// `v = (0, 0, 1)`, `cos θi = n · l > 0`.
-fn angles(n: [f64; 3], l: [f64; 3], cos_i: f64) -> Result<laminar_core::Angles, ModelError> {
+fn angles(n: [f64; 3], l: [f64; 3], cos_i: f64) -> Result<laminar_brdf_core::Angles, ModelError> {
     let cos_v = n[2];
     // Projections on the tangent plane, and the azimuth between them.
     let lt: Vec<f64> = (0..3).map(|k| l[k] - cos_i * n[k]).collect();

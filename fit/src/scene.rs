@@ -1,7 +1,7 @@
 //! A scene: one channel of a measurement set, ready to fit (kept geometries
 //! in the paper frame and normalised measured radiance; docs/conventions.md §1, §4, §8).
 
-use laminar_core::{normalise_by_max, Angles};
+use laminar_brdf_core::{normalise_by_max, Angles};
 
 /// Kept measurements of one channel with their normalised measured radiance.
 /// Built only by [`crate::MeasurementSet::scene`] and the synthetic scenes,

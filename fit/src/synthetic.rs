@@ -5,7 +5,7 @@
 use crate::fitted::{FittedModel, ModelParams};
 use crate::model::Model;
 use crate::scene::Scene;
-use laminar_core::{Angles, Correlation, Params};
+use laminar_brdf_core::{Angles, Correlation, Params};
 use std::f64::consts::PI;
 
 /// True parameters of the synthetic scene: σ/T, β, n, a (a paper-grid point).

@@ -1,7 +1,7 @@
 //! Do the intervals of the free-amplitude objective contain the truth at
 //! their stated rates? (docs/conventions.md §11b; the docs' coverage table
 //! is what this prints with
-//! `cargo test --release -p laminar-fit --test coverage -- --nocapture`.)
+//! `cargo test --release -p laminar-brdf-fit --test coverage -- --nocapture`.)
 //!
 //! 200 synthetic fits per (model, noise setting), truths spread over the
 //! box's interior, noise on every measurement: homoscedastic and estimated
@@ -10,16 +10,16 @@
 //! within 3σ binomial bands, and its robust rates (the headline) must not
 //! fall below them.
 
-use laminar_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel, SETTINGS};
-use laminar_fit::synthetic::Noise;
-use laminar_fit::{Baseline, Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
+use laminar_brdf_fit::coverage::{coverage, noisy_scene, Coverage, NoiseModel, SETTINGS};
+use laminar_brdf_fit::synthetic::Noise;
+use laminar_brdf_fit::{Baseline, Edge, Fit, Fitter, Grid, Model, ModelParams, Objective, Param};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
 
 /// The 3σ binomial band of a rate `p` over [`TRIALS`] trials.
 fn band(p: f64) -> (f64, f64) {
-    laminar_fit::coverage::band(p, TRIALS)
+    laminar_brdf_fit::coverage::band(p, TRIALS)
 }
 
 fn fitter() -> Fitter {
@@ -185,7 +185,7 @@ fn batches_equal_fits_alone_with_and_without_uncertainties() {
     for noise in SETTINGS {
         let scenes: Vec<_> = (0..11)
             .map(|_| {
-                let truth = laminar_fit::coverage::draw(Model::Exp, Objective::Free, &mut rng);
+                let truth = laminar_brdf_fit::coverage::draw(Model::Exp, Objective::Free, &mut rng);
                 noisy_scene(Model::Exp, Objective::Free, truth, noise, &mut rng)
             })
             .collect();

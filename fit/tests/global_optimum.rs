@@ -9,10 +9,10 @@
 
 use argmin::core::{CostFunction, Executor, State};
 use argmin::solver::neldermead::NelderMead;
-use laminar_core::{components, Correlation, Geometry, Params};
-use laminar_fit::coverage::{draw, noisy_scene, NoiseModel};
-use laminar_fit::synthetic::Noise;
-use laminar_fit::{Fitter, Grid, Model, Objective, Scene};
+use laminar_brdf_core::{components, Correlation, Geometry, Params};
+use laminar_brdf_fit::coverage::{draw, noisy_scene, NoiseModel};
+use laminar_brdf_fit::synthetic::Noise;
+use laminar_brdf_fit::{Fitter, Grid, Model, Objective, Scene};
 use rayon::prelude::*;
 
 mod common;
@@ -131,7 +131,7 @@ fn multistart(f: &Independent, bounds: [(f64, f64); 4], seed: u64) -> f64 {
 }
 
 /// Our fit's objective, recomputed from its fitted model's prediction.
-fn ours(scene: &Scene, fit: &laminar_fit::Fit) -> f64 {
+fn ours(scene: &Scene, fit: &laminar_brdf_fit::Fit) -> f64 {
     let p = fit.estimate().fitted.predict(scene.angles()).unwrap();
     let w = |k: usize| scene.sigma().map_or(1.0, |s| 1.0 / (s[k] * s[k]));
     (0..scene.len())
@@ -230,9 +230,9 @@ fn no_multistart_beats_the_fit_on_the_26_curet_paper_fits() {
 /// above it (the refinement's start just above the face n = 1 reaches it).
 #[test]
 fn the_fit_is_not_beaten_where_n_meets_1() {
-    use laminar_fit::coverage::{noisy_sets, SETTINGS};
+    use laminar_brdf_fit::coverage::{noisy_sets, SETTINGS};
     let set = noisy_sets(
-        &laminar_fit::synthetic::geometries(),
+        &laminar_brdf_fit::synthetic::geometries(),
         Model::Exp,
         Objective::Free,
         SETTINGS[1],
@@ -248,7 +248,7 @@ fn the_fit_is_not_beaten_where_n_meets_1() {
         (ours(&set, &fit), fit.estimate().params_text())
     };
     let mut corner = Grid::user();
-    corner.n = laminar_fit::Axis::linspace(1.0, 1.01, 11);
+    corner.n = laminar_brdf_fit::Axis::linspace(1.0, 1.01, 11);
     let (mine, at) = fit(Grid::user());
     let (theirs, there) = fit(corner);
     assert!(

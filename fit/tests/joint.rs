@@ -1,8 +1,8 @@
 //! One fit across a material's channels (`Fitter::fit_joint`): shared
 //! σ/T, σ′/T′ and n, a per channel.
 
-use laminar_core::{Correlation, Params};
-use laminar_fit::{
+use laminar_brdf_core::{Correlation, Params};
+use laminar_brdf_fit::{
     synthetic, FitError, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Param,
     Quantity, Scene,
 };
@@ -36,7 +36,7 @@ fn a_shared_geometry_and_a_chromatic_absorption_are_recovered() {
     let inside = |name: Param,
                   value: f64,
                   truth: f64,
-                  intervals: Option<[laminar_fit::profile::Interval; 2]>| {
+                  intervals: Option<[laminar_brdf_fit::profile::Interval; 2]>| {
         let [i68, i95] = intervals.expect("bootstrap intervals");
         assert!(
             i68.lo <= value && value <= i68.hi,
@@ -88,7 +88,7 @@ fn a_shared_geometry_and_a_chromatic_absorption_are_recovered() {
 fn what_cannot_be_fitted_jointly_is_refused() {
     let scenes = channels();
     let fitter = Fitter::new(Grid::user()).unwrap();
-    let message = |r: Result<laminar_fit::JointFit, FitError>| r.unwrap_err().to_string();
+    let message = |r: Result<laminar_brdf_fit::JointFit, FitError>| r.unwrap_err().to_string();
     assert!(message(fitter.fit_joint(&scenes[..1], Model::Exp2)).contains("1 channel given"));
     assert!(
         message(fitter.fit_joint(&scenes, Model::Jensen)).contains("jensen is not a layered model")
@@ -121,7 +121,7 @@ fn what_cannot_be_fitted_jointly_is_refused() {
 /// 4 rejected at 5%), and rejects the chromatic surface of [`channels`].
 #[test]
 fn the_chromatic_test_holds_its_rate_and_sees_colour() {
-    use laminar_fit::{Analysis, Chromatic};
+    use laminar_brdf_fit::{Analysis, Chromatic};
     let fitter = Fitter::new(Grid::user()).unwrap().analysis(Analysis {
         resamples: 100,
         ..Analysis::FULL

@@ -1,9 +1,9 @@
 //! Do the intervals hold when the model does not fit? (docs/estimation.md,
 //! "When the model does not fit"; the table there is what this prints
-//! with `cargo test --release -p laminar-fit --test misspecified -- --nocapture`.)
+//! with `cargo test --release -p laminar-brdf-fit --test misspecified -- --nocapture`.)
 //!
 //! Data from a reflectance richer than the fitted model
-//! ([`laminar_fit::misspecified::Truth`]: the Gaussian model plus a
+//! ([`laminar_brdf_fit::misspecified::Truth`]: the Gaussian model plus a
 //! Lambertian term and a second lobe), fitted by exp and by gauss, on
 //! random designs of K = 200 angles from a CUReT-like distribution, noise
 //! on every measurement. The target is the pseudo-true parameter: the fit
@@ -15,11 +15,11 @@
 //! one of them must fall below its band (else the test would not be
 //! testing misfit).
 
-use laminar_fit::coverage::SETTINGS;
-use laminar_fit::misspecified::{design, Truth};
-use laminar_fit::report::Source;
-use laminar_fit::synthetic::Noise;
-use laminar_fit::{Analysis, Fit, Fitter, Grid, Model, Param, Uncertainty};
+use laminar_brdf_fit::coverage::SETTINGS;
+use laminar_brdf_fit::misspecified::{design, Truth};
+use laminar_brdf_fit::report::Source;
+use laminar_brdf_fit::synthetic::Noise;
+use laminar_brdf_fit::{Analysis, Fit, Fitter, Grid, Model, Param, Uncertainty};
 
 /// Trials per setting.
 const TRIALS: usize = 200;
@@ -30,7 +30,7 @@ const DENSE: usize = 20_000;
 
 /// The 3σ binomial band of a rate `p` over [`TRIALS`] trials.
 fn band(p: f64) -> (f64, f64) {
-    laminar_fit::coverage::band(p, TRIALS)
+    laminar_brdf_fit::coverage::band(p, TRIALS)
 }
 
 fn value(fit: &Fit, name: Param) -> f64 {
@@ -101,7 +101,8 @@ fn robust_intervals_cover_the_pseudo_true_parameters() {
                     .iter()
                     .filter(|f| {
                         f.parameters.iter().any(|p| {
-                            p.name == name && p.flags.contains(&laminar_fit::Edge::MisfitSensitive)
+                            p.name == name
+                                && p.flags.contains(&laminar_brdf_fit::Edge::MisfitSensitive)
                         })
                     })
                     .count();

@@ -2,8 +2,8 @@
 //! to one set are ranked by AICc and cross-validated, the same on any
 //! number of threads.
 
-use laminar_core::{Correlation, Params};
-use laminar_fit::{synthetic, Fit, Fitter, Grid, Model, Param};
+use laminar_brdf_core::{Correlation, Params};
+use laminar_brdf_fit::{synthetic, Fit, Fitter, Grid, Model, Param};
 
 /// Every model fitted to a set made by exp (noise 1% of the max) on
 /// `threads` threads.
@@ -76,9 +76,9 @@ fn the_comparison_does_not_depend_on_the_thread_count() {
 }
 
 /// A set of `k` measurements made by exp (σ = 0.01, estimated).
-fn few(k: usize) -> laminar_fit::Scene {
-    use laminar_fit::coverage::{noisy_scene_on, NoiseModel};
-    use laminar_fit::{ModelParams, Objective};
+fn few(k: usize) -> laminar_brdf_fit::Scene {
+    use laminar_brdf_fit::coverage::{noisy_scene_on, NoiseModel};
+    use laminar_brdf_fit::{ModelParams, Objective};
     let mut angles = synthetic::geometries();
     angles.truncate(k);
     let truth = ModelParams::Layered {
@@ -148,8 +148,8 @@ fn a_model_named_twice_is_refused() {
 /// (issue 55, item 2).
 #[test]
 fn the_bootstrap_gives_no_interval_without_degrees_of_freedom() {
-    use laminar_fit::report::Source;
-    use laminar_fit::{Analysis, Uncertainty};
+    use laminar_brdf_fit::report::Source;
+    use laminar_brdf_fit::{Analysis, Uncertainty};
     let analysis = Analysis {
         uncertainty: Uncertainty::Bootstrap,
         resamples: 50,
@@ -181,7 +181,7 @@ fn the_bootstrap_gives_no_interval_without_degrees_of_freedom() {
 /// with what it computes instead (it gave profile intervals silently).
 #[test]
 fn the_bootstrap_under_the_paper_objective_is_refused() {
-    let mut settings = laminar_fit::Settings::default();
+    let mut settings = laminar_brdf_fit::Settings::default();
     settings.set("objective", "paper").unwrap();
     settings.set("uncertainty", "bootstrap").unwrap();
     let Err(err) = settings.fitter() else {

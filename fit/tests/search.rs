@@ -2,13 +2,13 @@
 //! agreement with the f64 reference, determinism across thread counts,
 //! SIMD/scalar parity, and (with `CURET_DIR`) the paper's 13 samples.
 
-use laminar_core::{Correlation, Params};
-use laminar_fit::paper::search::{error_surface, point, search, Twins};
-use laminar_fit::{
+use laminar_brdf_core::{Correlation, Params};
+use laminar_brdf_fit::paper::search::{error_surface, point, search, Twins};
+use laminar_brdf_fit::{
     synthetic, Axis, Fitter, Grid, GridError, MeasurementAngles, MeasurementSet, Model, Objective,
     Scene,
 };
-use laminar_fit::{Arith, Method, SearchPath};
+use laminar_brdf_fit::{Arith, Method, SearchPath};
 
 mod common;
 
@@ -294,7 +294,7 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         matches!(
             e,
             GridError::Empty {
-                axis: laminar_fit::model::Param::A
+                axis: laminar_brdf_fit::model::Param::A
             }
         ),
         "{e}"
@@ -310,7 +310,7 @@ fn invalid_grids_and_thread_counts_are_errors_not_panics() {
         matches!(
             e,
             GridError::Empty {
-                axis: laminar_fit::model::Param::A
+                axis: laminar_brdf_fit::model::Param::A
             }
         ),
         "{e}"
@@ -387,7 +387,9 @@ fn batch_fits_equal_single_fits_bit_for_bit() {
 fn batch_falls_back_to_single_fits() {
     let grid = small_grid();
     let mut scenes = batch_scenes(Correlation::Exponential);
-    assert!(laminar_fit::paper::search::batch::share_geometry(&scenes));
+    assert!(laminar_brdf_fit::paper::search::batch::share_geometry(
+        &scenes
+    ));
     // A scene on the first 60 of the geometries only.
     let angles: Vec<MeasurementAngles> = synthetic::geometries()[..60]
         .iter()
@@ -398,12 +400,14 @@ fn batch_falls_back_to_single_fits() {
         })
         .collect();
     let values = scenes[1].data()[..60].to_vec();
-    let fewer = MeasurementSet::new("fewer", angles, laminar_fit::Quantity::Radiance)
+    let fewer = MeasurementSet::new("fewer", angles, laminar_brdf_fit::Quantity::Radiance)
         .and_then(|s| s.with_channel("v", values, None))
         .and_then(|s| s.scene("v"))
         .unwrap();
     scenes.push(fewer);
-    assert!(!laminar_fit::paper::search::batch::share_geometry(&scenes));
+    assert!(!laminar_brdf_fit::paper::search::batch::share_geometry(
+        &scenes
+    ));
     let fitter = Fitter::new(grid).unwrap().objective(Objective::Paper);
     for model in [Model::Exp, Model::Jensen] {
         let batch = fitter.fit_batch(&scenes, model);
@@ -423,8 +427,8 @@ fn batch_falls_back_to_single_fits() {
 /// synthetic sets in docs/speed.md, the fits were byte for byte the same).
 #[test]
 fn the_single_precision_grid_stage_leaves_the_fits_as_they_are() {
-    use laminar_fit::coverage::{noisy_sets, NoiseModel};
-    use laminar_fit::Precision;
+    use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel};
+    use laminar_brdf_fit::Precision;
     let fitter = Fitter::new(Grid::user()).unwrap();
     let single = fitter.clone().grid_precision(Precision::F32);
     for model in [Model::Exp, Model::Gauss, Model::RhGauss] {

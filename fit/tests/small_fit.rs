@@ -1,15 +1,15 @@
-//! The allocation-free small fit of the core (`laminar_core::small_fit`,
+//! The allocation-free small fit of the core (`laminar_brdf_core::small_fit`,
 //! the on-device fit) against the library's search on the paper grid: the
 //! same best grid point and the same objective bits as the `onepass-f32`
 //! path; against the default path (envelope, `f32x8`), the same Δ_RMS to
 //! `f32` rounding (on near-ties the two may pick different points).
 
-use laminar_core::measures::DataFault;
-use laminar_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
-use laminar_core::{Correlation, Geometry, Param};
-use laminar_fit::paper::search;
-use laminar_fit::{synthetic, Grid, SearchPath};
-use laminar_fit::{Arith, Method};
+use laminar_brdf_core::measures::DataFault;
+use laminar_brdf_core::small_fit::{self, Axes, AxisError, Scratch, SmallFitError};
+use laminar_brdf_core::{Correlation, Geometry, Param};
+use laminar_brdf_fit::paper::search;
+use laminar_brdf_fit::{synthetic, Grid, SearchPath};
+use laminar_brdf_fit::{Arith, Method};
 
 #[test]
 fn small_fit_is_the_library_search() {
@@ -115,7 +115,7 @@ fn small_fit_refuses_bad_input_by_kind() {
     );
 }
 
-/// The free-amplitude small fit (`laminar_core::small_free_fit`, the
+/// The free-amplitude small fit (`laminar_brdf_core::small_free_fit`, the
 /// on-device fit of the library's default objective) against the
 /// library's f64 grid stage of that objective on the paper grid's σ/T, n
 /// and a axes and β box: the same grid point, or (on near-ties, which
@@ -123,8 +123,8 @@ fn small_fit_refuses_bad_input_by_kind() {
 /// within 10⁻⁴ of the library's minimum.
 #[test]
 fn small_free_fit_finds_the_library_grid_minimum() {
-    use laminar_core::small_free_fit::{fit_free, FreeAxes, FreeScratch};
-    use laminar_fit::{Analysis, Fitter, Model, Objective};
+    use laminar_brdf_core::small_free_fit::{fit_free, FreeAxes, FreeScratch};
+    use laminar_brdf_fit::{Analysis, Fitter, Model, Objective};
     let grid = Grid::paper();
     let axes = FreeAxes {
         slope: &grid.slope.values,

@@ -2,7 +2,7 @@
 //! the file, never a panic; sets become scenes or named errors.
 #![no_main]
 
-use laminar_io::astm::parse_astm;
+use laminar_brdf_io::astm::parse_astm;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

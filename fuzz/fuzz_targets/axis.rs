@@ -3,7 +3,7 @@
 //! axis in a grid validates or is refused.
 #![no_main]
 
-use laminar_fit::{Axis, Grid};
+use laminar_brdf_fit::{Axis, Grid};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -11,7 +11,7 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     if let Ok(axis) = Axis::parse(text) {
-        assert!(axis.len() <= laminar_fit::grid::MAX_AXIS_LEN);
+        assert!(axis.len() <= laminar_brdf_fit::grid::MAX_AXIS_LEN);
         for g in [
             Grid {
                 slope: axis.clone(),

@@ -3,10 +3,10 @@
 //! errors.
 #![no_main]
 
-use laminar_fit::Quantity;
-use laminar_io::csv_file::{parse_csv, parse_geometry};
-use laminar_io::values::parse_csv_values;
-use laminar_io::AngleUnit;
+use laminar_brdf_fit::Quantity;
+use laminar_brdf_io::csv_file::{parse_csv, parse_geometry};
+use laminar_brdf_io::values::parse_csv_values;
+use laminar_brdf_io::AngleUnit;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

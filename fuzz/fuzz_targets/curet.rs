@@ -3,7 +3,7 @@
 //! measurement sets and scenes or named errors.
 #![no_main]
 
-use laminar_io::curet::{measurement_set, parse_brdf, parse_oren_nayar, parse_table, Channel};
+use laminar_brdf_io::curet::{measurement_set, parse_brdf, parse_oren_nayar, parse_table, Channel};
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

@@ -3,8 +3,8 @@
 //! predicts finite values at fixed geometries or says why not.
 #![no_main]
 
-use laminar_core::Angles;
-use laminar_io::fits::parse_fits;
+use laminar_brdf_core::Angles;
+use laminar_brdf_io::fits::parse_fits;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

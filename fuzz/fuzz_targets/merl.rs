@@ -2,8 +2,8 @@
 //! naming the file, never a panic.
 #![no_main]
 
-use laminar_io::merl::parse_merl;
-use laminar_io::values::parse_npy;
+use laminar_brdf_io::merl::parse_merl;
+use laminar_brdf_io::values::parse_npy;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

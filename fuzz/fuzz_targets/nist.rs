@@ -2,7 +2,7 @@
 //! naming the file, never a panic; sets become scenes or named errors.
 #![no_main]
 
-use laminar_io::nist::parse_nist;
+use laminar_brdf_io::nist::parse_nist;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

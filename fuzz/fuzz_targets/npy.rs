@@ -3,7 +3,7 @@
 //! data do not back (a header may claim any shape).
 #![no_main]
 
-use laminar_io::values::parse_npy;
+use laminar_brdf_io::values::parse_npy;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

@@ -3,9 +3,9 @@
 //! message, never a panic; a value parsed prints back to what parses to it.
 #![no_main]
 
-use laminar_cli::selection::parse_samples;
-use laminar_fit::{Model, Objective, Quantity, SearchPath, Uncertainty};
-use laminar_io::AngleUnit;
+use laminar_brdf::selection::parse_samples;
+use laminar_brdf_fit::{Model, Objective, Quantity, SearchPath, Uncertainty};
+use laminar_brdf_io::AngleUnit;
 use libfuzzer_sys::fuzz_target;
 use std::str::FromStr;
 

@@ -2,7 +2,7 @@
 //! file, never a panic; sets become scenes or named errors.
 #![no_main]
 
-use laminar_io::rgl::parse_rgl;
+use laminar_brdf_io::rgl::parse_rgl;
 use libfuzzer_sys::fuzz_target;
 use std::path::Path;
 

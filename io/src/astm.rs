@@ -23,7 +23,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{brdf_set, contents, number, text};
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
 use std::path::Path;
 
 /// The first four columns `VARS` must name, in order.
@@ -41,7 +41,7 @@ pub const GEOMETRY: [&str; 4] = ["theta_i", "phi_i", "theta_s", "phi_s"];
 ///     "SAMPLE_NAME Paint\nNUM_POINTS 2\nVARS theta_i,phi_i,theta_s,phi_s,450nm,550nm\n\n\
 ///      0.5,0,0.4,3.0,0.09,0.03\n0.5,0,0.6,2.0,0.08,0.02\n",
 /// )?;
-/// let set = laminar_io::astm::read_astm(&path)?;
+/// let set = laminar_brdf_io::astm::read_astm(&path)?;
 /// assert_eq!(set.channel_names(), ["450nm", "550nm"]);
 /// assert_eq!(set.len(), 2);
 /// # Ok::<(), Box<dyn std::error::Error>>(())

@@ -14,7 +14,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{contents, set_error, set_name};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::f64::consts::FRAC_PI_2;
 use std::fmt;
 use std::path::Path;
@@ -248,15 +248,15 @@ pub fn parse_geometry(
 /// let path = dir.path().join("felt.csv");
 /// std::fs::write(&path, "# my goniometer\ntheta_i,phi_i,theta_v,phi_v,r,g\n\
 ///     10,0,20,180,0.5,0.4\n30,0,40,90,0.3,0.2\n").unwrap();
-/// let set = laminar_io::csv_file::read_csv(
+/// let set = laminar_brdf_io::csv_file::read_csv(
 ///     &path,
-///     laminar_io::AngleUnit::Degrees,
-///     laminar_fit::Quantity::Brdf,
+///     laminar_brdf_io::AngleUnit::Degrees,
+///     laminar_brdf_fit::Quantity::Brdf,
 /// )?;
 /// assert_eq!(set.name(), "felt");
 /// assert_eq!(set.channel_names(), ["r", "g"]);
 /// assert_eq!(set.len(), 2);
-/// # Ok::<(), laminar_io::ReadError>(())
+/// # Ok::<(), laminar_brdf_io::ReadError>(())
 /// ```
 ///
 /// # Errors

@@ -6,7 +6,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{contents, text};
-use laminar_fit::{MeasurementAngles, MeasurementSet, Quantity};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet, Quantity};
 use std::path::{Path, PathBuf};
 
 fn err(file: &Path, line: usize, message: impl Into<String>) -> ReadError {

@@ -1,7 +1,7 @@
 //! The error of every reader and writer: it names the file and, for a defect
 //! in the contents, the line (1-based), the column and the offending value.
 
-use laminar_fit::{MeasurementError, ModelError};
+use laminar_brdf_fit::{MeasurementError, ModelError};
 use std::path::PathBuf;
 use thiserror::Error;
 

@@ -1,8 +1,8 @@
-//! # laminar-io
+//! # laminar-brdf-io
 //!
 //! Readers and writers of the files laminar meets, beside the fitting
-//! library (`laminar-fit`), which names no format. Every reader returns a
-//! [`laminar_fit::MeasurementSet`] (or the parts of one) and every defect is
+//! library (`laminar-brdf-fit`), which names no format. Every reader returns a
+//! [`laminar_brdf_fit::MeasurementSet`] (or the parts of one) and every defect is
 //! a [`ReadError`] naming the file, the line, the column and the value;
 //! no input makes a reader panic.
 //!

@@ -17,7 +17,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{brdf_set, contents};
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::path::Path;
 

@@ -18,7 +18,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{brdf_set, contents, number, text};
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
 use std::path::Path;
 
 /// The columns read, by name.
@@ -38,7 +38,7 @@ pub const COLUMNS: [&str; 6] = ["lambda", "thetai", "phi", "thetar", "phir", "f_
 ///      0.532,-30,0,20,10,0.31,0.01\n0.532,-30,0,40,170,0.29,0.02\n\
 ///      1.064,-30,0,20,10,0.32,0.01\n1.064,-30,0,40,170,0.30,0.02\n",
 /// )?;
-/// let set = laminar_io::nist::read_nist(&path)?;
+/// let set = laminar_brdf_io::nist::read_nist(&path)?;
 /// assert_eq!(set.channel_names(), ["532nm", "1064nm"]);
 /// assert_eq!(set.len(), 2);
 /// # Ok::<(), Box<dyn std::error::Error>>(())

@@ -4,7 +4,7 @@
 //! its angles and channels.
 
 use crate::error::ReadError;
-use laminar_fit::{MeasurementAngles, MeasurementError, MeasurementSet, Quantity};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementError, MeasurementSet, Quantity};
 use std::path::Path;
 
 /// The contents of `file`.

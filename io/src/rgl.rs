@@ -34,7 +34,7 @@
 
 use crate::error::ReadError;
 use crate::reader::{brdf_set, contents};
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
 use std::f64::consts::PI;
 use std::path::Path;
 

@@ -3,7 +3,7 @@
 //! `--select`, the wasm `predict`, Python's `FittedModel.from_file`).
 
 use crate::fits::{FitEntry, FitsFile};
-use laminar_fit::FittedModel;
+use laminar_brdf_fit::FittedModel;
 
 /// A fit picked from a fitted-model file.
 #[derive(Debug, Clone, PartialEq)]

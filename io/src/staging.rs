@@ -213,8 +213,8 @@ impl Drop for AtomicFile {
 /// let input = dir.join("values.csv");
 /// std::fs::write(&input, "1,2\n").unwrap();
 /// let spelled = dir.join(".").join("values.csv");
-/// assert!(laminar_io::check_not_an_input(&spelled, &[&input]).is_err());
-/// assert!(laminar_io::check_not_an_input(&dir.join("out.csv"), &[&input]).is_ok());
+/// assert!(laminar_brdf_io::check_not_an_input(&spelled, &[&input]).is_err());
+/// assert!(laminar_brdf_io::check_not_an_input(&dir.join("out.csv"), &[&input]).is_ok());
 /// # std::fs::remove_dir_all(&dir).unwrap();
 /// ```
 ///

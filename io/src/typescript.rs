@@ -1,22 +1,22 @@
 //! The TypeScript declarations of the fitted-model file
 //! (`wasm/npm/fits.d.ts`), generated from the Rust types that write it
-//! ([`crate::fits`], `laminar_fit`'s models and results) and the model
+//! ([`crate::fits`], `laminar_brdf_fit`'s models and results) and the model
 //! descriptor ([`Model::ALL`], [`Param::ALL`]). The test fails when the
 //! file in the repository is stale; `LAMINAR_BLESS=1` rewrites it:
 //!
 //! ```sh
-//! LAMINAR_BLESS=1 cargo test -p laminar-io typescript
+//! LAMINAR_BLESS=1 cargo test -p laminar-brdf-io typescript
 //! ```
 
 use crate::fits::{
     Energy, FitEntry, FitsFile, IntervalEntry, NotIdentified, ParamValue, ParameterEntry, Units,
 };
-use laminar_fit::adequacy::Adequacy;
-use laminar_fit::choice::{CrossValidation, Information, Rank};
-use laminar_fit::fitted::{ModelParams, NormalisationConstants};
-use laminar_fit::graphics_metrics::GraphicsMetrics;
-use laminar_fit::report::{Released, Source};
-use laminar_fit::{Edge, FittedModel, Model, Objective, Param};
+use laminar_brdf_fit::adequacy::Adequacy;
+use laminar_brdf_fit::choice::{CrossValidation, Information, Rank};
+use laminar_brdf_fit::fitted::{ModelParams, NormalisationConstants};
+use laminar_brdf_fit::graphics_metrics::GraphicsMetrics;
+use laminar_brdf_fit::report::{Released, Source};
+use laminar_brdf_fit::{Edge, FittedModel, Model, Objective, Param};
 use ts_rs::{Config, TS};
 
 /// Where the declarations live, from this crate's directory.
@@ -110,11 +110,11 @@ fn declarations() -> String {
     let cfg = Config::new();
     let mut out = String::from(
         "// The fitted-model file's types (`laminar fit --format json`, wasm `fit`).\n\
-         // Generated from the Rust types by laminar-io's test `typescript`\n\
+         // Generated from the Rust types by laminar-brdf-io's test `typescript`\n\
          // (io/src/typescript.rs): do not edit; `LAMINAR_BLESS=1 cargo test -p\n\
-         // laminar-io typescript` rewrites it.\n\n",
+         // laminar-brdf-io typescript` rewrites it.\n\n",
     );
-    out += "/** A model's parameter, by name (laminar_fit::Param). */\n";
+    out += "/** A model's parameter, by name (laminar_brdf_fit::Param). */\n";
     out += &format!(
         "export type Param = {};\n\n",
         union(Param::ALL.map(Param::name))
@@ -154,6 +154,6 @@ fn typescript_declarations_are_the_rust_types() {
     let have = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         have == want,
-        "{PATH} is stale: regenerate it with LAMINAR_BLESS=1 cargo test -p laminar-io typescript"
+        "{PATH} is stale: regenerate it with LAMINAR_BLESS=1 cargo test -p laminar-brdf-io typescript"
     );
 }

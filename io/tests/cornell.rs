@@ -8,8 +8,8 @@
 mod common;
 
 use common::{data_dir, lab, values};
-use laminar_fit::MeasurementSet;
-use laminar_io::astm::read_astm;
+use laminar_brdf_fit::MeasurementSet;
+use laminar_brdf_io::astm::read_astm;
 
 /// The value of `channel` at the row nearest the mirror direction among
 /// those with θi at `theta_i_deg`, and that row's distance from the mirror

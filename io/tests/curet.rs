@@ -2,9 +2,9 @@
 //! per-channel files, Oren–Nayar parameter files and every error message
 //! (file, line, column, value).
 
-use laminar_core::{Correlation, Params};
-use laminar_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
-use laminar_io::curet::{read_brdf, read_table, CuretDir, CuretSample};
+use laminar_brdf_core::{Correlation, Params};
+use laminar_brdf_fit::{synthetic, Axis, Fitter, Grid, Model, Objective};
+use laminar_brdf_io::curet::{read_brdf, read_table, CuretDir, CuretSample};
 use std::path::{Path as FsPath, PathBuf};
 
 /// Every sample of every BRDF file in `dir`, as the CLI reads them.
@@ -112,7 +112,7 @@ fn per_channel_files_are_read_and_fitted() {
     let mut table = String::new();
     for (i, a) in angles.iter().take(12).enumerate() {
         // Inverse of docs/conventions.md §1 with φi = 0: φv = φs + π.
-        let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
+        let phi_v = laminar_brdf_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
         table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
     }
     write(d.path(), "table.txt", &table);
@@ -147,7 +147,7 @@ fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
     let angles = synthetic::geometries();
     let mut table = String::new();
     for (i, a) in angles.iter().take(rows).enumerate() {
-        let phi_v = laminar_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
+        let phi_v = laminar_brdf_core::wrap_pi(a.phi_s() + std::f64::consts::PI);
         table += &format!("{} {} {} {} 0\n", i + 1, a.theta_s(), phi_v, a.theta_i());
     }
     write(d.path(), "table.txt", &table);
@@ -158,8 +158,8 @@ fn synthetic_curet_dir(rows: usize) -> tempfile::TempDir {
             let values: Vec<String> = angles[..rows]
                 .iter()
                 .map(|a| {
-                    let g = laminar_core::Geometry::<f64>::splat(a);
-                    let l = laminar_core::total_radiance(&g, Correlation::Exponential, &p);
+                    let g = laminar_brdf_core::Geometry::<f64>::splat(a);
+                    let l = laminar_brdf_core::total_radiance(&g, Correlation::Exponential, &p);
                     // BRDF = radiance / cos θi (docs/conventions.md §4).
                     format!("{:.6}", scale * l / a.theta_i().cos())
                 })

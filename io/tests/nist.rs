@@ -8,8 +8,8 @@
 mod common;
 
 use common::{data_dir, lab, values};
-use laminar_fit::MeasurementAngles;
-use laminar_io::nist::read_nist;
+use laminar_brdf_fit::MeasurementAngles;
+use laminar_brdf_io::nist::read_nist;
 
 /// θi, φi, θv, φv in degrees.
 fn degrees(a: &MeasurementAngles) -> [f64; 4] {

@@ -3,9 +3,9 @@
 //! arbitrary bytes for the MERL reader. Every failure is an error naming the
 //! file.
 
-use laminar_fit::Quantity;
-use laminar_io::curet::{read_brdf, read_oren_nayar, read_table};
-use laminar_io::{merl, read_csv, read_geometry, AngleUnit};
+use laminar_brdf_fit::Quantity;
+use laminar_brdf_io::curet::{read_brdf, read_oren_nayar, read_table};
+use laminar_brdf_io::{merl, read_csv, read_geometry, AngleUnit};
 use proptest::prelude::*;
 
 /// Text from an alphabet that makes numbers, separators, comments and junk.

@@ -9,8 +9,8 @@
 mod common;
 
 use common::{data_dir, lab};
-use laminar_fit::{MeasurementAngles, MeasurementSet};
-use laminar_io::rgl::read_rgl;
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_io::rgl::read_rgl;
 
 /// θi, θo in degrees.
 fn polar(a: &MeasurementAngles) -> [f64; 2] {

@@ -16,7 +16,7 @@ import time
 import numpy as np
 from scipy.optimize import least_squares
 
-import laminar
+import laminar_brdf as laminar
 
 
 def curet_sample(directory, sample):

@@ -4,7 +4,7 @@ parameters, plus seeded Gaussian noise. Used by the Dask example and test."""
 
 import numpy as np
 
-import laminar
+import laminar_brdf as laminar
 
 
 def geometry(k=198):

@@ -28,8 +28,8 @@ import numpy as np
 import xarray as xr
 from dask.distributed import Client, LocalCluster, progress
 
-import laminar
-import laminar.xarray
+import laminar_brdf as laminar
+import laminar_brdf.xarray
 from btf_cube import geometry
 
 K = 198

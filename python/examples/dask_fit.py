@@ -13,8 +13,8 @@ import time
 import numpy as np
 from dask.distributed import Client, LocalCluster
 
-import laminar
-from laminar.distributed import fit_batch_dask
+import laminar_brdf as laminar
+from laminar_brdf.distributed import fit_batch_dask
 from btf_cube import cube
 
 

@@ -89,7 +89,8 @@ def main():
     import mitsuba as mi
 
     mi.set_variant(args.variant)
-    import laminar.mitsuba
+    import laminar_brdf as laminar
+    import laminar_brdf.mitsuba
 
     laminar.mitsuba.register()
     found, losses, seconds = recover(iterations=args.iterations)

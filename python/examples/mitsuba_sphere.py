@@ -10,7 +10,7 @@ Three comma-separated labels (the r, g and b fits of one sample) give an
 RGB material; one gives grey. ``--plugin laminar_native`` draws it with the
 Dr.Jit-native BSDF in symbolic mode; ``--compare`` renders with both plugins
 in one run and prints their times (the first render, which compiles, and
-the fastest of ``--repeat`` after it). Needs ``pip install "laminar[mitsuba]"`` and,
+the fastest of ``--repeat`` after it). Needs ``pip install "laminar-brdf[mitsuba]"`` and,
 for the LLVM variant, Debian's libllvm19 (``--variant scalar_rgb`` runs
 without it, slowly).
 """
@@ -70,7 +70,8 @@ def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="la
     import mitsuba as mi
 
     mi.set_variant(variant)
-    import laminar.mitsuba
+    import laminar_brdf as laminar
+    import laminar_brdf.mitsuba
 
     laminar.mitsuba.register()
     if not variant.startswith("scalar"):

@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-import laminar
+import laminar_brdf as laminar
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from mitsuba_sphere import sensor  # noqa: E402
@@ -35,7 +35,7 @@ def fitted_texture(size, refine=True):
     channel maps) and the seconds it took."""
     import xarray as xr
 
-    import laminar.xarray
+    import laminar_brdf.xarray
 
     from btf_cube import cube
 
@@ -114,8 +114,8 @@ def main():
     import mitsuba as mi
 
     mi.set_variant(args.variant)
-    import laminar.mitsuba
-    from laminar.mitsuba_native import textured
+    import laminar_brdf.mitsuba
+    from laminar_brdf.mitsuba_native import textured
 
     laminar.mitsuba.register()
     spheres = [{"type": "laminar_native", "filename": args.fits, "select": label} for label in args.sphere]

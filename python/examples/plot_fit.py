@@ -7,7 +7,7 @@ import sys
 import matplotlib.pyplot as plt
 import numpy as np
 
-import laminar
+import laminar_brdf as laminar
 
 path, out = sys.argv[1], (sys.argv[2] if len(sys.argv) > 2 else "fit.png")
 m = laminar.Measurements.from_csv(path, quantity="radiance")

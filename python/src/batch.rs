@@ -3,10 +3,10 @@
 
 use crate::convert::{lab_angles, layered_names, parse, real_array, reserve};
 use crate::fit_result::{fitter, refine_threads, Named};
-use laminar_fit::analysis::DEFAULT_RESAMPLES;
-use laminar_fit::noise::DEFAULT_FLOOR;
-use laminar_fit::{MeasurementSet, Model, Quantity};
-use laminar_io::fits::BatchRow;
+use laminar_brdf_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_brdf_fit::noise::DEFAULT_FLOOR;
+use laminar_brdf_fit::{MeasurementSet, Model, Quantity};
+use laminar_brdf_io::fits::BatchRow;
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;

@@ -1,8 +1,8 @@
 //! Conversions between Python and the library: arrays, errors, options
 //! by name, result types as Python objects.
 
-use laminar_fit::{MeasurementAngles, Model, ModelParams};
-use laminar_io::ReadError;
+use laminar_brdf_fit::{MeasurementAngles, Model, ModelParams};
+use laminar_brdf_io::ReadError;
 use numpy::PyReadonlyArray1;
 use pyo3::exceptions::{PyMemoryError, PyOSError, PyValueError};
 use pyo3::prelude::*;

@@ -1,8 +1,8 @@
 //! `evaluate` and `paper_angles`: the model's components at given angles.
 
 use crate::convert::{layered_names, parse, reserve, value_error};
-use laminar_core::{components, Angles, Geometry, Params};
-use laminar_fit::{MeasurementAngles, Model};
+use laminar_brdf_core::{components, Angles, Geometry, Params};
+use laminar_brdf_fit::{MeasurementAngles, Model};
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -101,7 +101,7 @@ pub(crate) fn evaluate<'py>(
     })
     .map_err(PyValueError::new_err)?;
     let dict = PyDict::new(py);
-    for (name, column) in laminar_core::Components::<f64>::NAMES.iter().zip(out) {
+    for (name, column) in laminar_brdf_core::Components::<f64>::NAMES.iter().zip(out) {
         dict.set_item(*name, column.into_pyarray(py))?;
     }
     Ok(dict)

@@ -4,12 +4,12 @@ use crate::convert::{
     flag, lab_angles, optional_count, params_dict, parse, to_python, value_error, vec1, whole,
 };
 use crate::measurements::Measurements;
-use laminar_core::Angles;
-use laminar_fit::analysis::DEFAULT_RESAMPLES;
-use laminar_fit::noise::DEFAULT_FLOOR;
-use laminar_fit::{Axis, Fit, Fitter, Model, SettingError, Settings};
-use laminar_io::fits;
-use laminar_io::fits::FitEntry;
+use laminar_brdf_core::Angles;
+use laminar_brdf_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_brdf_fit::noise::DEFAULT_FLOOR;
+use laminar_brdf_fit::{Axis, Fit, Fitter, Model, SettingError, Settings};
+use laminar_brdf_io::fits;
+use laminar_brdf_io::fits::FitEntry;
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -91,7 +91,7 @@ pub(crate) fn fitter(
 /// One fit: the refined estimate (the best grid point when not refined),
 /// its errors and uncertainties, the best grid point, the Ragheb–Hancock
 /// best of the same search (layered models), and the fitted model.
-#[pyclass(module = "laminar", frozen)]
+#[pyclass(module = "laminar_brdf", frozen)]
 pub(crate) struct FitResult {
     pub(crate) fit: Fit,
 }

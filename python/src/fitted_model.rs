@@ -2,9 +2,9 @@
 
 use crate::convert::{parse, read_error, reserve, value_error, vec1};
 use crate::fit_result::FitResult;
-use laminar_core::Angles;
-use laminar_fit::{Model, ModelParams, Param};
-use laminar_io::fits;
+use laminar_brdf_core::Angles;
+use laminar_brdf_fit::{Model, ModelParams, Param};
+use laminar_brdf_io::fits;
 use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -18,10 +18,10 @@ type ArrayPair<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 /// A fitted model to predict with, from a fitted-model file (one fit,
 /// picked by its label `sample/channel/model` as `laminar predict
 /// --select` picks it) or from a [`FitResult`].
-#[pyclass(module = "laminar", frozen)]
+#[pyclass(module = "laminar_brdf", frozen)]
 pub(crate) struct FittedModel {
     pub(crate) label: String,
-    pub(crate) fitted: laminar_fit::FittedModel,
+    pub(crate) fitted: laminar_brdf_fit::FittedModel,
 }
 
 #[pymethods]
@@ -83,7 +83,8 @@ impl FittedModel {
                 "amplitude {amplitude} must be finite and ≥ 0, data_scale {data_scale} finite and > 0"
             )));
         }
-        let fitted = laminar_fit::FittedModel::with_amplitude(kind, values, amplitude, data_scale);
+        let fitted =
+            laminar_brdf_fit::FittedModel::with_amplitude(kind, values, amplitude, data_scale);
         fitted.predict(&[]).map_err(value_error)?;
         Ok(Self {
             label: format!("{model}({})", values.text()),
@@ -190,10 +191,10 @@ impl FittedModel {
         tolerance: f64,
     ) -> PyResult<ArrayPair<'py>> {
         let thetas = vec1(&theta_v)?;
-        let tolerance = laminar_fit::albedo::Tolerance::new(tolerance).map_err(value_error)?;
+        let tolerance = laminar_brdf_fit::albedo::Tolerance::new(tolerance).map_err(value_error)?;
         let fitted = self.fitted;
         let table = py
-            .detach(|| laminar_fit::albedo::albedo_table(&fitted, &thetas, tolerance))
+            .detach(|| laminar_brdf_fit::albedo::albedo_table(&fitted, &thetas, tolerance))
             .map_err(value_error)?;
         let albedo: Vec<f64> = table.iter().map(|a| a.albedo).collect();
         let error: Vec<f64> = table.iter().map(|a| a.error).collect();
@@ -225,7 +226,7 @@ pub(crate) fn render<'py>(
     light_azimuth: Option<f64>,
     environment: Option<f64>,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
-    use laminar_fit::preview::{render as draw, Stage};
+    use laminar_brdf_fit::preview::{render as draw, Stage};
     if !(models.len() == 1 || models.len() == 3) {
         return Err(PyValueError::new_err(format!(
             "render takes one or three models (got {})",
@@ -233,7 +234,7 @@ pub(crate) fn render<'py>(
         )));
     }
     let scene = Stage::new(size, light_polar, light_azimuth, environment).map_err(value_error)?;
-    let fitted: Vec<laminar_fit::FittedModel> = models.iter().map(|m| m.fitted).collect();
+    let fitted: Vec<laminar_brdf_fit::FittedModel> = models.iter().map(|m| m.fitted).collect();
     let image = py.detach(|| draw(&fitted, &scene)).map_err(value_error)?;
     let srgb = image.to_srgb8();
     let channels = image.channels;

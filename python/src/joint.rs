@@ -3,9 +3,9 @@
 use crate::convert::{parse, value_error};
 use crate::fit_result::{fitter, refine_threads, whole_or, Named};
 use crate::measurements::Measurements;
-use laminar_fit::analysis::DEFAULT_RESAMPLES;
-use laminar_fit::noise::DEFAULT_FLOOR;
-use laminar_fit::{Chromatic, JointValue, Model};
+use laminar_brdf_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_brdf_fit::noise::DEFAULT_FLOOR;
+use laminar_brdf_fit::{Chromatic, JointValue, Model};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

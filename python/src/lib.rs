@@ -1,11 +1,11 @@
-//! The native part of the `laminar` Python package (`laminar._laminar`):
-//! thin PyO3 bindings over `laminar-core` (evaluate), `laminar-fit` (fit,
-//! batch fit, fitted models) and `laminar-io` (readers, the fitted-model
+//! The native part of the `laminar_brdf` Python package (`laminar_brdf._laminar`):
+//! thin PyO3 bindings over `laminar-brdf-core` (evaluate), `laminar-brdf-fit` (fit,
+//! batch fit, fitted models) and `laminar-brdf-io` (readers, the fitted-model
 //! file). numpy arrays in and out; the GIL is released around every piece
 //! of Rust work; errors become `ValueError` (bad input, naming the
 //! parameter, file, line or row) or `OSError` (a file that cannot be read).
 //! The Python-facing API (broadcasting, structured arrays, docs) is in
-//! `laminar/__init__.py`.
+//! `laminar_brdf/__init__.py`.
 //!
 //! One module per concern: `convert` (arrays, errors and names between
 //! Python and the library), `evaluate` (the model's components),
@@ -21,7 +21,7 @@ mod fitted_model;
 mod joint;
 mod measurements;
 
-use laminar_fit::{Edge, Grid, Model, Param};
+use laminar_brdf_fit::{Edge, Grid, Model, Param};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -51,7 +51,7 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
         flags.set_item(edge.to_string(), edge.bit())?;
     }
     m.add("FLAG_BITS", flags)?;
-    // The model descriptor (laminar_fit::Model): every list a Python user
+    // The model descriptor (laminar_brdf_fit::Model): every list a Python user
     // needs comes from here.
     let models = PyDict::new(m.py());
     for model in Model::ALL {

@@ -2,15 +2,15 @@
 //! arrays, CSV, CUReT or MERL.
 
 use crate::convert::{lab_angles, parse, read_error, real_vec, value_error};
-use laminar_fit::{MeasurementSet, Quantity, Scene};
-use laminar_io::curet::{Channel, CuretDir};
-use laminar_io::{merl, read_csv, read_geometry, AngleUnit};
+use laminar_brdf_fit::{MeasurementSet, Quantity, Scene};
+use laminar_brdf_io::curet::{Channel, CuretDir};
+use laminar_brdf_io::{merl, read_csv, read_geometry, AngleUnit};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 
 /// A measurement set and the channel of it to fit.
-#[pyclass(module = "laminar", frozen)]
+#[pyclass(module = "laminar_brdf", frozen)]
 pub(crate) struct Measurements {
     pub(crate) set: MeasurementSet,
     pub(crate) channel: String,
@@ -40,7 +40,7 @@ impl Measurements {
 
     /// The set `reader` reads from `path`, one of its channels picked.
     fn read(
-        reader: fn(&Path) -> Result<MeasurementSet, laminar_io::ReadError>,
+        reader: fn(&Path) -> Result<MeasurementSet, laminar_brdf_io::ReadError>,
         path: &Path,
         channel: Option<&str>,
     ) -> PyResult<Self> {
@@ -108,7 +108,7 @@ impl Measurements {
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_astm(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::read(laminar_io::astm::read_astm, &path, channel)
+        Self::read(laminar_brdf_io::astm::read_astm, &path, channel)
     }
 
     /// From NIST's Mueller-matrix BRDF CSV (Germer 2017): each wavelength a
@@ -116,14 +116,14 @@ impl Measurements {
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_nist(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::read(laminar_io::nist::read_nist, &path, channel)
+        Self::read(laminar_brdf_io::nist::read_nist, &path, channel)
     }
 
     /// From an RGL-EPFL isotropic RGB `.bsdf` file: channels `r`, `g`, `b`.
     #[staticmethod]
     #[pyo3(signature = (path, channel = None))]
     fn from_rgl(path: PathBuf, channel: Option<&str>) -> PyResult<Self> {
-        Self::read(laminar_io::rgl::read_rgl, &path, channel)
+        Self::read(laminar_brdf_io::rgl::read_rgl, &path, channel)
     }
 
     /// From a CUReT directory: `sample`'s BRDF of `channel` (avg, r, g, b).

@@ -46,12 +46,17 @@ def main(directory):
     if len(wheels) != 1 or len(sdists) != 1:
         sys.exit(f"{directory}: expected one wheel and one sdist, found {wheels + sdists}")
     wheel, sdist = wheels[0], sdists[0]
+    # PyPI's `laminar` is another project's: the distribution is laminar-brdf,
+    # its import name laminar_brdf.
+    if not wheel.name.startswith("laminar_brdf-") or not sdist.name.startswith("laminar_brdf-"):
+        problems.append(f"{wheel.name}, {sdist.name}: not the distribution laminar-brdf")
     if not re.search(r"-cp\d+-abi3-manylinux_\d+_\d+_x86_64\.whl$", wheel.name):
         problems.append(f"{wheel.name}: not a manylinux abi3 wheel")
     shown = subprocess.run(
         [sys.executable, "-m", "auditwheel", "show", str(wheel)], capture_output=True, text=True
     )
-    if shown.returncode != 0 or "is consistent with" not in shown.stdout:
+    # auditwheel wraps its report at the terminal's width: compare words.
+    if shown.returncode != 0 or "is consistent with" not in " ".join(shown.stdout.split()):
         problems.append(f"auditwheel show {wheel.name}: {shown.stdout}{shown.stderr}")
     with zipfile.ZipFile(wheel) as z:
         names = z.namelist()
@@ -60,6 +65,8 @@ def main(directory):
             left = [s for s in sections if s == ".symtab" or s.startswith(".debug_")]
             if left:
                 problems.append(f"{so}: not stripped ({', '.join(left)})")
+        if "laminar_brdf/__init__.py" not in names:
+            problems.append(f"{wheel.name}: no package laminar_brdf")
         for licence in LICENCES:
             if not any(n.endswith(f".dist-info/licenses/{licence}") for n in names):
                 problems.append(f"{wheel.name}: no {licence} in .dist-info/licenses")

@@ -67,7 +67,7 @@ def geometry(k=120):
 def radiance(g, slope=0.92, beta=0.4, n=1.42, a=0.3, noise=0.01, seed=1):
     """The exp model's normalised radiance at lab geometries `g`, plus seeded noise."""
     paper = np.array([laminar_paper(*row) for row in g])
-    import laminar
+    import laminar_brdf as laminar
 
     total = laminar.evaluate("exp", paper[:, 0], paper[:, 1], paper[:, 2], slope, beta, n, a)["total"]
     rng = np.random.default_rng(seed)
@@ -75,7 +75,7 @@ def radiance(g, slope=0.92, beta=0.4, n=1.42, a=0.3, noise=0.01, seed=1):
 
 
 def laminar_paper(theta_i, phi_i, theta_v, phi_v):
-    import laminar
+    import laminar_brdf as laminar
 
     return laminar.paper_angles(theta_i, phi_i, theta_v, phi_v)
 

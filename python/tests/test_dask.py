@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 
 if os.environ.get("LAMINAR_REQUIRE_DASK") == "1":
     import dask.distributed  # noqa: F401  (CI requires the test to run)
@@ -24,7 +24,7 @@ from btf_cube import cube  # noqa: E402
 def test_local_cluster_equals_one_process():
     from dask.distributed import Client, LocalCluster
 
-    from laminar.distributed import fit_batch_dask
+    from laminar_brdf.distributed import fit_batch_dask
 
     g, values = cube(64, 64, k=198, channels=3)
     pixels = values.shape[0] * values.shape[1]

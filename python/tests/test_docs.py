@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 from conftest import importable
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 
 if os.environ.get("LAMINAR_REQUIRE_DASK") == "1":
     import dask.distributed  # noqa: F401  (CI requires these tests to run)
@@ -27,8 +27,8 @@ import dask  # noqa: E402
 import dask.array as da  # noqa: E402
 import xarray as xr  # noqa: E402
 
-import laminar.distributed  # noqa: E402
-from laminar.distributed import FIELDS, fit_dask  # noqa: E402
+import laminar_brdf.distributed  # noqa: E402
+from laminar_brdf.distributed import FIELDS, fit_dask  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 from btf_cube import cube  # noqa: E402
@@ -212,7 +212,7 @@ def labelled_cube(ny=6, nx=5, channels=3):
 
 
 def test_xarray_fit_keeps_dimensions_and_equals_fit_batch_per_texel(tmp_path):
-    import laminar.xarray
+    import laminar_brdf.xarray
 
     g, data = labelled_cube()
     result = laminar.xarray.fit(data, model="exp", quantity="radiance")
@@ -244,7 +244,7 @@ def test_the_cli_python_and_dask_emit_one_batch_row(tmp_path):
     """`laminar fit-batch`'s CSV, `laminar.fit_batch` and the Dask/xarray
     fields: one list of fields (the CLI's file adds the key `set,model` in
     front), and the same numbers."""
-    import laminar.xarray
+    import laminar_brdf.xarray
     from conftest import GRID, GRID_ARGS, cli, geometry, radiance
 
     g = geometry(60)
@@ -276,7 +276,7 @@ def test_the_cli_python_and_dask_emit_one_batch_row(tmp_path):
 
 
 def test_bad_input_is_named():
-    import laminar.xarray
+    import laminar_brdf.xarray
 
     g, values = cube(4, 4, k=198, channels=1)
     sets = values[0]

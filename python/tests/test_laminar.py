@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 from conftest import GRID, GRID_ARGS, cli, cli_fits, geometry, radiance, write_csv
 
 
@@ -343,7 +343,7 @@ def test_package_ships_type_stubs():
 _MEMORY_SCRIPT = """
 import re, resource, sys
 import numpy as np
-import laminar
+import laminar_brdf as laminar
 
 def limit(extra):
     # The address space used now, plus `extra` bytes.
@@ -383,7 +383,7 @@ def test_too_little_memory_raises_memory_error(call):
 _ARGUMENTS_SCRIPT = """
 import random, sys
 import numpy as np
-import laminar
+import laminar_brdf as laminar
 
 rng = random.Random(24)
 g = np.array([[0.1, 0.0, 0.2, 3.0], [0.3, 0.0, 0.4, 3.0], [0.5, 0.0, 0.2, 1.0], [0.2, 0.0, 0.6, 2.0]])

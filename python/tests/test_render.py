@@ -11,7 +11,7 @@ import os
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 from conftest import cli
 
 
@@ -95,7 +95,7 @@ def mitsuba_variant(variant):
         if required:
             pytest.fail(f"Mitsuba 3 ({variant}) is required but cannot run: {e}")
         pytest.skip(f"Mitsuba 3 ({variant}) is not available: {e}")
-    import laminar.mitsuba
+    import laminar_brdf.mitsuba
 
     laminar.mitsuba.register()
     return mi
@@ -239,7 +239,7 @@ def test_spectral_and_mono_variants_are_refused_by_name():
     refused at register() naming it (both plugins loaded, then
     ``mi.render`` died with ``std::bad_cast``: issue 55, item 8)."""
     mi = mitsuba_variant("scalar_rgb")
-    import laminar.mitsuba
+    import laminar_brdf.mitsuba
 
     tried = 0
     for variant in ("scalar_spectral", "scalar_mono", "llvm_ad_spectral", "llvm_ad_mono"):

@@ -12,7 +12,7 @@ import os
 import numpy as np
 import pytest
 
-import laminar
+import laminar_brdf as laminar
 from test_render import fits, mitsuba_variant  # noqa: F401  (the fixture)
 
 
@@ -444,8 +444,8 @@ def test_a_fitted_texture_is_a_textured_material():
     import sys
     from pathlib import Path
 
-    import laminar.xarray
-    from laminar.mitsuba_native import textured
+    import laminar_brdf.xarray
+    from laminar_brdf.mitsuba_native import textured
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
     from btf_cube import cube

@@ -41,7 +41,7 @@ def documented_names():
 
 def api_module():
     """A module that names each documented name (mypy checks each exists)."""
-    lines = ["import laminar", *(f"import laminar.{m}" for m in MODULES), ""]
+    lines = ["import laminar_brdf as laminar", *(f"import laminar_brdf.{m}" for m in MODULES), ""]
     lines += [f"_{i}: object = laminar.{name}" for i, name in enumerate(documented_names())]
     # Calling the plain-Python entry points checks that they are typed.
     lines += ["", "", "def _calls() -> None:", "    laminar.mitsuba.register()", ""]

@@ -6,8 +6,8 @@
 //! `RAYON_NUM_THREADS=1 cargo run --release -p laminar-wasm --example speed`
 //! (one thread, as in the browser).
 
-use laminar_fit::Analysis;
-use laminar_fit::Settings;
+use laminar_brdf_fit::Analysis;
+use laminar_brdf_fit::Settings;
 use laminar_wasm::evaluate::{total_radiance_f32, total_radiance_f64};
 use laminar_wasm::fitting::fit;
 use laminar_wasm::measurements::{example_csv, Measurements};

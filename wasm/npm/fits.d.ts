@@ -1,9 +1,9 @@
 // The fitted-model file's types (`laminar fit --format json`, wasm `fit`).
-// Generated from the Rust types by laminar-io's test `typescript`
+// Generated from the Rust types by laminar-brdf-io's test `typescript`
 // (io/src/typescript.rs): do not edit; `LAMINAR_BLESS=1 cargo test -p
-// laminar-io typescript` rewrites it.
+// laminar-brdf-io typescript` rewrites it.
 
-/** A model's parameter, by name (laminar_fit::Param). */
+/** A model's parameter, by name (laminar_brdf_fit::Param). */
 export type Param = "slope" | "beta" | "n" | "a" | "sigma_a" | "sigma_s" | "sigma" | "rho" | "sub_slope";
 
 /**
@@ -496,11 +496,11 @@ chi2_weighted: number | null,
 parameters: { [key in string]: FitParameter }, 
 /**
  * Free objective: whether the residuals say the model fits
- * (`laminar_fit::adequacy`).
+ * (`laminar_brdf_fit::adequacy`).
  */
 adequacy: Adequacy | null, 
 /**
- * Free objective: the information criteria (`laminar_fit::choice`).
+ * Free objective: the information criteria (`laminar_brdf_fit::choice`).
  */
 information: Information | null, 
 /**
@@ -509,12 +509,12 @@ information: Information | null,
 rank: Rank | null, 
 /**
  * Free objective, several models: the K-fold cross-validated error
- * (`laminar_fit::choice::CrossValidation`).
+ * (`laminar_brdf_fit::choice::CrossValidation`).
  */
 cross_validation: CrossValidation | null, 
 /**
  * The graphics literature's error measures of the reported estimate
- * (`laminar_fit::graphics_metrics`).
+ * (`laminar_brdf_fit::graphics_metrics`).
  */
 graphics: GraphicsMetrics | null, 
 /**

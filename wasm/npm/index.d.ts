@@ -1,4 +1,4 @@
-// Types of laminar-wasm. The functions and classes are declared by
+// Types of laminar-brdf. The functions and classes are declared by
 // wasm-bindgen (plain/laminar_wasm.d.ts, the same for both builds); the
 // fitted-model file that `fit` returns is typed in fits.d.ts, generated.
 import type * as Build from './plain/laminar_wasm.js';

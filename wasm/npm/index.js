@@ -1,5 +1,5 @@
-// laminar-wasm: the whole package (evaluation, measurements, fitting,
-// prediction). `laminar-wasm/eval` is the evaluation-only package.
+// laminar-brdf: the whole package (evaluation, measurements, fitting,
+// prediction). `laminar-brdf/eval` is the evaluation-only package.
 import { loadBuild, simdSupported } from './loader.js';
 
 export { simdSupported };

@@ -1,4 +1,4 @@
-// laminar-wasm in node (package.json's "node" condition): index.js beside it,
+// laminar-brdf in node (package.json's "node" condition): index.js beside it,
 // reading each build's .wasm from disk (a browser fetches it by URL).
 import { readFile } from 'node:fs/promises';
 import { load as loadFrom, simdSupported } from './index.js';

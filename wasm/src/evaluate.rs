@@ -2,7 +2,7 @@
 //! to JavaScript by [`crate::js`], which checks the arguments' types.
 
 use crate::{correlation, error, geometries};
-use laminar_core::{
+use laminar_brdf_core::{
     components as components_of, f32x8, total_radiance, total_radiance_in, Angles, Geometry, Lane,
     Params, Scaling,
 };
@@ -44,7 +44,7 @@ pub fn total_radiance_f64(
 
 /// Eq. 8's total radiance in f32, eight geometries at a time (`f32x8`;
 /// SIMD in the `+simd128` build). Each value is bitwise the native scalar
-/// f32 path's (`laminar_core::total_radiance::<f32>`).
+/// f32 path's (`laminar_brdf_core::total_radiance::<f32>`).
 ///
 /// # Errors
 /// As [`total_radiance_f64`].
@@ -145,7 +145,7 @@ pub fn components(
 /// `rh-gauss`) at each geometry, from the parameters and normalisation
 /// constants of its fitted-model file (`fitted.params`,
 /// `fitted.normalisation`): the same numbers as the fitting package's
-/// `predict`, bit for bit (both are `laminar_core::Scaling::predict` of the
+/// `predict`, bit for bit (both are `laminar_brdf_core::Scaling::predict` of the
 /// core's raw terms). `constants` are `[amplitude]` (the free objective) or
 /// `[surface_max, subsurface_max, mix_max]` (the paper's).
 ///

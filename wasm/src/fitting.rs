@@ -3,9 +3,9 @@
 
 use crate::measurements::Measurements;
 use crate::{error, geometries};
-use laminar_fit::{Grid, Model, Param, Settings};
-use laminar_io::fits;
-use laminar_io::selection::SelectError;
+use laminar_brdf_fit::{Grid, Model, Param, Settings};
+use laminar_brdf_io::fits;
+use laminar_brdf_io::selection::SelectError;
 use std::cell::RefCell;
 use std::path::Path;
 use wasm_bindgen::prelude::*;
@@ -167,7 +167,7 @@ pub fn fit(
 
 /// Fits each of `models` to `channel` of `measurements` with `settings`, as
 /// `laminar fit --models` does (several models: ranked and
-/// cross-validated, [`laminar_fit::choice`]; JavaScript:
+/// cross-validated, [`laminar_brdf_fit::choice`]; JavaScript:
 /// [`crate::js::fitting::compare`]), and returns the fitted-model file of
 /// the fits in the order of `models`; `progress(done, total)` is called
 /// after each grid shard.
@@ -223,7 +223,7 @@ pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<
 
 #[cfg(test)]
 mod tests {
-    use laminar_fit::{settings, Grid, Noise, Objective, Param, Precision, Uncertainty};
+    use laminar_brdf_fit::{settings, Grid, Noise, Objective, Param, Precision, Uncertainty};
 
     /// The `FitOptions` declaration, read from this file (wasm-bindgen
     /// takes the constant over, so the test reads the source).

@@ -28,7 +28,7 @@
 //! generated glue are camelCase: `fromCsv`, `totalRadianceF32`, …):
 //!
 //! ```
-//! use laminar_fit::Settings;
+//! use laminar_brdf_fit::Settings;
 //! use laminar_wasm::{fitting, measurements::{example_csv, Measurements}};
 //! let m = Measurements::from_csv("example.csv", example_csv().as_bytes(), "rad", "radiance")?;
 //! // The default: the free-amplitude objective, refined, with intervals.
@@ -37,8 +37,8 @@
 //! // The paper's grid search alone, as `laminar fit --objective paper --refine off --uncertainty off`:
 //! // the example was made at a point of the paper grid.
 //! let settings = Settings {
-//!     objective: laminar_fit::Objective::Paper,
-//!     analysis: laminar_fit::Analysis::NONE,
+//!     objective: laminar_brdf_fit::Objective::Paper,
+//!     analysis: laminar_brdf_fit::Analysis::NONE,
 //!     ..Default::default()
 //! };
 //! let json = fitting::fit(&m, "value", "exp", &settings, None)?;
@@ -56,7 +56,7 @@ pub mod js;
 #[cfg(feature = "fit")]
 pub mod measurements;
 
-use laminar_core::{Angles, Correlation};
+use laminar_brdf_core::{Angles, Correlation};
 use wasm_bindgen::JsError;
 
 /// A JavaScript `Error` with `e`'s message.

@@ -2,8 +2,8 @@
 //! built-in example.
 
 use crate::error;
-use laminar_fit::{synthetic, MeasurementSet, Quantity};
-use laminar_io::{astm, csv_file::parse_csv, curet, nist, rgl, AngleUnit};
+use laminar_brdf_fit::{synthetic, MeasurementSet, Quantity};
+use laminar_brdf_io::{astm, csv_file::parse_csv, curet, nist, rgl, AngleUnit};
 use std::fmt::Write;
 use std::path::Path;
 use wasm_bindgen::prelude::*;

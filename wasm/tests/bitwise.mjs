@@ -1,5 +1,5 @@
 // Evaluates the npm package on the cases in CASES.json, in both builds of the
-// whole package and of the evaluation-only one (`laminar-wasm/eval`), and
+// whole package and of the evaluation-only one (`laminar-brdf/eval`), and
 // prints the bit patterns: { plain: { build, f32: [...], f64: [...] }, simd,
 // eval_plain, eval_simd } (f32 as u32, f64 as two u32 halves, high first).
 // cli/tests/web.rs compares them with the native library's. `fitted` says

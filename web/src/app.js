@@ -1,12 +1,12 @@
 // The page: load measurements, fit them in a worker, show the fit and an
-// interactive lobe. All numbers come from laminar-wasm.
+// interactive lobe. All numbers come from laminar-brdf.
 //
-// The evaluation-only package (laminar-wasm/eval, about 40 KiB gzip) loads
+// The evaluation-only package (laminar-brdf/eval, about 40 KiB gzip) loads
 // first, so the lobe viewer works at once; the whole package (measurements,
 // prediction; about 370 KiB) follows, and the controls that need it are
 // enabled when it has arrived.
-import { load as loadEvaluation } from './laminar-wasm/eval/index.js';
-import { load } from './laminar-wasm/index.js';
+import { load as loadEvaluation } from './laminar-brdf/eval/index.js';
+import { load } from './laminar-brdf/index.js';
 import { lobe, scatter } from './plot.js';
 import { measurementsFrom } from './source.js';
 
@@ -19,7 +19,7 @@ const DEG = Math.PI / 180;
 export const fmt = (v) =>
   v === null || v === undefined ? '–' : typeof v === 'string' ? v.replace(/_/g, ' ') : Number(v).toPrecision(5);
 
-$('build').textContent = `laminar-wasm ${E.version()}, ${E.simd ? 'SIMD (+simd128)' : 'plain'} build`;
+$('build').textContent = `laminar-brdf ${E.version()}, ${E.simd ? 'SIMD (+simd128)' : 'plain'} build`;
 const NEEDS_WHOLE = ['files', 'example'];
 for (const id of NEEDS_WHOLE) $(id).disabled = true;
 

@@ -1,5 +1,5 @@
 // Fits off the page's thread, posting the fit's progress.
-import { load } from './laminar-wasm/index.js';
+import { load } from './laminar-brdf/index.js';
 import { measurementsFrom } from './source.js';
 
 const ready = load();

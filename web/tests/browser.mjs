@@ -56,7 +56,7 @@ try {
   await page.goto(url);
   await page.waitForSelector('body[data-lobe="true"]', { timeout: 60_000 });
   await page.waitForSelector('body[data-ready="true"]', { timeout: 60_000 });
-  check(wasm.length >= 2 && wasm[0].includes('/laminar-wasm/eval/'), `wasm fetched in the order ${wasm.join(', ')}`);
+  check(wasm.length >= 2 && wasm[0].includes('/laminar-brdf/eval/'), `wasm fetched in the order ${wasm.join(', ')}`);
   const build = await page.textContent('#build');
 
   await page.click('#example');
@@ -160,7 +160,7 @@ try {
   // Speed in this browser (main thread), as wasm/bench/node.mjs measures it in node.
   const speed = await page.evaluate(async () => {
     const { measure } = await import('/__bench/speed.js');
-    return measure((await import('./laminar-wasm/index.js')).load);
+    return measure((await import('./laminar-brdf/index.js')).load);
   });
   console.log(JSON.stringify({ build, progress, rows, points, bad, curet, chromium: browser.version(), speed }));
 } finally {

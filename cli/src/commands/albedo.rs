@@ -3,10 +3,10 @@
 use super::options::{check_extension, check_out, emit, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::albedo::{albedo_table, Tolerance};
-use laminar_fit::Axis;
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::albedo::{albedo_table, Tolerance};
+use laminar_brdf_fit::Axis;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -78,7 +78,7 @@ pub fn run(args: &AlbedoArgs) -> Result<(), CliError> {
     }
     emit(args.out.as_ref(), &text)?;
     let most = table.iter().map(|r| r.albedo).fold(0.0, f64::max);
-    laminar_cli::note!(
+    laminar_brdf::note!(
         "albedo: {}: max ρ(θv) = {most:.6} in the fitted data's units{}",
         sel.label,
         if most > 1.0 {

@@ -2,11 +2,11 @@
 
 use super::options::{layered_model, report_time};
 use clap::{Args, ValueEnum};
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_core::{components, Angles, Components, Geometry, Params};
-use laminar_fit::Model;
-use laminar_io::{read_geometry, AngleUnit};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_core::{components, Angles, Components, Geometry, Params};
+use laminar_brdf_fit::Model;
+use laminar_brdf_io::{read_geometry, AngleUnit};
 use std::path::PathBuf;
 use std::time::Instant;
 

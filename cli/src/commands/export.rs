@@ -3,10 +3,10 @@
 use super::options::{check_extension, check_out, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::MeasurementAngles;
-use laminar_io::merl::{write_merl, Merl, PLANE};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::MeasurementAngles;
+use laminar_brdf_io::merl::{write_merl, Merl, PLANE};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -70,7 +70,7 @@ pub fn run(args: &ExportArgs) -> Result<(), CliError> {
         .into());
     }
     write_merl(&args.merl, &table)?;
-    laminar_cli::note!(
+    laminar_brdf::note!(
         "export: {} tabulated into {} ({} bins per channel)",
         sel.label,
         args.merl.display(),

@@ -5,11 +5,11 @@ use super::options::{
     CuretArgs, FileArgs, FitterArgs, OutputFormat, PAIRS,
 };
 use clap::{Args, ValueEnum};
-use laminar_cli::reproduce::{fit_jobs, fit_jobs_shards};
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::{synthetic, FittedModel, Model, ModelParams};
-use laminar_io::fits::{self, Energy, FitEntry, Units};
+use laminar_brdf::reproduce::{fit_jobs, fit_jobs_shards};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::{synthetic, FittedModel, Model, ModelParams};
+use laminar_brdf_io::fits::{self, Energy, FitEntry, Units};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -176,7 +176,7 @@ pub fn run(args: &FitArgs) -> Result<(), CliError> {
         .ok()
         .and_then(|m| m.beta_eq8)
         .unwrap_or(f64::NAN);
-        laminar_cli::note!(
+        laminar_brdf::note!(
             "synthetic scene: true parameters slope={s};beta={b};n={n};a={a} (exp model, paper normalisation; eq. 8's beta, the free objective's, is {beta_eq8:.4}), noise σ = {}",
             synthetic::NOISE
         );

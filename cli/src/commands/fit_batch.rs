@@ -2,11 +2,11 @@
 
 use super::options::{any_model, check_out, counter, progress, report_time, FitterArgs, PAIRS};
 use clap::Args;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::{MeasurementSet, Model, Quantity, Scene};
-use laminar_io::values::ValueRows;
-use laminar_io::{fits, read_geometry, AngleUnit, AtomicFile, ReadError};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::{MeasurementSet, Model, Quantity, Scene};
+use laminar_brdf_io::values::ValueRows;
+use laminar_brdf_io::{fits, read_geometry, AngleUnit, AtomicFile, ReadError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -132,7 +132,7 @@ pub fn run(args: &FitBatchArgs) -> Result<(), CliError> {
     bar.finish_and_clear();
     out.finish().map_err(|e| io_error(&args.out, e))?.commit()?;
     let secs = start.elapsed().as_secs_f64();
-    laminar_cli::note!(
+    laminar_brdf::note!(
         "fit-batch: {done} sets × {} models, {:.1} sets/s",
         args.models.len(),
         done as f64 / secs.max(1e-9)
@@ -150,7 +150,7 @@ enum Records {
 
 impl Records {
     /// Writes `fit`, a fit of the `set`-th row of the values.
-    fn write(&mut self, set: usize, fit: &laminar_fit::Fit) -> std::io::Result<()> {
+    fn write(&mut self, set: usize, fit: &laminar_brdf_fit::Fit) -> std::io::Result<()> {
         match self {
             Self::Csv(out) => out.write(set, fit),
             Self::Json(out) => out.write(fit),

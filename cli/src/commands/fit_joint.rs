@@ -4,10 +4,10 @@ use super::options::{
     check_out, emit, jobs, layered_model, report_time, ChannelArgs, CuretArgs, FileArgs, FitterArgs,
 };
 use clap::Args;
-use laminar_cli::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::{Chromatic, JointFit, JointValue, Model, Scene};
+use laminar_brdf::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::{Chromatic, JointFit, JointValue, Model, Scene};
 use std::path::PathBuf;
 use std::time::Instant;
 

@@ -4,18 +4,18 @@
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use laminar_cli::selection::{
+use laminar_brdf::selection::{
     curet_jobs, parse_samples, synthetic_jobs, FileInput, InputFormat, Job, PAPER_SAMPLES,
 };
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::noise::DEFAULT_FLOOR;
-use laminar_fit::{
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::noise::DEFAULT_FLOOR;
+use laminar_brdf_fit::{
     Analysis, Axis, Fitter, Model, Objective, Param, Precision, Quantity, Settings, Uncertainty,
     UnknownName,
 };
-use laminar_fit::{Noise, SearchPath};
-use laminar_io::AngleUnit;
+use laminar_brdf_fit::{Noise, SearchPath};
+use laminar_brdf_io::AngleUnit;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -107,7 +107,7 @@ pub struct FileArgs {
     pub sample_at: Option<PathBuf>,
     /// Tolerance of the specular test for --measurements, radians: a
     /// measurement with θv = θi and |φv − φi| = π within it is left out.
-    #[arg(long, default_value_t = laminar_fit::measurements::SPECULAR_TOLERANCE, requires = "measurements")]
+    #[arg(long, default_value_t = laminar_brdf_fit::measurements::SPECULAR_TOLERANCE, requires = "measurements")]
     pub specular_tolerance: f64,
 }
 
@@ -196,7 +196,7 @@ impl GridArgs {
 
     /// The default grid of `objective` with the given axes replaced,
     /// validated ([`Settings::grid`]).
-    pub fn grid(&self, objective: Objective) -> Result<laminar_fit::Grid, CliError> {
+    pub fn grid(&self, objective: Objective) -> Result<laminar_brdf_fit::Grid, CliError> {
         let settings = Settings {
             objective,
             axes: self.axes(),
@@ -304,15 +304,15 @@ pub struct AnalysisArgs {
 }
 
 fn parse_folds(s: &str) -> Result<usize, String> {
-    laminar_fit::analysis::parse_folds(s)
+    laminar_brdf_fit::analysis::parse_folds(s)
 }
 
 fn parse_resamples(s: &str) -> Result<usize, String> {
-    laminar_fit::analysis::parse_resamples(s)
+    laminar_brdf_fit::analysis::parse_resamples(s)
 }
 
 fn parse_seed(s: &str) -> Result<u64, String> {
-    laminar_fit::analysis::parse_seed(s)
+    laminar_brdf_fit::analysis::parse_seed(s)
 }
 
 fn parse_uncertainty(s: &str) -> Result<Uncertainty, UnknownName> {
@@ -386,10 +386,10 @@ pub fn settings(
 /// Sets the global thread pool (for work outside a [`Fitter`]).
 pub fn global_threads(threads: &ThreadArgs) -> Result<(), CliError> {
     if let Some(t) = threads.threads {
-        if !(1..=laminar_fit::fit::MAX_THREADS).contains(&t) {
+        if !(1..=laminar_brdf_fit::fit::MAX_THREADS).contains(&t) {
             return Err(UsageError::Threads {
                 given: t,
-                most: laminar_fit::fit::MAX_THREADS,
+                most: laminar_brdf_fit::fit::MAX_THREADS,
             }
             .into());
         }
@@ -437,30 +437,30 @@ pub const PAIRS: &str = "(parameter set, measurement) pairs";
 /// Prints elapsed time and throughput (`count` `unit` per second) on stderr.
 pub fn report_time(command: &str, start: Instant, count: f64, unit: &str) {
     let secs = start.elapsed().as_secs_f64();
-    laminar_cli::note!(
+    laminar_brdf::note!(
         "{command}: {secs:.3} s elapsed, {:.3e} {unit}/s",
         count / secs.max(1e-9)
     );
 }
 
 /// Checks `--out` before any work: it is none of the command's `inputs`
-/// ([`laminar_io::check_not_an_input`]) and its directory accepts a file.
+/// ([`laminar_brdf_io::check_not_an_input`]) and its directory accepts a file.
 pub fn check_out(out: Option<&PathBuf>, inputs: &[PathBuf]) -> Result<(), CliError> {
     if let Some(p) = out {
-        laminar_io::check_not_an_input(p, inputs)?;
-        laminar_io::check_writable(p)?;
+        laminar_brdf_io::check_not_an_input(p, inputs)?;
+        laminar_brdf_io::check_writable(p)?;
     }
     Ok(())
 }
 
 /// The files a CUReT directory `dir` is read from: `table.txt` and the BRDF
 /// files (`brdf`, as given and inside `dir`; by default the four that
-/// [`laminar_io::curet::CuretDir::brdf_files`] looks for).
+/// [`laminar_brdf_io::curet::CuretDir::brdf_files`] looks for).
 pub fn curet_inputs(dir: &Path, brdf: &[PathBuf]) -> Vec<PathBuf> {
     let mut inputs = vec![dir.join("table.txt")];
     if brdf.is_empty() {
         inputs.extend(
-            laminar_io::curet::Channel::ALL
+            laminar_brdf_io::curet::Channel::ALL
                 .iter()
                 .map(|c| dir.join(c.file_name())),
         );
@@ -560,7 +560,7 @@ pub fn check_extension(out: &Path, writes: OutputFormat) -> Result<(), UsageErro
 /// Writes `text` to `out` (whole or not at all), or prints it.
 pub fn emit(out: Option<&PathBuf>, text: &str) -> Result<(), CliError> {
     match out {
-        Some(path) => laminar_io::write_atomic(path, text)?,
+        Some(path) => laminar_brdf_io::write_atomic(path, text)?,
         None => print!("{text}"),
     }
     Ok(())

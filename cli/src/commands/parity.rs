@@ -5,11 +5,11 @@ use super::options::{
     jobs, report_time, ChannelArgs, CuretArgs, FileArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
-use laminar_cli::CliError;
-use laminar_fit::paper::search::batch::search_batch;
-use laminar_fit::paper::search::{search, SearchResult, Twins};
-use laminar_fit::{Arith, Method, SearchPath};
-use laminar_fit::{Grid, Model, Scene};
+use laminar_brdf::CliError;
+use laminar_brdf_fit::paper::search::batch::search_batch;
+use laminar_brdf_fit::paper::search::{search, SearchResult, Twins};
+use laminar_brdf_fit::{Arith, Method, SearchPath};
+use laminar_brdf_fit::{Grid, Model, Scene};
 use std::time::Instant;
 
 /// Compare every grid value of the SIMD path with its scalar twin, bit for bit.
@@ -44,7 +44,7 @@ pub fn run(args: &ParityArgs) -> Result<bool, CliError> {
         .clone()
         .unwrap_or_else(|| Model::layered().collect());
     global_threads(&args.threads)?;
-    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
+    let grid = args.grid.grid(laminar_brdf_fit::Objective::Paper)?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     let (mut same, mut all) = (0usize, 0usize);
     let mut pairs = 0.0;

@@ -3,13 +3,13 @@
 use super::options::{check_extension, check_out, emit, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
-use laminar_cli::selection::{FileInput, InputFormat};
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_core::{rms_error, Angles};
-use laminar_fit::{MeasurementSet, Quantity, Scene};
-use laminar_io::curet::{Channel, CuretDir};
-use laminar_io::{read_geometry, AngleUnit, ReadError};
+use laminar_brdf::selection::{FileInput, InputFormat};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_core::{rms_error, Angles};
+use laminar_brdf_fit::{MeasurementSet, Quantity, Scene};
+use laminar_brdf_io::curet::{Channel, CuretDir};
+use laminar_brdf_io::{read_geometry, AngleUnit, ReadError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -187,7 +187,7 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
     emit(args.out.as_ref(), &String::from_utf8_lossy(&bytes))?;
     if let Some(d) = &data {
         let rms = rms_error(d, &prediction).unwrap_or(f64::NAN);
-        laminar_cli::note!(
+        laminar_brdf::note!(
             "predict {}: Δ_RMS (eq. 15) = {rms:e} over {} measurements (the fit's own: {:e})",
             sel.label,
             d.len(),

@@ -3,9 +3,9 @@
 use super::options::{check_extension, check_out, report_time, OutputFormat};
 use super::select::FitFileArgs;
 use clap::Args;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::preview::{render, Stage, StageError};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::preview::{render, Stage, StageError};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -78,15 +78,15 @@ pub fn run(args: &RenderArgs) -> Result<(), CliError> {
         labels.push(sel.label);
     }
     let image = render(&models, &scene).map_err(|source| {
-        CliError::Read(laminar_io::ReadError::Model {
+        CliError::Read(laminar_brdf_io::ReadError::Model {
             file: args.file.clone(),
             fit: labels.join(", "),
             source,
         })
     })?;
     let side = u32::try_from(args.size).unwrap_or(4096);
-    laminar_io::image::write_png(&args.out, side, side, &image.to_srgb8())?;
-    laminar_cli::note!(
+    laminar_brdf_io::image::write_png(&args.out, side, side, &image.to_srgb8())?;
+    laminar_brdf::note!(
         "render: {} → {} ({} × {})",
         labels.join(", "),
         args.out.display(),

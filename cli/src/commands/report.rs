@@ -6,13 +6,13 @@ use super::options::{
     check_out, emit, global_threads, progress, report_time, CuretArgs, GridArgs, ThreadArgs, PAIRS,
 };
 use clap::{Args, Subcommand};
-use laminar_cli::scaling::scaling;
-use laminar_cli::selection::synthetic_jobs;
-use laminar_cli::speed::speed_vs_error;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::Scene;
-use laminar_fit::SearchPath;
+use laminar_brdf::scaling::scaling;
+use laminar_brdf::selection::synthetic_jobs;
+use laminar_brdf::speed::speed_vs_error;
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::Scene;
+use laminar_brdf_fit::SearchPath;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -97,7 +97,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
     {
         return Err(UsageError::ScalingCounts.into());
     }
-    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
+    let grid = args.grid.grid(laminar_brdf_fit::Objective::Paper)?;
     let bar = progress((args.ks.len() + args.scales.len()) as u64, "scaling");
     let report = scaling(
         &grid,
@@ -116,7 +116,7 @@ fn scaling_report(args: &ScalingArgs) -> Result<(), CliError> {
     if args.out.is_some() {
         emit(args.out.as_ref(), &text)?;
     }
-    laminar_cli::note!("report scaling: {:.1} s", start.elapsed().as_secs_f64());
+    laminar_brdf::note!("report scaling: {:.1} s", start.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -124,7 +124,7 @@ fn speed(args: &SpeedArgs) -> Result<(), CliError> {
     let start = Instant::now();
     check_out(args.out.as_ref(), &args.curet.inputs())?;
     global_threads(&args.threads)?;
-    let grid = args.grid.grid(laminar_fit::Objective::Paper)?;
+    let grid = args.grid.grid(laminar_brdf_fit::Objective::Paper)?;
     let jobs = args.curet.jobs()?.unwrap_or_else(synthetic_jobs);
     let scenes: Vec<Scene> = jobs.into_iter().map(|j| j.scene).collect();
     let runs = scenes.len() as u64 * 2 * SearchPath::all().len() as u64;

@@ -4,10 +4,10 @@ use super::options::{
     progress, report_time, settings, AnalysisArgs, CuretArgs, GridArgs, PathArgs, ThreadArgs, PAIRS,
 };
 use clap::Args;
-use laminar_cli::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_fit::{Objective, Settings};
+use laminar_brdf::reproduce::{fit_jobs_shards, prepare_out_dir, reproduce, FITTED};
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_fit::{Objective, Settings};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -57,12 +57,12 @@ pub fn run(args: &ReproduceArgs) -> Result<(), CliError> {
     let r = reproduce(&fitter, &jobs, &args.out)?;
     bar.finish_and_clear();
     for path in &r.removed {
-        laminar_cli::note!(
+        laminar_brdf::note!(
             "reproduce: removed stale figure {} (earlier run)",
             path.display()
         );
     }
-    laminar_cli::note!(
+    laminar_brdf::note!(
         "reproduce: {} fits of {} jobs, {} files written to {}",
         r.records.len(),
         jobs.len(),

@@ -1,10 +1,10 @@
 //! Choosing one fitted model from a fitted-model file (`--fit`, `--select`).
 
 use clap::Args;
-use laminar_cli::usage::UsageError;
-use laminar_cli::CliError;
-use laminar_io::fits::read_fits;
-use laminar_io::selection::SelectError;
+use laminar_brdf::usage::UsageError;
+use laminar_brdf::CliError;
+use laminar_brdf_io::fits::read_fits;
+use laminar_brdf_io::selection::SelectError;
 use std::path::PathBuf;
 
 /// A fitted model from a file written by `laminar fit --format json`.
@@ -20,10 +20,10 @@ pub struct FitFileArgs {
     pub select: Option<String>,
 }
 
-pub use laminar_io::selection::Selected;
+pub use laminar_brdf_io::selection::Selected;
 
 impl FitFileArgs {
-    /// Reads the file and picks the fit ([`laminar_io::fits::FitsFile::select`]).
+    /// Reads the file and picks the fit ([`laminar_brdf_io::fits::FitsFile::select`]).
     pub fn selected(&self) -> Result<Selected, CliError> {
         let file = read_fits(&self.file)?;
         let selected = file.select(self.select.as_deref()).map_err(|e| {
@@ -48,8 +48,8 @@ impl FitFileArgs {
     }
 
     /// `source`, a failure of the fit `label` of this file to predict.
-    pub fn model_error(&self, label: &str, source: laminar_fit::ModelError) -> CliError {
-        CliError::Read(laminar_io::ReadError::Model {
+    pub fn model_error(&self, label: &str, source: laminar_brdf_fit::ModelError) -> CliError {
+        CliError::Read(laminar_brdf_io::ReadError::Model {
             file: self.file.clone(),
             fit: label.to_string(),
             source,

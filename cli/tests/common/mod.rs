@@ -68,10 +68,10 @@ pub fn npy(descr: &str, rows: usize, cols: usize, payload: Vec<u8>) -> Vec<u8> {
 }
 
 /// A version-1.0 `.npy` file of header dict `dict` and then `payload`
-/// (`laminar_io::values::npy_bytes`): also the malformed files the
+/// (`laminar_brdf_io::values::npy_bytes`): also the malformed files the
 /// bad-input tests write.
 pub fn npy_with_header(dict: &str, payload: &[u8]) -> Vec<u8> {
-    laminar_io::values::npy_bytes(dict, payload)
+    laminar_brdf_io::values::npy_bytes(dict, payload)
 }
 
 /// The README and every page of `docs/`, the README first, the pages in

@@ -11,8 +11,8 @@
 //! descriptor in the fitting library.
 //!
 //! ```
-//! use laminar_core::baselines::{Baseline, BaselineModel, OrenNayar};
-//! use laminar_core::Angles;
+//! use laminar_brdf_core::baselines::{Baseline, BaselineModel, OrenNayar};
+//! use laminar_brdf_core::Angles;
 //! let a = Angles::new(0.3, 0.5, 1.0)?;
 //! let g = <OrenNayar as BaselineModel>::geometry::<f64>(|_| a);
 //! let k = <OrenNayar as BaselineModel>::coefficients::<f64>([0.0, 0.8])?;
@@ -20,7 +20,7 @@
 //! let l = OrenNayar::radiance(&g, &k);
 //! assert!((l - 0.8 / core::f64::consts::PI * libm::cos(0.3)).abs() < 1e-15);
 //! assert_eq!(Baseline::OrenNayar.params(), OrenNayar::PARAMS);
-//! # Ok::<(), laminar_core::InputError>(())
+//! # Ok::<(), laminar_brdf_core::InputError>(())
 //! ```
 
 use crate::error::InputError;

@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use core::f64::consts::{FRAC_PI_2, PI};
-use laminar_core::{Angles, Correlation, Params};
+use laminar_brdf_core::{Angles, Correlation, Params};
 use proptest::prelude::*;
 
 /// Any valid measurement geometry, with the edges (0, π/2, ±π) over-represented.

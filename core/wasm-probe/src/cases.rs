@@ -4,11 +4,11 @@
 //! Value `i` is decoded as (geometry, parameter set, correlation, output),
 //! outputs being the seven model components plus Jensen and Oren–Nayar.
 
-use laminar_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
-use laminar_core::baselines::oren_nayar::{
+use laminar_brdf_core::baselines::jensen::{jensen_radiance, JensenCoefficients, JensenGeometry};
+use laminar_brdf_core::baselines::oren_nayar::{
     oren_nayar_radiance, OrenNayarCoefficients, OrenNayarGeometry,
 };
-use laminar_core::{components, f32x8, probe, Angles, Correlation, Geometry, Lane, Params};
+use laminar_brdf_core::{components, f32x8, probe, Angles, Correlation, Geometry, Lane, Params};
 
 /// Geometries probed (a multiple of 8).
 pub const GEOMETRIES: u32 = probe::GEOMETRIES;

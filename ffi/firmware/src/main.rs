@@ -1,4 +1,4 @@
-//! Evaluates every probe case (`laminar_ffi::probe`) through the C ABI on
+//! Evaluates every probe case (`laminar_brdf_ffi::probe`) through the C ABI on
 //! the device and prints, in hex: per geometry (`G` lines) the fields of
 //! its two `f32`-built geometries; per (geometry, parameters, correlation)
 //! the case's values (`probe::case_values`). The host test computes the
@@ -9,10 +9,10 @@
 
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprint, hprintln};
-use laminar_ffi::probe;
+use laminar_brdf_ffi::probe;
 use laminar_firmware as _; // the interrupt table
 
-// The panic handler is laminar-ffi's (bare metal): no function it exports
+// The panic handler is laminar-brdf-ffi's (bare metal): no function it exports
 // panics, and the host test runs this image under a timeout.
 
 #[entry]

@@ -2,10 +2,10 @@
 //! geometries their sets are drawn on, and how much two fits of one set
 //! differ.
 
-use laminar_core::Angles;
-use laminar_fit::synthetic;
-use laminar_fit::Fit;
-use laminar_io::curet::CuretDir;
+use laminar_brdf_core::Angles;
+use laminar_brdf_fit::synthetic;
+use laminar_brdf_fit::Fit;
+use laminar_brdf_io::curet::CuretDir;
 use std::path::{Path, PathBuf};
 
 /// A labelled geometry: the directions of a set's measurements.

@@ -11,13 +11,13 @@
 //!
 //! and each transmission (eq. 7) `t = 2 n c c′ (s² + p²)/(s² p²)`,
 //! `s = c + n c′`, `p = n c + c′` (a product of positive terms: no
-//! cancellation). The core's [`laminar_core::Interface`] forms the same
+//! cancellation). The core's [`laminar_brdf_core::Interface`] forms the same
 //! terms one by one (18 divisions per measurement, and `1 − f` for the
 //! larger of `f` and `t`, which the paper objective keeps bit for bit);
 //! here n's reciprocal is taken once and each measurement costs two square
 //! roots and two divisions. The two agree to a few ulps (tested below).
 
-use laminar_core::{f64x4, Correlation, Geometry, Lane};
+use laminar_brdf_core::{f64x4, Correlation, Geometry, Lane};
 
 /// One group of measurements at one n: four in `f64x4` lanes (the
 /// refinement's and, by default, the grid stage's), eight in `f32x8`
@@ -106,7 +106,7 @@ pub fn boundary<L: Lane>(packed: &[Geometry<L>], n: f64) -> Vec<BoundaryGroup<L>
 mod tests {
     use super::*;
     use crate::synthetic;
-    use laminar_core::{inverse_slope_squared, subsurface_base, Angles, Interface};
+    use laminar_brdf_core::{inverse_slope_squared, subsurface_base, Angles, Interface};
 
     /// `P · shape(x′)` is the core's `B` (the paper objective's terms one by
     /// one) to a few ulps, across n from 1 to the domain's top, grazing

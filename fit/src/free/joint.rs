@@ -35,7 +35,7 @@ use crate::paper::refine::{nelder_mead, TOLERANCE};
 use crate::profile::Interval;
 use crate::scene::Scene;
 use crate::settings::Precision;
-use laminar_core::f64x4;
+use laminar_brdf_core::f64x4;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};

@@ -1,8 +1,8 @@
 //! The linear part of the free-amplitude objective in closed form: the
-//! core's [`laminar_core::linear`] (one implementation for the host's f64
+//! core's [`laminar_brdf_core::linear`] (one implementation for the host's f64
 //! fits and the device's f32 grid), tested here against brute force.
 
-pub use laminar_core::linear::{Linear, Moments, Quadratic};
+pub use laminar_brdf_core::linear::{Linear, Moments, Quadratic};
 
 #[cfg(test)]
 mod tests {
@@ -48,7 +48,7 @@ mod tests {
     #[test]
     fn four_lanes_solve_bit_for_bit_as_one() {
         use crate::synthetic::Noise;
-        use laminar_core::f64x4;
+        use laminar_brdf_core::f64x4;
         // Moments from random columns (some nearly parallel, some data the
         // cone cannot reach), each box: every lane's bits equal the scalar.
         let mut rng = Noise::new(0x2545_f491_4f6c_dd1d);

@@ -16,7 +16,7 @@ use super::pool;
 use super::sums::{dots, total};
 use crate::model::Model;
 use crate::scene::Scene;
-use laminar_core::f64x4;
+use laminar_brdf_core::f64x4;
 use std::sync::Arc;
 
 /// A `[lo, hi]` range per parameter.

@@ -4,7 +4,7 @@
 //! same way on every target so that every fit gives the same bits
 //! everywhere.
 
-use laminar_core::f64x4;
+use laminar_brdf_core::f64x4;
 
 /// `Σ_k x_k y_k` over `k < x.len()` for each of the `N` vectors `ys` (each
 /// at least as long as `x`), four partial sums per vector, one per lane of

@@ -276,7 +276,7 @@ mod tests {
     use crate::fitted::ModelParams;
     use crate::model::Model;
     use crate::synthetic;
-    use laminar_core::{Correlation, Params};
+    use laminar_brdf_core::{Correlation, Params};
 
     #[test]
     fn refinement_finds_an_off_grid_truth_without_noise() {

@@ -6,7 +6,7 @@
 //! checks are here, once, and [`Settings::fitter`] builds the [`Fitter`].
 //!
 //! ```
-//! use laminar_fit::{Objective, Param, Settings};
+//! use laminar_brdf_fit::{Objective, Param, Settings};
 //! let mut s = Settings::default();
 //! s.set("objective", "paper")?;
 //! s.set("n", "1.3:1.5:11")?;

@@ -1,7 +1,7 @@
 //! What the integration tests share: the paper's CUReT samples.
 
-use laminar_fit::Scene;
-use laminar_io::curet::CuretDir;
+use laminar_brdf_fit::Scene;
+use laminar_brdf_io::curet::CuretDir;
 use std::path::{Path, PathBuf};
 
 /// The paper's 13 CUReT samples.

@@ -10,8 +10,8 @@
 //! (the row of the values, from 0) and `model`; Python holds the key as the
 //! array's index and its `model` argument, xarray as the dimensions.
 
-use laminar_fit::model::{all_params, Param};
-use laminar_fit::{Edge, Fit, Model};
+use laminar_brdf_fit::model::{all_params, Param};
+use laminar_brdf_fit::{Edge, Fit, Model};
 use std::io::Write;
 
 /// What a field's numbers are: the dtype a front end stores them in.
@@ -89,8 +89,8 @@ pub const CSV_KEY: [&str; 2] = ["set", "model"];
 /// fit's row of numbers.
 ///
 /// ```
-/// use laminar_fit::Model;
-/// use laminar_io::fits::BatchRow;
+/// use laminar_brdf_fit::Model;
+/// use laminar_brdf_io::fits::BatchRow;
 ///
 /// let row = BatchRow::new(&[Model::Exp]);
 /// let names = row.names();
@@ -188,7 +188,8 @@ impl BatchRow {
         let rh_pairs = rh.map(|e| e.fitted.params.pairs()).unwrap_or_default();
         out.extend(self.rh_params.iter().map(|&p| value_in(&rh_pairs, p)));
         let pairs = estimate.fitted.params.pairs();
-        let ends = |i: Option<laminar_fit::profile::Interval>| i.map_or([nan; 2], |i| [i.lo, i.hi]);
+        let ends =
+            |i: Option<laminar_brdf_fit::profile::Interval>| i.map_or([nan; 2], |i| [i.lo, i.hi]);
         for &p in &self.params {
             // A value the data do not determine is not stated (its flags
             // say why), as in every other output.

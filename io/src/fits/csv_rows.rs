@@ -1,10 +1,10 @@
 //! Fits as CSV: one row per fit, from its [`FitEntry`].
 
 use super::{pair_key, FitEntry, ParamValue, ParameterEntry};
-use laminar_fit::fitted::format_value;
-use laminar_fit::model::{all_params, Param};
-use laminar_fit::report::NOT_IDENTIFIED;
-use laminar_fit::{Edge, Fit, Model};
+use laminar_brdf_fit::fitted::format_value;
+use laminar_brdf_fit::model::{all_params, Param};
+use laminar_brdf_fit::report::NOT_IDENTIFIED;
+use laminar_brdf_fit::{Edge, Fit, Model};
 use std::collections::BTreeMap;
 use std::io::Write;
 

@@ -3,7 +3,7 @@
 
 use super::{FitEntry, FitsFile, FORMAT, READ_VERSIONS, VERSION};
 use crate::error::ReadError;
-use laminar_fit::Fit;
+use laminar_brdf_fit::Fit;
 use std::io::Write;
 use std::path::Path;
 

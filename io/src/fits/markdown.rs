@@ -2,8 +2,8 @@
 
 use super::csv_rows::{opt, params_text};
 use super::{FitEntry, ParamValue};
-use laminar_fit::adequacy::Adequacy;
-use laminar_fit::Fit;
+use laminar_brdf_fit::adequacy::Adequacy;
+use laminar_brdf_fit::Fit;
 
 /// A Markdown table from a header and rows.
 pub fn markdown_table(header: &[&str], rows: &[Vec<String>]) -> String {

@@ -18,16 +18,16 @@
 //! d measurements with D > 0, p the fitted parameter count); `params` are
 //! the fitted parameters. Each fit names its `objective`: `free` (β is eq.
 //! 8's, P = amplitude · eq. 8's mix) or `paper` (β of the paper
-//! normalisation, see [`laminar_fit::FittedModel`]).
+//! normalisation, see [`laminar_brdf_fit::FittedModel`]).
 
-use laminar_fit::adequacy::Adequacy;
-use laminar_fit::choice::{CrossValidation, Information, Rank};
-use laminar_fit::fitted::format_value;
-use laminar_fit::graphics_metrics::GraphicsMetrics;
-use laminar_fit::model::Param;
-use laminar_fit::profile::Interval;
-use laminar_fit::report::{Released, Source, NOT_IDENTIFIED};
-use laminar_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter};
+use laminar_brdf_fit::adequacy::Adequacy;
+use laminar_brdf_fit::choice::{CrossValidation, Information, Rank};
+use laminar_brdf_fit::fitted::format_value;
+use laminar_brdf_fit::graphics_metrics::GraphicsMetrics;
+use laminar_brdf_fit::model::Param;
+use laminar_brdf_fit::profile::Interval;
+use laminar_brdf_fit::report::{Released, Source, NOT_IDENTIFIED};
+use laminar_brdf_fit::{Edge, Estimate, Fit, FittedModel, Model, Objective, Parameter};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -124,21 +124,21 @@ pub struct FitEntry {
     #[serde(default)]
     pub parameters: BTreeMap<String, ParameterEntry>,
     /// Free objective: whether the residuals say the model fits
-    /// ([`laminar_fit::adequacy`]).
+    /// ([`laminar_brdf_fit::adequacy`]).
     #[serde(default)]
     pub adequacy: Option<Adequacy>,
-    /// Free objective: the information criteria ([`laminar_fit::choice`]).
+    /// Free objective: the information criteria ([`laminar_brdf_fit::choice`]).
     #[serde(default)]
     pub information: Option<Information>,
     /// The model's place among those fitted to the same set (several models).
     #[serde(default)]
     pub rank: Option<Rank>,
     /// Free objective, several models: the K-fold cross-validated error
-    /// ([`laminar_fit::choice::CrossValidation`]).
+    /// ([`laminar_brdf_fit::choice::CrossValidation`]).
     #[serde(default)]
     pub cross_validation: Option<CrossValidation>,
     /// The graphics literature's error measures of the reported estimate
-    /// ([`laminar_fit::graphics_metrics`]).
+    /// ([`laminar_brdf_fit::graphics_metrics`]).
     #[serde(default)]
     pub graphics: Option<GraphicsMetrics>,
     /// The fitted model's energy, when asked for (`laminar fit --albedo`).
@@ -183,16 +183,16 @@ impl Energy {
         75.0, 80.0, 85.0,
     ];
 
-    /// The albedo table of `fitted` (tolerance 10⁻⁶, [`laminar_fit::albedo`]).
+    /// The albedo table of `fitted` (tolerance 10⁻⁶, [`laminar_brdf_fit::albedo`]).
     ///
     /// # Errors
     /// When the model cannot predict.
-    pub fn of(fitted: &FittedModel, units: Units) -> Result<Self, laminar_fit::ModelError> {
+    pub fn of(fitted: &FittedModel, units: Units) -> Result<Self, laminar_brdf_fit::ModelError> {
         let radians: Vec<f64> = Self::THETA_V.iter().map(|t| t.to_radians()).collect();
-        let table = laminar_fit::albedo::albedo_table(
+        let table = laminar_brdf_fit::albedo::albedo_table(
             fitted,
             &radians,
-            laminar_fit::albedo::Tolerance::DEFAULT,
+            laminar_brdf_fit::albedo::Tolerance::DEFAULT,
         )?;
         let albedo: Vec<f64> = table.iter().map(|a| a.albedo).collect();
         Ok(Self {
@@ -480,7 +480,7 @@ impl FitEntry {
 mod tests {
     use super::json_file::empty_file;
     use super::*;
-    use laminar_fit::{synthetic, Fitter, Grid, NormalisationConstants};
+    use laminar_brdf_fit::{synthetic, Fitter, Grid, NormalisationConstants};
     use std::path::Path;
 
     /// The streamed file is byte for byte the whole document serialised
@@ -515,8 +515,8 @@ mod tests {
         use crate::selection::SelectError;
         // A grid whose a axis holds 0, so the fit has an a = 0 best.
         let grid = Grid {
-            slope: laminar_fit::Axis::stepped(1.32, 0.08, 5),
-            a: laminar_fit::Axis::stepped(0.0, 0.05, 5),
+            slope: laminar_brdf_fit::Axis::stepped(1.32, 0.08, 5),
+            a: laminar_brdf_fit::Axis::stepped(0.0, 0.05, 5),
             ..Objective::Free.default_grid()
         };
         let record = Fitter::new(grid)
@@ -559,8 +559,8 @@ mod tests {
 
     fn fit(objective: Objective) -> Fit {
         let grid = Grid {
-            slope: laminar_fit::Axis::stepped(1.32, 0.08, 5),
-            a: laminar_fit::Axis::stepped(0.13, 0.01, 9),
+            slope: laminar_brdf_fit::Axis::stepped(1.32, 0.08, 5),
+            a: laminar_brdf_fit::Axis::stepped(0.13, 0.01, 9),
             ..objective.default_grid()
         };
         Fitter::new(grid)

@@ -2,7 +2,7 @@
 //! directory (or saying the test was skipped), and a channel's values.
 #![allow(dead_code)] // each test crate uses some of these
 
-use laminar_fit::{MeasurementAngles, MeasurementSet};
+use laminar_brdf_fit::{MeasurementAngles, MeasurementSet};
 use std::path::PathBuf;
 
 /// The directory the environment variable `var` names, or `None` after

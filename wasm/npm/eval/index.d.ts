@@ -1,4 +1,4 @@
-// Types of laminar-wasm/eval, the evaluation-only package. The functions are
+// Types of laminar-brdf/eval, the evaluation-only package. The functions are
 // declared by wasm-bindgen (plain/laminar_wasm.d.ts, the same for both
 // builds); the fitted model `predictFitted` takes is the `fitted` entry of
 // the whole package's fitted-model file.

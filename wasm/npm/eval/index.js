@@ -1,4 +1,4 @@
-// laminar-wasm/eval: the evaluation-only package (eq. 8 and its components
+// laminar-brdf/eval: the evaluation-only package (eq. 8 and its components
 // in f64 and f32x8, parameter checks, a fitted model's prediction from its
 // parameters and normalisation constants). No fitting, no file readers: a
 // page that only draws a fitted model loads this, a few tens of KiB.

@@ -5,7 +5,7 @@
 use super::{number, numbers, string, type_error};
 use crate::fitting::{self, settings_from_js, FitOptions};
 use crate::measurements::{self, Measurements, SceneData};
-use laminar_fit::Settings;
+use laminar_brdf_fit::Settings;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 
@@ -51,7 +51,7 @@ fn settings_of(
 }
 
 /// Every model `fit` takes, from the model descriptor
-/// (`laminar_fit::Model`): its name, description, parameters in output
+/// (`laminar_brdf_fit::Model`): its name, description, parameters in output
 /// order, and for a layered model its correlation's name (what the
 /// evaluation functions take), else `null`.
 #[wasm_bindgen(
@@ -59,7 +59,7 @@ fn settings_of(
 )]
 pub fn models() -> Result<JsValue, JsValue> {
     let list = js_sys::Array::new();
-    for m in laminar_fit::Model::ALL {
+    for m in laminar_brdf_fit::Model::ALL {
         let o = js_sys::Object::new();
         let set = |k: &str, v: JsValue| js_sys::Reflect::set(&o, &JsValue::from_str(k), &v);
         set("name", m.name().into())?;

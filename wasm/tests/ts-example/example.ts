@@ -1,7 +1,7 @@
 // A TypeScript project using the packed npm package: type-checked by
 // `tsc` (cli/tests/web.rs), then run by node.
-import { load, simdSupported, type FitOptions, type FitsFile, type Laminar, type ModelParams } from 'laminar-wasm';
-import { load as loadEvaluation, type LaminarEval } from 'laminar-wasm/eval';
+import { load, simdSupported, type FitOptions, type FitsFile, type Laminar, type ModelParams } from 'laminar-brdf';
+import { load as loadEvaluation, type LaminarEval } from 'laminar-brdf/eval';
 
 const L: Laminar = await load();
 const angles = new Float64Array([0.3, 0.2, 0.5, 0.6, 0.4, 1.0]);

@@ -1,8 +1,8 @@
 // A minimal app a user would bundle with Vite: both entry points of the
 // packed package, each build. Writes one JSON line into #out (the driver,
 // web/tests/bundler.mjs, reads it) and sets body[data-done].
-import { load } from 'laminar-wasm';
-import { load as loadEvaluation } from 'laminar-wasm/eval';
+import { load } from 'laminar-brdf';
+import { load as loadEvaluation } from 'laminar-brdf/eval';
 
 const ANGLES = new Float64Array([0.3, 0.2, 0.5, 0.9, 0.4, 2.5]); // (θi, θs, φs), two geometries
 // Each value's IEEE bits in hex, so that the driver compares bits.

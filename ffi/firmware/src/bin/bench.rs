@@ -13,9 +13,9 @@
 use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
-use laminar_core::{total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams};
-use laminar_ffi::{
-    laminar_evaluate_f32, laminar_fit, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
+use laminar_brdf_core::{total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams};
+use laminar_brdf_ffi::{
+    laminar_brdf_fit, laminar_evaluate_f32, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
     LaminarFreeFitResult, LaminarFreeGrid, LaminarGeometry, LaminarGrid, LaminarParamsF32,
 };
 use laminar_firmware::{timer, timer_start, INSTRUCTIONS_PER_TICK};
@@ -146,7 +146,7 @@ fn main() -> ! {
     // The fits at a one-point grid (K = 32): the cost of one grid point
     // with everything a fit sets up, and the whole call's stack (the
     // scratch is the caller's, outside it).
-    let (geometry, data) = laminar_ffi::probe::fit_case(32);
+    let (geometry, data) = laminar_brdf_ffi::probe::fit_case(32);
     let mut scratch = LaminarFitScratch::new();
     let (slope, n, a, beta) = ([0.92], [1.42], [0.3], [0.4]);
     bench("laminar_fit_one_point_k32", empty, || {
@@ -161,7 +161,7 @@ fn main() -> ! {
             beta_count: 1,
         };
         let mut out = LaminarFitResult::default();
-        black_box(laminar_fit(
+        black_box(laminar_brdf_fit(
             0,
             geometry.as_ptr(),
             black_box(data.as_ptr()),

@@ -9,7 +9,7 @@
 use core::hint::black_box;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug;
-use laminar_ffi::{
+use laminar_brdf_ffi::{
     laminar_evaluate_f32, laminar_geometry_from_directions, LaminarDirections, LaminarGeometry,
     LaminarParamsF32, Status,
 };

@@ -8,7 +8,7 @@ use super::{Columns, Evaluated, FreeModel};
 use crate::baseline::BaselineGeometry;
 use crate::grid::{Axis, Grid};
 use crate::model::{baseline_grid, Model};
-use laminar_core::Angles;
+use laminar_brdf_core::Angles;
 
 /// Central difference step of the baselines' parameters: relative error
 /// about `h²` from the truncation and `ε/h` from rounding, both near
@@ -24,7 +24,7 @@ pub struct BaselineModel {
 }
 
 impl BaselineModel {
-    /// The baseline's two parameters at `theta` ([`laminar_core::Baseline`]'s order).
+    /// The baseline's two parameters at `theta` ([`laminar_brdf_core::Baseline`]'s order).
     fn params(theta: &[f64]) -> [f64; 2] {
         <[f64; 2]>::try_from(theta).expect("a baseline has two nonlinear parameters")
     }

@@ -10,8 +10,8 @@ use crate::free::boundary::{boundary, BoundaryGroup};
 use crate::free::pool::{self, Free};
 use crate::grid::{Axis, Grid};
 use crate::model::{Family, Model, Param};
-use laminar_core::radiance::{SLOPE_MAX, SLOPE_MIN};
-use laminar_core::{
+use laminar_brdf_core::radiance::{SLOPE_MAX, SLOPE_MIN};
+use laminar_brdf_core::{
     f32x8, f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
 };
 use std::sync::OnceLock;

@@ -31,7 +31,7 @@ pub use table::{Nonlinear, Scale, Table};
 use super::pool;
 use crate::grid::{Axis, Grid};
 use crate::model::Model;
-use laminar_core::Angles;
+use laminar_brdf_core::Angles;
 
 /// The columns of a model at one point: `s` always, `u` for a model with
 /// a second column (empty otherwise). Of a derivative, an empty column is

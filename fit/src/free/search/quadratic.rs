@@ -14,7 +14,7 @@ use crate::free::problem::Problem;
 use crate::free::sums::{dots, total};
 use crate::model::Param;
 use crate::settings::precision::Precision;
-use laminar_core::{f32x8, f64x4, Lane};
+use laminar_brdf_core::{f32x8, f64x4, Lane};
 use rayon::prelude::*;
 
 /// The layered objective of one set.

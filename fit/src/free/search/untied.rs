@@ -14,7 +14,7 @@ use crate::free::problem::Problem;
 use crate::free::sums::dots;
 use crate::model::Param;
 use crate::settings::precision::Precision;
-use laminar_core::{f32x8, f64x4};
+use laminar_brdf_core::{f32x8, f64x4};
 use rayon::prelude::*;
 
 /// One (σ′/T′, n) column: the weighted base against `[1, g1, g2]`, and the

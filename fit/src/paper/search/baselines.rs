@@ -6,7 +6,7 @@ use super::GridProfile;
 use crate::baseline::BaselineGeometry;
 use crate::grid::Axis;
 use crate::scene::Scene;
-use laminar_core::{normalise_by_max, rms_error};
+use laminar_brdf_core::{normalise_by_max, rms_error};
 use rayon::prelude::*;
 
 /// Exhaustive 2-D search in f64 of a max-normalised baseline; ties keep the

@@ -14,7 +14,7 @@ use super::{combine, Arith, SearchResult, ShardBest, SharedBest, SweepStats};
 use crate::error::GridError;
 use crate::grid::Grid;
 use crate::scene::Scene;
-use laminar_core::{f32x8, Correlation, Lane};
+use laminar_brdf_core::{f32x8, Correlation, Lane};
 use rayon::prelude::*;
 
 /// True when every scene has the kept geometry of the first (same angles,

@@ -5,7 +5,7 @@
 
 use super::packed::{lane_max, lane_sum, normalise, Packed, WIDTH};
 use crate::grid::Grid;
-use laminar_core::{components, mix, Correlation, Lane, Params};
+use laminar_brdf_core::{components, mix, Correlation, Lane, Params};
 
 /// The sum of squared residuals `Σ (D − P)²` of the paper-normalised mix
 /// `P = β U + (1 − β) S` (docs/conventions.md §4; eq. 15 before the root): one pass

@@ -29,7 +29,7 @@ use crate::grid::{Axis, Grid};
 use crate::model::Param;
 use crate::scene::Scene;
 pub use crate::settings::search_path::{Arith, Method, SearchPath};
-use laminar_core::{f32x8, Correlation, Lane};
+use laminar_brdf_core::{f32x8, Correlation, Lane};
 use packed::{Packed, Tables};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -102,7 +102,7 @@ impl<L: Lane> Prepared<L> {
                 let widened = sums::SurfaceSums::new(packed, &surface);
                 let mut d = vec![0.0; packed.k];
                 packed.widen(&packed.data, &mut d);
-                let wide = laminar_core::onepass::Widened {
+                let wide = laminar_brdf_core::onepass::Widened {
                     s: &widened.s,
                     ss: widened.ss,
                     data: sums::DataSums::new(&widened.s, &d),
@@ -254,7 +254,7 @@ pub struct SearchResult {
     pub pruned: Option<f64>,
 }
 
-pub use laminar_core::onepass::rms_of_sum;
+pub use laminar_brdf_core::onepass::rms_of_sum;
 
 /// A grid point's flat index and objective (sum of squared residuals).
 type Candidate = Option<(usize, f64)>;

@@ -1,11 +1,11 @@
 //! SearchPath 2, the hoisted one-pass β sweep: the kernel is
-//! [`laminar_core::onepass::sweep`] (its docs give the algebra), shared
+//! [`laminar_brdf_core::onepass::sweep`] (its docs give the algebra), shared
 //! with the on-device fit; this module gives it the packed scene and
 //! growable scratch.
 
 use super::packed::Packed;
-use laminar_core::onepass::{self, Terms, Widened};
-use laminar_core::Lane;
+use laminar_brdf_core::onepass::{self, Terms, Widened};
+use laminar_brdf_core::Lane;
 
 /// Reusable per-shard buffers: `Δ` in lanes and widened.
 pub struct Scratch<L> {

@@ -5,9 +5,9 @@
 
 use crate::grid::Grid;
 use crate::scene::Scene;
-use laminar_core::onepass::Layout;
-pub use laminar_core::onepass::{lane_max, lane_sum, normalise, WIDTH};
-use laminar_core::{
+use laminar_brdf_core::onepass::Layout;
+pub use laminar_brdf_core::onepass::{lane_max, lane_sum, normalise, WIDTH};
+use laminar_brdf_core::{
     absorption_factor, inverse_slope_squared, subsurface_base, surface_radiance, Correlation,
     Geometry, Interface, Lane,
 };
@@ -104,7 +104,7 @@ impl<L: Lane> Packed<L> {
     /// The sum of squared residuals `e` clamped at 0 and widened to `f64`:
     /// what every method hands to the search.
     pub fn objective(e: L::Scalar) -> f64 {
-        laminar_core::onepass::objective(e)
+        laminar_brdf_core::onepass::objective(e)
     }
 }
 

@@ -7,8 +7,8 @@
 //! an `f32x8` path and its scalar twin get the same bits.
 
 use super::packed::Packed;
-pub use laminar_core::onepass::{dot, DataSums};
-use laminar_core::Lane;
+pub use laminar_brdf_core::onepass::{dot, DataSums};
+use laminar_brdf_core::Lane;
 
 /// Per-σ/T model quantities: the widened normalised surface term `S`, the
 /// order of `S` (used by the envelope's Pareto front) and `Σ S²`.

@@ -24,7 +24,7 @@
 //! **a as a quadratic.** `a` enters the unnormalised subsurface term only
 //! through the absorption factor (eqs. 12–14)
 //! `((1 − a) + a sin²θi)((1 − a) + a sin²θs)`, so with the subsurface base
-//! `B_k` ([`laminar_core::subsurface_base`]) `U_k(a) ∝ (1 − a)² w0_k + (1 − a) a w1_k + a² w2_k` where `w0 = B`,
+//! `B_k` ([`laminar_brdf_core::subsurface_base`]) `U_k(a) ∝ (1 − a)² w0_k + (1 − a) a w1_k + a² w2_k` where `w0 = B`,
 //! `w1 = B (sin²θi + sin²θs)`, `w2 = B sin²θi sin²θs` ([`QuadraticBasis`]). Every sum
 //! against `U` is then a polynomial in `a` whose coefficients are sums
 //! computed once per (σ/T, n): three for `Σ S U` and for each scene's
@@ -70,7 +70,7 @@ use super::packed::{Packed, Tables};
 use super::sums::{dot, SurfaceSums};
 use super::SweepStats;
 use crate::grid::Grid;
-use laminar_core::{Correlation, Lane};
+use laminar_brdf_core::{Correlation, Lane};
 
 /// A scene's data for the envelope search: `D` widened, in measurement
 /// order, and `Σ D²`.

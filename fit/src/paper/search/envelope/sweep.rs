@@ -5,7 +5,7 @@
 use super::basis::{At, QuadraticBasis};
 use super::bounds::SurfaceFit;
 use crate::paper::search::sums::SurfaceSums;
-use laminar_core::mix;
+use laminar_brdf_core::mix;
 
 /// Reusable per-shard buffers.
 #[derive(Default)]

@@ -3,7 +3,7 @@
 use super::*;
 use crate::grid::{Axis, Grid};
 use crate::synthetic;
-use laminar_core::{f32x8, Correlation, Params};
+use laminar_brdf_core::{f32x8, Correlation, Params};
 
 /// A test grid: the paper's β axis, `slope = (first, last, count)` σ/T
 /// values, and `n`, `a` values spread over their whole domain.

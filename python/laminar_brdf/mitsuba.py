@@ -5,7 +5,8 @@ plugin type ``"laminar"``.
 
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")      # or "scalar_rgb"
-    import laminar.mitsuba
+    import laminar_brdf as laminar
+    import laminar_brdf.mitsuba
     laminar.mitsuba.register()
     bsdf = mi.load_dict({"type": "laminar", "filename": "fits.json", "select": "49/avg/exp"}, parallel=False)
 
@@ -43,7 +44,7 @@ from __future__ import annotations
 
 import numpy as np
 
-import laminar
+import laminar_brdf as laminar
 
 #: The plugin type name.
 PLUGIN = "laminar"
@@ -187,6 +188,6 @@ def register() -> None:
             return f"LaminarBSDF[{labels}]"
 
     mi.register_bsdf(PLUGIN, lambda props: LaminarBSDF(props))
-    from laminar.mitsuba_native import register_native
+    from laminar_brdf.mitsuba_native import register_native
 
     register_native()

@@ -8,14 +8,14 @@ on a worker; the geometry is one key of the graph, so it reaches each
 worker once. Nothing is gathered into the client. Any Dask scheduler
 runs it: a ``distributed`` cluster (local or on other machines), the
 threaded scheduler, or the synchronous one. Dask and xarray are optional
-dependencies (``pip install "laminar[dask]"``).
+dependencies (``pip install "laminar-brdf[dask]"``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-import laminar
+import laminar_brdf as laminar
 
 #: The fields of the result, in :data:`laminar.BATCH_COLUMNS` order.
 FIELDS = tuple(laminar.BATCH_COLUMNS)
@@ -188,7 +188,7 @@ def fit_dask(
     ``*_flags`` uint8, with ``flag_masks`` and ``flag_meanings``
     attributes). Nothing runs until the caller computes it or stores it
     (``to_zarr``). Chunks along K are merged into one; each chunk of sets is
-    one task, whose keys are named ``laminar-fit``.
+    one task, whose keys are named ``laminar-brdf-fit``.
 
     Errors found without computing (shapes, dtype, options) raise
     ``ValueError`` here; a value that is not finite raises it when its chunk
@@ -214,7 +214,7 @@ def fit_dask(
         dtype=np.float64,
         chunks=(values.chunks[0], (len(FIELDS),)),
         meta=np.empty((0, 0), dtype=np.float64),
-        token="laminar-fit",
+        token="laminar-brdf-fit",
     )
     variables = {name: xr.Variable((dim,), *_typed(name, fields[:, i])) for i, name in enumerate(FIELDS)}
     return _dataset(variables, None, model, objective, quantity)

@@ -54,7 +54,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-import laminar
+import laminar_brdf as laminar
 
 if TYPE_CHECKING:
     import xarray
@@ -128,7 +128,7 @@ def _lobe(cos_i, cos_s, vxy2, inv_slope2, gaussian):
 
 def _transmittance(cos_i, cos_t, r):
     """Unpolarised Fresnel transmittance (eqs. 6, 7) from the cosines of the
-    incident and refracted angles, as ``laminar_core::fresnel_pair``: the
+    incident and refracted angles, as ``laminar_brdf_core::fresnel_pair``: the
     smaller of reflectance and transmittance computed directly, the other
     as its complement. At ``r = 1`` there is no interface: everything is
     transmitted, also where a grazing cosine's square flushes to zero in
@@ -314,7 +314,7 @@ def register_native():
     import mitsuba as mi
     import numpy as np
 
-    from laminar.mitsuba import _check_variant, _eval_pdf, _models, _sample_record, _vanishing_pdf
+    from laminar_brdf.mitsuba import _check_variant, _eval_pdf, _models, _sample_record, _vanishing_pdf
 
     _check_variant(mi)
 

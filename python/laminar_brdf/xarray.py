@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-import laminar
-from laminar.distributed import FIELDS, _checked, _dataset, _options, _typed, fit_dask
+import laminar_brdf as laminar
+from laminar_brdf.distributed import FIELDS, _checked, _dataset, _options, _typed, fit_dask
 
 #: The geometry's coordinates along the measurement dimension (radians,
 #: lab frame).
