@@ -83,7 +83,7 @@ int main(void) {
   LaminarGrid grid = {slope, 20, n, 3, a, 3, beta, 20};
   static LaminarFitScratch scratch;
   LaminarFitResult fit;
-  LaminarStatus status_fit = laminar_brdf_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  LaminarStatus status_fit = laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
   printf("fit: status %d slope %.2f beta %.2f n %.2f a %.2f rms %.1e\n", (int)status_fit,
          fit.slope, fit.beta, fit.n, fit.a, fit.rms);
 
@@ -92,16 +92,16 @@ int main(void) {
   LaminarFitResult kept = fit;
   double saved = data[5];
   data[5] = -2.0;
-  int negative = (int)laminar_brdf_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  int negative = (int)laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
   data[5] = 1e-101;
-  int tiny = (int)laminar_brdf_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
+  int tiny = (int)laminar_fit(0, geometry, data, COUNT, grid, &scratch, &fit);
   data[5] = saved;
   printf("bad data: %d %d, fit untouched: %s\n", negative, tiny,
          memcmp(&kept, &fit, sizeof fit) == 0 ? "yes" : "no");
   /* The header's limit is a constant C can use. */
   static double most[LAMINAR_FIT_MAX_MEASUREMENTS];
   printf("max measurements: %zu, too many: %d\n", sizeof most / sizeof most[0],
-         (int)laminar_brdf_fit(0, geometry, data, LAMINAR_FIT_MAX_MEASUREMENTS + 1, grid, &scratch, &fit));
+         (int)laminar_fit(0, geometry, data, LAMINAR_FIT_MAX_MEASUREMENTS + 1, grid, &scratch, &fit));
   /* A count no buffer can hold: refused before any pointer is read. */
   printf("huge count: %d\n",
          (int)laminar_total_radiance_f32(0, params, angles, SIZE_MAX / 2, out));

@@ -93,7 +93,7 @@ int main(void) {
   static LaminarFitScratch scratch;
   LaminarFitResult fit;
   memset(&fit, 0, sizeof fit);
-  s = (int)laminar_brdf_fit(1, geometry, data, COUNT, grid, &scratch, &fit);
+  s = (int)laminar_fit(1, geometry, data, COUNT, grid, &scratch, &fit);
   printf("fit: %d index %lu rh %d %lu\n", s, (unsigned long)fit.index, (int)fit.rh_found,
          (unsigned long)fit.rh_index);
   print_bits64("fit slope", fit.slope);
@@ -134,9 +134,9 @@ int main(void) {
   printf("free fit empty beta box: %d\n",
          (int)laminar_fit_free(1, geometry, raw, NULL, COUNT, empty_box, &scratch, &free_fit));
   data[4] = -2.0;
-  printf("fit bad data: %d\n", (int)laminar_brdf_fit(1, geometry, data, COUNT, grid, &scratch, &fit));
+  printf("fit bad data: %d\n", (int)laminar_fit(1, geometry, data, COUNT, grid, &scratch, &fit));
   printf("fit too many: %d (at most %d)\n",
-         (int)laminar_brdf_fit(1, geometry, data, LAMINAR_FIT_MAX_MEASUREMENTS + 1, grid, &scratch, &fit),
+         (int)laminar_fit(1, geometry, data, LAMINAR_FIT_MAX_MEASUREMENTS + 1, grid, &scratch, &fit),
          LAMINAR_FIT_MAX_MEASUREMENTS);
   printf("done\n");
   return 0;

@@ -32,7 +32,7 @@
 // term, subsurface term, total (eq. 8).
 #define LAMINAR_COMPONENTS 7
 
-// Most measurements `laminar_brdf_fit` takes: a literal, so that the header's
+// Most measurements `laminar_fit` takes: a literal, so that the header's
 // macro is a number C can use (equal to the core's `MAX_MEASUREMENTS`,
 // checked at compile time).
 #define LAMINAR_FIT_MAX_MEASUREMENTS 64
@@ -386,7 +386,7 @@ enum LaminarStatus laminar_evaluate_f32(uint32_t corr,
 // path: the same best point, bit for bit, as `laminar fit --path
 // onepass-f32` at geometries built by [`laminar_geometry_from_angles`]).
 // Allocation-free: `scratch` is the working memory. Writes `out`.
-enum LaminarStatus laminar_brdf_fit(uint32_t corr,
+enum LaminarStatus laminar_fit(uint32_t corr,
                                const struct LaminarGeometry *geometries,
                                const double *data,
                                size_t count,

@@ -9,7 +9,7 @@ use laminar_brdf_core::onepass::rms_of_sum;
 use laminar_brdf_core::small_fit::{self, Axes, AxisError, SmallFitError, MAX_MEASUREMENTS};
 use laminar_brdf_core::small_free_fit::{fit_free as core_fit_free, FreeAxes, FreeScratch};
 
-/// Most measurements `laminar_brdf_fit` takes: a literal, so that the header's
+/// Most measurements `laminar_fit` takes: a literal, so that the header's
 /// macro is a number C can use (equal to the core's `MAX_MEASUREMENTS`,
 /// checked at compile time).
 pub const LAMINAR_FIT_MAX_MEASUREMENTS: usize = 64;
@@ -67,7 +67,7 @@ pub struct LaminarFitResult {
     pub rh_rms: f64,
 }
 
-/// The fit behind [`crate::laminar_brdf_fit`].
+/// The fit behind [`crate::laminar_fit`].
 pub fn fit(
     corr: u32,
     (geometries, data, count): (*const LaminarGeometry, *const f64, usize),

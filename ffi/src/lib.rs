@@ -524,7 +524,7 @@ mod exports {
     /// onepass-f32` at geometries built by [`laminar_geometry_from_angles`]).
     /// Allocation-free: `scratch` is the working memory. Writes `out`.
     #[no_mangle]
-    pub extern "C" fn laminar_brdf_fit(
+    pub extern "C" fn laminar_fit(
         corr: u32,
         geometries: *const LaminarGeometry,
         data: *const f64,

@@ -157,7 +157,7 @@ pub fn fit_case(k: usize) -> ([LaminarGeometry; 64], [f64; 64]) {
     (geometry, data)
 }
 
-/// [`crate::laminar_brdf_fit`] of [`fit_case`] `k` on the paper grid: the
+/// [`crate::laminar_fit`] of [`fit_case`] `k` on the paper grid: the
 /// status, and the result's index and Δ_RMS bits.
 pub fn fit_values(k: usize) -> (Status, usize, u64) {
     let (slope, n, a, beta) = paper_axes();
@@ -174,7 +174,7 @@ pub fn fit_values(k: usize) -> (Status, usize, u64) {
     let (geometry, data) = fit_case(k);
     let mut scratch = crate::LaminarFitScratch::new();
     let mut out = crate::LaminarFitResult::default();
-    let s = crate::laminar_brdf_fit(
+    let s = crate::laminar_fit(
         0,
         geometry.as_ptr(),
         data.as_ptr(),

@@ -15,7 +15,7 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use laminar_brdf_core::{total_radiance_in, Angles, Correlation, Directions, Geometry, LaneParams};
 use laminar_brdf_ffi::{
-    laminar_brdf_fit, laminar_evaluate_f32, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
+    laminar_evaluate_f32, laminar_fit, laminar_fit_free, LaminarFitResult, LaminarFitScratch,
     LaminarFreeFitResult, LaminarFreeGrid, LaminarGeometry, LaminarGrid, LaminarParamsF32,
 };
 use laminar_firmware::{timer, timer_start, INSTRUCTIONS_PER_TICK};
@@ -161,7 +161,7 @@ fn main() -> ! {
             beta_count: 1,
         };
         let mut out = LaminarFitResult::default();
-        black_box(laminar_brdf_fit(
+        black_box(laminar_fit(
             0,
             geometry.as_ptr(),
             black_box(data.as_ptr()),

@@ -1,6 +1,6 @@
 //! The on-device fits at K = 32 and K = 64, once each, counted as `bench`
 //! counts (QEMU `-icount shift=0`, [`laminar_firmware::timer`]): the
-//! paper objective's (`laminar_brdf_fit`) on the paper grid (5,555,000 points),
+//! paper objective's (`laminar_fit`) on the paper grid (5,555,000 points),
 //! printed as `FIT k instructions status index rms_bits`, and the free
 //! amplitude's (`laminar_fit_free`) on its σ/T, n and a axes (55,550
 //! points), printed as `FREE k instructions status index objective_bits
