@@ -6,9 +6,9 @@
 //!
 //! The objective is `J = Σ_c F_c`, each channel's free objective. At a
 //! point of the shared parameters each `F_c` is a quadratic in its own a
-//! (the grid stage's form, [`Column::quadratic`]), so each a is found
-//! alone: a scan of [`A_SCAN`] values, then a golden-section search
-//! between the scan's neighbours of the best. The grid stage is each
+//! (the grid stage's form, [`quadratic_of`]), so each a is found
+//! alone: a scan of [`A_SCAN`] values, then Brent's method between the
+//! scan's neighbours of the best. The grid stage is each
 //! channel's ([`GridStage::grid_values`]) with every channel's best a per
 //! shared point summed; the best shared point starts a Nelder–Mead search
 //! of `J` over the shared parameters in the box (the paper objective's,
@@ -24,7 +24,8 @@ use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel};
 use super::problem::Problem;
 use super::search::quadratic::objectives;
-use super::search::untied::{surface_sums, Column};
+use super::search::untied::quadratic_of;
+use crate::free::linear::Quadratic;
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use crate::adequacy::{Adequacy, RunsOrder};
@@ -32,6 +33,8 @@ use crate::fitted::{FittedModel, ModelParams};
 use crate::grid::Grid;
 use crate::model::{attainable_domain, Model, Param};
 use crate::paper::refine::{nelder_mead, TOLERANCE};
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::brent::BrentOpt;
 use crate::profile::Interval;
 use crate::scene::Scene;
 use crate::settings::Precision;
@@ -41,12 +44,26 @@ use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 use std::sync::Arc;
 
-/// Values of a in each channel's scan before its golden-section search.
+/// Values of a in each channel's scan before Brent's method.
 pub const A_SCAN: usize = 21;
 
-/// Golden-section steps after the scan (the bracket shrinks by 0.618 per
-/// step: 10⁻¹⁰ of the scan's spacing).
-const GOLDEN_STEPS: usize = 48;
+/// Brent's relative tolerance on a (√ε, its least useful value) and its
+/// absolute one as a fraction of a's box: an a within 3·10⁻¹⁰ of the box
+/// moves a quadratic objective by ~10⁻¹⁹ of its curvature.
+const BRENT_EPS: f64 = 1.5e-8;
+const BRENT_T: f64 = 1e-10;
+
+/// The estimate's Nelder–Mead passes (first steps as fractions of each
+/// box): a tenth from the grid's point, then a hundredth from the best.
+const ESTIMATE_STEPS: [f64; 2] = [0.1, 0.01];
+
+/// A bootstrap resample's: one pass from the estimate with a hundredth,
+/// the scale of a resample's move (Nelder–Mead expands its steps where the
+/// optimum is farther).
+const RESAMPLE_STEPS: [f64; 1] = [0.01];
+
+/// Most iterations of Brent's method (it takes 10–20 on these objectives).
+const BRENT_ITERATIONS: u64 = 100;
 
 /// One parameter of a joint fit: its value and percentile intervals.
 #[derive(Debug, Clone, PartialEq)]
@@ -189,19 +206,14 @@ impl Joint<'_> {
         let mut total = 0.0;
         let mut best = Vec::with_capacity(problems.len());
         for problem in problems {
-            let q = Column::new(problem, &b, &self.factors).quadratic(
-                problem,
-                &s,
-                surface_sums(problem, &s),
-            );
-            let f = |a: f64| {
-                let mut out = [0.0];
-                objectives(&q, &[a], problem.beta, &mut out);
-                out[0]
-            };
+            let q = quadratic_of(problem, &s, &b, &self.factors);
             let (a, value) = match self.a_at {
-                Some(_) => minimise_in(f, self.a_box),
-                None => (0.0, f(0.0)),
+                Some(_) => minimise_in(&q, problem.beta, self.a_box),
+                None => {
+                    let mut out = [0.0];
+                    objectives(&q, &[0.0], problem.beta, &mut out);
+                    (0.0, out[0])
+                }
             };
             total += value;
             best.push(a);
@@ -210,39 +222,49 @@ impl Joint<'_> {
     }
 }
 
-/// The smallest of `f` over `[lo, hi]`: the best of [`A_SCAN`] values, then
-/// a golden-section search between its neighbours.
-fn minimise_in(f: impl Fn(f64) -> f64, (lo, hi): (f64, f64)) -> (f64, f64) {
+/// The smallest objective of quadratic `q` over a in `[lo, hi]`: the best
+/// of [`A_SCAN`] values, then Brent's method (argmin's [`BrentOpt`])
+/// between the scan's neighbours of the best; its a and value.
+fn minimise_in(q: &Quadratic<f64>, beta: (f64, f64), (lo, hi): (f64, f64)) -> (f64, f64) {
     let step = (hi - lo) / (A_SCAN - 1) as f64;
-    let (mut best, mut value) = (lo, f(lo));
-    for i in 1..A_SCAN {
-        let a = lo + step * i as f64;
-        let v = f(a);
-        if v < value {
-            (best, value) = (a, v);
+    let scan: [f64; A_SCAN] = std::array::from_fn(|i| lo + step * i as f64);
+    let mut values = [0.0; A_SCAN];
+    objectives(q, &scan, beta, &mut values);
+    let mut best = (scan[0], values[0]);
+    for (&a, &v) in scan.iter().zip(&values).skip(1) {
+        if v < best.1 {
+            best = (a, v);
         }
     }
-    let (mut a, mut b) = ((best - step).max(lo), (best + step).min(hi));
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..GOLDEN_STEPS {
-        if fc < fd {
-            (b, d, fd) = (d, c, fc);
-            c = b - r * (b - a);
-            fc = f(c);
-        } else {
-            (a, c, fc) = (c, d, fd);
-            d = a + r * (b - a);
-            fd = f(d);
-        }
+    let bracket = ((best.0 - step).max(lo), (best.0 + step).min(hi));
+    let cost = AtA { q, beta };
+    let solver = BrentOpt::new(bracket.0, bracket.1).set_tolerance(BRENT_EPS, BRENT_T * (hi - lo));
+    let found = Executor::new(cost, solver)
+        .configure(|state| state.max_iters(BRENT_ITERATIONS))
+        .timer(false)
+        .run()
+        .ok()
+        .and_then(|r| Some((r.state.best_param?, r.state.best_cost)));
+    match found {
+        Some((a, v)) if v < best.1 => (a, v),
+        _ => best,
     }
-    for (x, v) in [(c, fc), (d, fd)] {
-        if v < value {
-            (best, value) = (x, v);
-        }
+}
+
+/// One channel's objective as a function of its a, for [`BrentOpt`].
+struct AtA<'a> {
+    q: &'a Quadratic<f64>,
+    beta: (f64, f64),
+}
+
+impl CostFunction for AtA<'_> {
+    type Param = f64;
+    type Output = f64;
+    fn cost(&self, a: &f64) -> Result<f64, argmin::core::Error> {
+        let mut out = [0.0];
+        objectives(self.q, &[*a], self.beta, &mut out);
+        Ok(out[0])
     }
-    (best, value)
 }
 
 /// The joint fit of `model` (a layered model) to `scenes` (channels of one
@@ -282,7 +304,7 @@ pub fn fit(
         factors: built.factors(),
     };
     let start = grid_start(&problems, &layout, &joint, precision);
-    let (x, a) = refine(&joint, &problems, &start);
+    let (x, a) = refine(&joint, &problems, &start, &ESTIMATE_STEPS);
     let evaluated: Vec<_> = problems
         .iter()
         .zip(&a)
@@ -448,12 +470,14 @@ fn grid_start(
 }
 
 /// Nelder–Mead on `J` over the shared parameters in their box from
-/// `start` (first steps a tenth of each box), restarted once from its best
-/// with steps ten times shorter; the shared values and each channel's a.
+/// `start`, once per fraction of `steps` (each a pass's first steps, as
+/// fractions of each box; each pass from the last one's best); the shared
+/// values and each channel's a.
 fn refine(
     joint: &Joint<'_>,
     problems: &[Problem<LayeredModel>],
     start: &[f64],
+    steps: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
     let bounds: Vec<(f64, f64)> = joint
         .shared
@@ -462,9 +486,9 @@ fn refine(
         .collect();
     let cost = |x: &[f64]| joint.at(problems, x).0;
     let mut x = start.to_vec();
-    for fraction in [0.1, 0.01] {
-        let steps: Vec<f64> = bounds.iter().map(|(lo, hi)| fraction * (hi - lo)).collect();
-        x = nelder_mead(cost, &bounds, (&x, &steps), TOLERANCE).x;
+    for &fraction in steps {
+        let first: Vec<f64> = bounds.iter().map(|(lo, hi)| fraction * (hi - lo)).collect();
+        x = nelder_mead(cost, &bounds, (&x, &first), TOLERANCE).x;
     }
     let a = joint.at(problems, &x).1;
     (x, a)
@@ -488,7 +512,7 @@ fn bootstrap(
         .map(|b| {
             let counts = resample_counts(problems[0].data.len(), seed, b);
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
-            let (xb, ab) = refine(joint, &resampled, x);
+            let (xb, ab) = refine(joint, &resampled, x, &RESAMPLE_STEPS);
             let mut v: Vec<f64> = (joint.shared.iter().zip(&xb))
                 .map(|(&j, &v)| entries[j].scale.external(v))
                 .collect();
