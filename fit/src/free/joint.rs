@@ -6,7 +6,7 @@
 //!
 //! The objective is `J = Σ_c F_c`, each channel's free objective. At a
 //! point of the shared parameters each `F_c` is a quadratic in its own a
-//! (the grid stage's form, [`quadratic_of`]), so each a is found
+//! (the grid stage's form, [`Column::quadratic`]), so each a is found
 //! alone: a scan of [`A_SCAN`] values, then Brent's method between the
 //! scan's neighbours of the best. The grid stage is each
 //! channel's ([`GridStage::grid_values`]) with every channel's best a per
@@ -24,20 +24,20 @@ use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel};
 use super::problem::Problem;
 use super::search::quadratic::objectives;
-use super::search::untied::quadratic_of;
-use crate::free::linear::Quadratic;
+use super::search::untied::{surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use crate::adequacy::{Adequacy, RunsOrder};
 use crate::fitted::{FittedModel, ModelParams};
+use crate::free::linear::Quadratic;
 use crate::grid::Grid;
 use crate::model::{attainable_domain, Model, Param};
 use crate::paper::refine::{nelder_mead, TOLERANCE};
-use argmin::core::{CostFunction, Executor};
-use argmin::solver::brent::BrentOpt;
 use crate::profile::Interval;
 use crate::scene::Scene;
 use crate::settings::Precision;
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::brent::BrentOpt;
 use laminar_brdf_core::f64x4;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
@@ -206,7 +206,11 @@ impl Joint<'_> {
         let mut total = 0.0;
         let mut best = Vec::with_capacity(problems.len());
         for problem in problems {
-            let q = quadratic_of(problem, &s, &b, &self.factors);
+            let q = Column::new(problem, &b, &self.factors).quadratic(
+                problem,
+                &s,
+                surface_sums(problem, &s),
+            );
             let (a, value) = match self.a_at {
                 Some(_) => minimise_in(&q, problem.beta, self.a_box),
                 None => {

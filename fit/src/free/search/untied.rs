@@ -11,7 +11,7 @@ use super::{GridAxes, GridValues};
 use crate::free::linear::Quadratic;
 use crate::free::model::{LayeredModel, Packed};
 use crate::free::problem::Problem;
-use crate::free::sums::{dots, total};
+use crate::free::sums::dots;
 use crate::model::Param;
 use crate::settings::precision::Precision;
 use laminar_brdf_core::{f32x8, f64x4};
@@ -87,78 +87,6 @@ impl Column {
             bb: self.bb,
         }
     }
-}
-
-/// The quadratic in a of base `b` (factors `g`) against the surface term
-/// `s` for `problem`: bit for bit `Column::new(problem, b, g)
-/// .quadratic(problem, s, surface_sums(problem, s))`, each of its fourteen
-/// sums formed term by term as there (four partial sums in measurement
-/// order, then the last partial group), in one pass without the K-vectors.
-pub(crate) fn quadratic_of(
-    problem: &Problem<LayeredModel>,
-    s: &[f64],
-    b: &[f64],
-    [g1, g2]: &[Vec<f64>; 2],
-) -> Quadratic<f64> {
-    let (w, wd) = (&problem.weight[..], &problem.weighted_data[..]);
-    let len = w.len();
-    let body = len - len % 4;
-    let four = |v: &[f64], k: usize| f64x4::from([v[k], v[k + 1], v[k + 2], v[k + 3]]);
-    let mut acc = [f64x4::ZERO; 14];
-    for k in (0..body).step_by(4) {
-        let at = |v: &[f64]| four(v, k);
-        let terms = fourteen(at(w), at(wd), at(s), at(b), at(g1), at(g2));
-        for (a, t) in acc.iter_mut().zip(terms) {
-            *a += t;
-        }
-    }
-    let mut sums = acc.map(total);
-    for k in body..len {
-        let terms = fourteen(w[k], wd[k], s[k], b[k], g1[k], g2[k]);
-        for (o, t) in sums.iter_mut().zip(terms) {
-            *o += t;
-        }
-    }
-    let [b00, b01, b02, b11, b12, b22, db0, db1, db2, sb0, sb1, sb2, ss, ds] = sums;
-    Quadratic {
-        dd: problem.dd,
-        ds,
-        ss,
-        db: [db0, db1, db2],
-        sb: [sb0, sb1, sb2],
-        bb: [[b00, b01, b02], [b01, b11, b12], [b02, b12, b22]],
-    }
-}
-
-/// The terms of [`quadratic_of`]'s sums at one measurement (or four), each
-/// grouped as [`Column::new`], [`Column::quadratic`] and [`surface_sums`]
-/// form it: `w B` first, then its factors.
-fn fourteen<T: Copy + std::ops::Mul<Output = T>>(
-    w: T,
-    wd: T,
-    s: T,
-    b: T,
-    g1: T,
-    g2: T,
-) -> [T; 14] {
-    let (bg1, bg2, wb) = (b * g1, b * g2, w * b);
-    let (wbg1, wbg2) = (wb * g1, wb * g2);
-    [
-        b * wb,
-        b * wbg1,
-        b * wbg2,
-        bg1 * wbg1,
-        bg1 * wbg2,
-        bg2 * wbg2,
-        wd * b,
-        wd * bg1,
-        wd * bg2,
-        s * wb,
-        s * wbg1,
-        s * wbg2,
-        s * (w * s),
-        s * wd,
-    ]
 }
 
 /// `[Σ w S², Σ w D S]` of the surface term `s`.
@@ -270,46 +198,6 @@ mod tests {
             };
             let other = grid_values(&problem, &swapped, Precision::F64);
             assert_ne!(other.sse[..9], values.sse[..9]);
-        }
-    }
-
-    /// The fused quadratic of the joint fit is the column's, bit for bit,
-    /// with a partial last group of measurements (K = 4m + r, r = 1, 2, 3)
-    /// and with measurement weights.
-    #[test]
-    fn the_fused_quadratic_is_the_columns() {
-        let all = synthetic::geometries();
-        for r in 1..4 {
-            let angles = &all[..all.len() - all.len() % 4 - 4 + r];
-            assert_eq!(angles.len() % 4, r);
-            let mut scene = noisy_sets(
-                angles,
-                Model::Exp2,
-                Objective::Free,
-                NoiseModel::Every(0.05),
-                1,
-                3,
-            )
-            .remove(0);
-            scene.sigma = Some((0..angles.len()).map(|k| 0.5 + (k % 7) as f64 * 0.1).collect());
-            let slope = (libm::log(0.02), libm::log(20.0));
-            let bounds = vec![slope, slope, (1.0, 2.5), (0.0, 1.0)];
-            let problem = Problem::<LayeredModel>::new(
-                &scene,
-                (Model::Exp2, None),
-                (bounds.clone(), bounds),
-                vec![(-7.0, 7.0), (-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
-                (0.0, 1.0),
-            );
-            let model = &problem.model;
-            let g = model.factors();
-            let boundary = model.boundary::<f64x4>(1.4);
-            let b = model.base::<f64x4>(0.7, &boundary);
-            let s = model.surface(0.2);
-            let column = Column::new(&problem, &b, &g);
-            let expected = column.quadratic(&problem, &s, surface_sums(&problem, &s));
-            let fused = quadratic_of(&problem, &s, &b, &g);
-            assert_eq!(format!("{fused:?}"), format!("{expected:?}"), "K = {}", angles.len());
         }
     }
 }
