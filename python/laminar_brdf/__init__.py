@@ -113,7 +113,7 @@ def fit(
     seed=0,
     precision="f64",
     noise="given",
-    noise_floor=0.1,
+    noise_floor=1.0,
 ):
     """Fits ``model`` (``exp``, ``gauss``, ``exp2``, ``gauss2`` — σ′/T′
     free —, ``rh-exp``, ``rh-gauss``, ``jensen``, ``oren-nayar``) to a
@@ -161,7 +161,7 @@ def fit_batch(
     objective="free",
     precision="f64",
     noise="given",
-    noise_floor=0.1,
+    noise_floor=1.0,
 ):
     """Fits a layered ``model`` to every row of ``values`` (N × K) on one
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,

@@ -46,5 +46,5 @@ def fit_batch(
     objective: Objective = "free",
     precision: Precision = "f64",
     noise: Noise = "given",
-    noise_floor: float = 0.1,
+    noise_floor: float = 1.0,
 ) -> npt.NDArray[np.void]: ...

@@ -169,7 +169,7 @@ def fit(
     seed: int = 0,
     precision: Precision = "f64",
     noise: Noise = "given",
-    noise_floor: float = 0.1,
+    noise_floor: float = 1.0,
 ) -> FitResult: ...
 def compare(
     measurements: Measurements,
@@ -184,7 +184,7 @@ def compare(
     folds: int = 5,
     precision: Precision = "f64",
     noise: Noise = "given",
-    noise_floor: float = 0.1,
+    noise_floor: float = 1.0,
 ) -> list[FitResult]: ...
 def fit_joint(
     measurements: Sequence[Measurements],
@@ -196,7 +196,7 @@ def fit_joint(
     seed: int = 0,
     precision: Precision = "f64",
     noise: Noise = "given",
-    noise_floor: float = 0.1,
+    noise_floor: float = 1.0,
 ) -> dict[str, Any]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],
@@ -210,5 +210,5 @@ def fit_batch(
     objective: Objective = "free",
     precision: Precision = "f64",
     noise: Noise = "given",
-    noise_floor: float = 0.1,
+    noise_floor: float = 1.0,
 ) -> dict[str, Array]: ...
