@@ -3,16 +3,16 @@
 //! n 1.5, β 0.3) whose absorption follows a colour (a 0.05, 0.35, 0.6), on
 //! the Cornell gonioreflectometer's 1,439 geometries (`krylon_blue.astm`
 //! under `CORNELL_DIR`; the 200 built-in ones without it), each value with
-//! relative noise (σ = 0.2% of the peak, `NOISE_FLOOR`, + 5% of the
-//! value, independent per channel), fitted with the relative noise model (`relative`, the
-//! default, with its floor, 0.1 of the median by default) or with the
-//! true σ given (`given`). Per parameter, the
+//! noise σ = `NOISE_FLOOR` (0.002 of the peak by default) + 5% of the
+//! value, independent per channel. Fitted with the relative noise model
+//! (`relative`, the default, with its `FLOOR`, the library's default
+//! unless given) or with the true σ given (`given`). Per parameter, the
 //! fraction of trials whose 68.27% and 95% intervals hold the truth, with
-//! the 3σ binomial band of the nominal rate; and the chromatic test's
+//! the 3σ binomial band of the nominal rate, and the chromatic test's
 //! rejections at 5% (it should reject: the absorption is chromatic); then
 //! the same for each channel fitted alone (`Fitter::fit`, its headline
-//! intervals), the shared parameters pooled over the channels. The
-//! table of docs/estimation.md. Run:
+//! intervals), the shared parameters pooled over the channels. The table
+//! of docs/conventions.md §4b. Run:
 //! `cargo run --release -p laminar-brdf-fit --example joint_coverage -- [TRIALS] [RESAMPLES] [relative|given] [FLOOR] [NOISE_FLOOR]`
 
 use laminar_brdf_core::Angles;
