@@ -75,7 +75,7 @@ export interface FitOptions {
    * the value above a floor, the scale estimated: goniometer data). */
   noise?: 'given' | 'equal' | 'relative';
   /** Relative noise's floor, a fraction in (0, 1] of the median positive
-   * value (default 0.1). */
+   * value (default 1: relative above the median). */
   noise_floor?: number;
   /** Called after each grid shard (paper: one σ/T value; free: the whole
    * fit) with (done, total). */
