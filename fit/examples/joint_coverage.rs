@@ -149,39 +149,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!("| parameter | truth | 68.27% covered | 95% covered |");
     println!("|---|---|---|---|");
-    for ((name, truth), [c68, c95]) in names.iter().zip(truths).zip(covered) {
-        let rate = |c: usize| c as f64 / counted.max(1) as f64;
-        let mark = |r: f64, (lo, hi): (f64, f64)| if r < lo || r > hi { " ✗" } else { "" };
-        println!(
-            "| {name} | {truth} | {:.3}{} | {:.3}{} |",
-            rate(c68),
-            mark(rate(c68), b68),
-            rate(c95),
-            mark(rate(c95), b95)
-        );
+    for ((name, truth), hits) in names.iter().zip(truths).zip(covered) {
+        println!("| {name} | {truth} | {} |", rates(hits, counted));
     }
     println!(
         "\nEach channel fitted alone (`exp2`, the same noise model, its headline intervals):\n"
     );
     println!("| parameter | fits | 68.27% covered | 95% covered |");
     println!("|---|---|---|---|");
-    for (name, ([c68, c95], fits)) in names.iter().zip(alone) {
-        let rate = |c: usize| c as f64 / fits.max(1) as f64;
-        let (b68, b95) = (band(0.6827, fits), band(0.95, fits));
-        let mark = |r: f64, (lo, hi): (f64, f64)| if r < lo || r > hi { " ✗" } else { "" };
-        println!(
-            "| {name} | {fits} | {:.3}{} | {:.3}{} |",
-            rate(c68),
-            mark(rate(c68), b68),
-            rate(c95),
-            mark(rate(c95), b95)
-        );
+    for (name, (hits, fits)) in names.iter().zip(alone) {
+        println!("| {name} | {fits} | {} |", rates(hits, fits));
     }
     println!(
         "\nChromatic test: rejected one a for all channels at 5% in {chromatic} of {counted} \
          trials ({at_face} not tested: an a on a face)."
     );
     Ok(())
+}
+
+/// The 68.27% and 95% coverage rates of `hits` in `trials` as two table
+/// cells, each marked ✗ outside the 3σ binomial band of its nominal rate.
+fn rates([c68, c95]: [usize; 2], trials: usize) -> String {
+    let cell = |hits: usize, nominal: f64| {
+        let rate = hits as f64 / trials.max(1) as f64;
+        let (lo, hi) = band(nominal, trials);
+        let mark = if rate < lo || rate > hi { " ✗" } else { "" };
+        format!("{rate:.3}{mark}")
+    };
+    format!("{} | {}", cell(c68, 0.6827), cell(c95, 0.95))
 }
 
 /// Cornell's `krylon_blue.astm` geometry when `CORNELL_DIR` names it, else

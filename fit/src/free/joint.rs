@@ -213,11 +213,7 @@ impl Joint<'_> {
             );
             let (a, value) = match self.a_at {
                 Some(_) => minimise_in(&q, problem.beta, self.a_box),
-                None => {
-                    let mut out = [0.0];
-                    objectives(&q, &[0.0], problem.beta, &mut out);
-                    (0.0, out[0])
-                }
+                None => (0.0, objective_at(&q, problem.beta, 0.0)),
             };
             total += value;
             best.push(a);
@@ -265,10 +261,15 @@ impl CostFunction for AtA<'_> {
     type Param = f64;
     type Output = f64;
     fn cost(&self, a: &f64) -> Result<f64, argmin::core::Error> {
-        let mut out = [0.0];
-        objectives(self.q, &[*a], self.beta, &mut out);
-        Ok(out[0])
+        Ok(objective_at(self.q, self.beta, *a))
     }
+}
+
+/// One channel's objective at absorption `a` from its quadratic `q`.
+fn objective_at(q: &Quadratic<f64>, beta: (f64, f64), a: f64) -> f64 {
+    let mut out = [0.0];
+    objectives(q, &[a], beta, &mut out);
+    out[0]
 }
 
 /// The joint fit of `model` (a layered model) to `scenes` (channels of one
