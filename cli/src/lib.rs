@@ -51,6 +51,9 @@ pub enum CliError {
     /// A figure could not be drawn.
     #[error("drawing a figure: {0}")]
     Figure(String),
+    /// `LAMINAR_SIMD` names lanes this processor cannot run, or none.
+    #[error(transparent)]
+    Simd(#[from] laminar_brdf_fit::simd::SimdError),
     /// Options that do not fit together, values out of range, inputs that
     /// do not match.
     #[error(transparent)]

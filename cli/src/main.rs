@@ -68,6 +68,12 @@ fn main() -> ExitCode {
         }
         Err(e) => e.exit(),
     };
+    // An unusable LAMINAR_SIMD is refused before any work (the kernels
+    // would otherwise quietly take the portable lanes).
+    if let Err(e) = laminar_brdf_fit::simd::from_env() {
+        laminar_brdf::note!("error: {}", laminar_brdf::CliError::from(e));
+        return ExitCode::from(2);
+    }
     let result = match &cli.command {
         Command::Fit(args) => commands::fit::run(args).map(|_| true),
         Command::FitBatch(args) => commands::fit_batch::run(args).map(|_| true),

@@ -25,7 +25,8 @@ use crate::lane::{Lane, Real};
 /// exactly `+0.0` (true values below about 1.6e-38 and 3.3e-308, the last
 /// few of them still normal); above `EXP_MAX` it is `+∞`;
 /// `−∞` gives `+0.0`. The model only uses `x ≤ 0`. NaN in gives NaN out.
-#[inline]
+#[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+#[cfg_attr(not(target_arch = "x86_64"), inline)]
 #[must_use]
 pub fn exp<L: Lane>(x: L) -> L {
     let lo = L::c(L::Scalar::EXP_MIN);

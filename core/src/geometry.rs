@@ -152,6 +152,22 @@ impl<L: Copy> Geometry<L> {
             ratio: v,
         }
     }
+
+    /// Every field through `f` (a kernel's load of stored lanes into its
+    /// own, [`crate::simd`]).
+    #[inline(always)]
+    pub fn map<M>(&self, f: impl Fn(L) -> M) -> Geometry<M> {
+        Geometry {
+            cos_i: f(self.cos_i),
+            cos_s: f(self.cos_s),
+            sin2_i: f(self.sin2_i),
+            sin2_s: f(self.sin2_s),
+            vxy2: f(self.vxy2),
+            vz2: f(self.vz2),
+            lead: f(self.lead),
+            ratio: f(self.ratio),
+        }
+    }
 }
 
 /// One measurement's directions as a sensor gives them: the sines and

@@ -40,7 +40,7 @@ impl Mask for f64x4 {
 
 /// Seals [`Lane`]: its four implementations are the whole determinism
 /// policy, so no other type may join them.
-mod sealed {
+pub(crate) mod sealed {
     pub trait Sealed {}
     impl Sealed for f32 {}
     impl Sealed for f64 {}

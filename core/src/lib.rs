@@ -78,12 +78,14 @@
 //! only, on geometry and σ/T, on geometry and n, or on geometry and a.
 #![no_std]
 #![forbid(missing_docs)]
-#![deny(unsafe_code)] // allowed in `sqrt` alone (one FPU instruction)
+#![deny(unsafe_code)] // allowed in `sqrt` (one FPU instruction), `avx2` and `simd::run_avx2`
 
 #[cfg(test)]
 extern crate std;
 
 pub mod absorption;
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 pub mod baselines;
 pub mod error;
 pub mod exp;
@@ -100,6 +102,7 @@ pub mod prediction;
 #[doc(hidden)]
 pub mod probe;
 pub mod radiance;
+pub mod simd;
 pub mod small_fit;
 pub mod small_free_fit;
 mod sqrt;

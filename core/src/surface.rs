@@ -41,7 +41,8 @@ impl Correlation {
     /// `∂ ln shape(x)/∂ ln σ/T` (eqs. 1–2 with `x ∝ (σ/T)⁻²`, `x ≥ 0`):
     /// Exponential `3x/(1 + x)`, Gaussian `x/2`; 0 where the term vanishes
     /// (`x = ∞`). The free objective's Jacobian uses it.
-    #[inline]
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     #[must_use]
     pub fn log_slope_derivative<L: Lane>(self, x: L) -> L {
         let value = match self {
@@ -55,7 +56,8 @@ impl Correlation {
     /// `x = (T/σ)² v_xy² / v_z²`: Gaussian `exp(−x/4)`, Exponential
     /// `(1 + x)^(−3/2)` (computed as `y·sqrt(y)`, `y = 1/(1 + x)`, so large
     /// `x` gives 0, never ∞ or NaN).
-    #[inline]
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     #[must_use]
     pub fn shape<L: Lane>(self, x: L) -> L {
         // Times 1, exactly: the same bits as the unscaled formulas.
@@ -65,7 +67,8 @@ impl Correlation {
     /// `scale · shape(x)` ([`Correlation::shape`]), the Exponential one as
     /// `(scale · y) · sqrt(y)`: `y · sqrt(y)` alone can fall below the
     /// normal range (losing bits) while the product is still normal.
-    #[inline]
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     #[must_use]
     pub fn scaled_shape<L: Lane>(self, scale: L, x: L) -> L {
         match self {
@@ -79,7 +82,8 @@ impl Correlation {
 }
 
 /// `(T/σ)²` for an RMS slope `σ/T`; a search computes it once per slope.
-#[inline]
+#[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+#[cfg_attr(not(target_arch = "x86_64"), inline)]
 #[must_use]
 pub fn inverse_slope_squared<L: Lane>(slope: L) -> L {
     L::c(1.0) / (slope * slope)
@@ -90,7 +94,8 @@ pub fn inverse_slope_squared<L: Lane>(slope: L) -> L {
 /// `inv_slope2` is [`inverse_slope_squared`] of σ/T.
 /// Accuracy (crate docs, Accuracy): within 9.8 ulps (f64) and 3.5 (f32),
 /// plus up to `2x` ulps in the Gaussian tail.
-#[inline]
+#[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+#[cfg_attr(not(target_arch = "x86_64"), inline)]
 #[must_use]
 pub fn surface_radiance<L: Lane>(g: &Geometry<L>, corr: Correlation, inv_slope2: L) -> L {
     corr.scaled_shape(g.lead, g.ratio * inv_slope2)

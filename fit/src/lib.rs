@@ -80,6 +80,7 @@ pub mod profile;
 pub mod report;
 mod scene;
 pub mod settings;
+pub mod simd;
 pub mod synthetic;
 
 pub use analysis::{Analysis, Uncertainty};

@@ -17,6 +17,7 @@
 //! here n's reciprocal is taken once and each measurement costs two square
 //! roots and two divisions. The two agree to a few ulps (tested below).
 
+use laminar_brdf_core::simd::Lane4;
 use laminar_brdf_core::{f64x4, Correlation, Geometry, Lane};
 
 /// One group of measurements at one n: four in `f64x4` lanes (the
@@ -36,7 +37,9 @@ pub struct BoundaryGroup<L = f64x4> {
 
 impl<L: Lane> BoundaryGroup<L> {
     /// The boundary of the measurements `g` at index `n ≥ 1` (`inv_n` its
-    /// reciprocal; both rounded once to the lane precision).
+    /// reciprocal; both rounded once to the lane precision). Inlined, as
+    /// inside a [`laminar_brdf_core::simd`] kernel it must be.
+    #[inline(always)]
     pub fn new(g: &Geometry<L>, n: f64, inv_n: f64) -> Self {
         if n == 1.0 {
             // No boundary: the layer's terms are the surface's own, bit for
@@ -52,18 +55,10 @@ impl<L: Lane> BoundaryGroup<L> {
         let (n, inv_n) = (L::c(n), L::c(inv_n));
         let (zero, one) = (L::c(0.0), L::c(1.0));
         let n2m1 = (n - one) * (n + one);
-        // Snell: `cos θ′ = √(n² − 1 + cos²θ)/n` (no total internal
-        // reflection from air into the layer; the max guards n < 1).
-        let refract = |c: L| (n2m1 + c * c).max(zero).sqrt() * inv_n;
-        let (ci, cs) = (refract(g.cos_i), refract(g.cos_s));
-        // `t · s² p² / (2 n c c′) = s² + p²` and `s² p²` of one direction.
-        let parts = |c: L, c2: L| {
-            let (s, p) = (c + n * c2, n * c + c2);
-            let (s2, p2) = (s * s, p * p);
-            (s2 + p2, s2 * p2)
-        };
-        let (sum_i, prod_i) = parts(g.cos_i, ci);
-        let (sum_s, prod_s) = parts(g.cos_s, cs);
+        let ci = refracted(n2m1, inv_n, g.cos_i);
+        let cs = refracted(n2m1, inv_n, g.cos_s);
+        let (sum_i, prod_i) = transmission_parts(n, g.cos_i, ci);
+        let (sum_s, prod_s) = transmission_parts(n, g.cos_s, cs);
         let vz = ci + cs;
         let vz2 = vz * vz;
         // Both vanish only with a grazing direction at n = 1, where the
@@ -71,11 +66,14 @@ impl<L: Lane> BoundaryGroup<L> {
         let lit = zero.lt(vz2);
         let den = prod_i * prod_s;
         let passes = zero.lt(den) & lit;
-        let safe = |v: L, ok| L::select(ok, v, one);
-        let inv_vz2 = one / safe(vz2, lit);
+        let inv_vz2 = one / L::select(lit, vz2, one);
         // `cos θi · t_i t_s / n²` with `t_i t_s = 4 n² ci ci′ cs cs′ Σi Σs/(Πi Πs)`.
         let numerator = L::c(4.0) * g.cos_i * g.cos_i * ci * g.cos_s * cs * sum_i * sum_s;
-        let factor = L::select(passes, numerator / safe(den, passes) * inv_vz2, zero);
+        let factor = L::select(
+            passes,
+            numerator / L::select(passes, den, one) * inv_vz2,
+            zero,
+        );
         let ratio = L::select(lit, g.vxy2 * (inv_n * inv_n) * inv_vz2, L::c(f64::INFINITY));
         Self {
             factor,
@@ -86,10 +84,53 @@ impl<L: Lane> BoundaryGroup<L> {
     }
 
     /// `B` at `(T/σ)² = t` (eqs. 3–4).
-    #[inline]
+    #[inline(always)]
     pub fn base(&self, corr: Correlation, t: L) -> L {
         corr.scaled_shape(self.factor, self.ratio * t)
     }
+}
+
+impl BoundaryGroup<f64x4> {
+    /// The stored group in a kernel's lanes.
+    #[inline(always)]
+    pub fn load<L: Lane4>(&self) -> BoundaryGroup<L> {
+        BoundaryGroup {
+            factor: L::load(self.factor),
+            ratio: L::load(self.ratio),
+            cos_i: L::load(self.cos_i),
+            cos_s: L::load(self.cos_s),
+        }
+    }
+}
+
+impl<L: Lane4> BoundaryGroup<L> {
+    /// The group as stored.
+    #[inline(always)]
+    pub fn store(&self) -> BoundaryGroup<f64x4> {
+        BoundaryGroup {
+            factor: self.factor.store(),
+            ratio: self.ratio.store(),
+            cos_i: self.cos_i.store(),
+            cos_s: self.cos_s.store(),
+        }
+    }
+}
+
+/// Snell: `cos θ′ = √(n² − 1 + cos²θ)/n` from `n2m1 = n² − 1` (no total
+/// internal reflection from air into the layer; the max guards n < 1). A
+/// function, not a closure, so that a kernel surely inlines it.
+#[inline(always)]
+fn refracted<L: Lane>(n2m1: L, inv_n: L, c: L) -> L {
+    (n2m1 + c * c).max(L::c(0.0)).sqrt() * inv_n
+}
+
+/// `t · s² p² / (2 n c c′) = s² + p²` and `s² p²` of one direction (eq. 7),
+/// `c` its cosine above the boundary and `c2` below.
+#[inline(always)]
+fn transmission_parts<L: Lane>(n: L, c: L, c2: L) -> (L, L) {
+    let (s, p) = (c + n * c2, n * c + c2);
+    let (s2, p2) = (s * s, p * p);
+    (s2 + p2, s2 * p2)
 }
 
 /// The boundary of every measurement at one n, a lane's width at a time

@@ -4,37 +4,55 @@
 //! same way on every target so that every fit gives the same bits
 //! everywhere.
 
-use laminar_brdf_core::f64x4;
+use crate::simd;
+use laminar_brdf_core::simd::{Kernel, Lane4};
 
 /// `Σ_k x_k y_k` over `k < x.len()` for each of the `N` vectors `ys` (each
 /// at least as long as `x`), four partial sums per vector, one per lane of
 /// an `f64x4` (a fixed order, so the same bits on every target).
 pub fn dots<const N: usize>(x: &[f64], ys: [&[f64]; N]) -> [f64; N] {
-    let len = x.len();
-    let (xs, x_tail) = x.as_chunks::<4>();
-    let ys = ys.map(|y| &y[..len]);
-    let fours = ys.map(|y| y.as_chunks::<4>().0);
-    let mut acc = [f64x4::ZERO; N];
-    for (k, &xk) in xs.iter().enumerate() {
-        let xk = f64x4::from(xk);
-        for (a, y) in acc.iter_mut().zip(&fours) {
-            *a += xk * f64x4::from(y[k]);
+    simd::run(Dots { x, ys })
+}
+
+/// The pass of [`dots`].
+struct Dots<'a, const N: usize> {
+    x: &'a [f64],
+    ys: [&'a [f64]; N],
+}
+
+impl<const N: usize> Kernel for Dots<'_, N> {
+    type Output = [f64; N];
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> [f64; N] {
+        let Self { x, ys } = self;
+        let len = x.len();
+        let (xs, x_tail) = x.as_chunks::<4>();
+        let ys = ys.map(|y| &y[..len]);
+        let fours = ys.map(|y| y.as_chunks::<4>().0);
+        let mut acc = [L::zero(); N];
+        for (k, &xk) in xs.iter().enumerate() {
+            let xk = L::from_array(xk);
+            for (a, y) in acc.iter_mut().zip(&fours) {
+                *a += xk * L::from_array(y[k]);
+            }
         }
-    }
-    let body = len - x_tail.len();
-    let mut out = [0.0; N];
-    for ((o, a), y) in out.iter_mut().zip(&acc).zip(&ys) {
-        *o = total(*a);
-        for (xk, yk) in x_tail.iter().zip(&y[body..]) {
-            *o += xk * yk;
+        let body = len - x_tail.len();
+        let mut out = [0.0; N];
+        for ((o, a), y) in out.iter_mut().zip(&acc).zip(&ys) {
+            *o = total(*a);
+            for (xk, yk) in x_tail.iter().zip(&y[body..]) {
+                *o += xk * yk;
+            }
         }
+        out
     }
-    out
 }
 
 /// The four partial sums of a lane accumulator added in the fixed order
 /// of [`dots`].
-pub fn total(a: f64x4) -> f64 {
+#[inline(always)]
+pub fn total<L: Lane4>(a: L) -> f64 {
     let a = a.to_array();
     (a[0] + a[1]) + (a[2] + a[3])
 }
@@ -45,23 +63,40 @@ pub fn total(a: f64x4) -> f64 {
 /// lower triangle the upper's mirror. Up to eight vectors (the layered
 /// models' Jacobians) unrolled; more the same sums, bit for bit, in a loop.
 pub fn gram(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
-    match vectors.len() {
-        0 => Vec::new(),
-        1 => gram_of::<1>(w, vectors),
-        2 => gram_of::<2>(w, vectors),
-        3 => gram_of::<3>(w, vectors),
-        4 => gram_of::<4>(w, vectors),
-        5 => gram_of::<5>(w, vectors),
-        6 => gram_of::<6>(w, vectors),
-        7 => gram_of::<7>(w, vectors),
-        8 => gram_of::<8>(w, vectors),
-        _ => gram_any(w, vectors),
+    simd::run(Gram { w, vectors })
+}
+
+/// The pass of [`gram`].
+struct Gram<'a> {
+    w: &'a [f64],
+    vectors: &'a [&'a [f64]],
+}
+
+impl Kernel for Gram<'_> {
+    type Output = Vec<f64>;
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> Vec<f64> {
+        let Self { w, vectors } = self;
+        match vectors.len() {
+            0 => Vec::new(),
+            1 => gram_of::<L, 1>(w, vectors),
+            2 => gram_of::<L, 2>(w, vectors),
+            3 => gram_of::<L, 3>(w, vectors),
+            4 => gram_of::<L, 4>(w, vectors),
+            5 => gram_of::<L, 5>(w, vectors),
+            6 => gram_of::<L, 6>(w, vectors),
+            7 => gram_of::<L, 7>(w, vectors),
+            8 => gram_of::<L, 8>(w, vectors),
+            _ => gram_any::<L>(w, vectors),
+        }
     }
 }
 
 /// [`gram`] of any number of vectors: the same sums as [`gram_of`], in
 /// the same order, with the accumulators on the heap.
-fn gram_any(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
+#[inline(always)]
+fn gram_any<L: Lane4>(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
     let (len, n) = (w.len(), vectors.len());
     let (ws, w_tail) = w.as_chunks::<4>();
     let body = len - w_tail.len();
@@ -69,24 +104,25 @@ fn gram_any(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
         .iter()
         .map(|v| v[..len].as_chunks::<4>().0)
         .collect();
-    let mut acc = vec![f64x4::ZERO; n * n];
-    let mut here = vec![f64x4::ZERO; n];
+    let mut acc = vec![[0.0; 4]; n * n];
+    let mut here = vec![L::zero(); n];
     for (k, &wk) in ws.iter().enumerate() {
-        let wk = f64x4::from(wk);
+        let wk = L::from_array(wk);
         for (h, four) in here.iter_mut().zip(&fours) {
-            *h = f64x4::from(four[k]);
+            *h = L::from_array(four[k]);
         }
         for a in 0..n {
             let wxa = wk * here[a];
             for b in a..n {
-                acc[a * n + b] += wxa * here[b];
+                let sum = L::from_array(acc[a * n + b]) + wxa * here[b];
+                acc[a * n + b] = sum.to_array();
             }
         }
     }
     let mut out = vec![0.0; n * n];
     for a in 0..n {
         for b in a..n {
-            let mut sum = total(acc[a * n + b]);
+            let mut sum = total(L::from_array(acc[a * n + b]));
             for k in body..len {
                 sum += w[k] * vectors[a][k] * vectors[b][k];
             }
@@ -98,15 +134,19 @@ fn gram_any(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
 }
 
 /// [`gram`] of exactly `N` vectors (so that the products unroll).
-fn gram_of<const N: usize>(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
+#[inline(always)]
+fn gram_of<L: Lane4, const N: usize>(w: &[f64], vectors: &[&[f64]]) -> Vec<f64> {
     let len = w.len();
     let (ws, w_tail) = w.as_chunks::<4>();
     let body = len - w_tail.len();
     let fours: [&[[f64; 4]]; N] = std::array::from_fn(|a| vectors[a][..len].as_chunks::<4>().0);
-    let mut acc = [[f64x4::ZERO; N]; N];
+    let mut acc = [[L::zero(); N]; N];
     for (k, &wk) in ws.iter().enumerate() {
-        let wk = f64x4::from(wk);
-        let here: [f64x4; N] = std::array::from_fn(|a| f64x4::from(fours[a][k]));
+        let wk = L::from_array(wk);
+        let mut here = [L::zero(); N];
+        for (h, four) in here.iter_mut().zip(&fours) {
+            *h = L::from_array(four[k]);
+        }
         for a in 0..N {
             let wxa = wk * here[a];
             for b in a..N {
@@ -171,6 +211,16 @@ mod tests {
 
     /// More than eight vectors (an untied or joint model's Jacobian) take
     /// the loop: bit for bit the unrolled sums, on values whose sums round.
+    /// [`gram_any`] at any `n` (the loop the pass takes above eight).
+    struct GramAny<'a>(&'a [f64], &'a [&'a [f64]]);
+
+    impl Kernel for GramAny<'_> {
+        type Output = Vec<f64>;
+        fn run<L: Lane4>(self) -> Vec<f64> {
+            gram_any::<L>(self.0, self.1)
+        }
+    }
+
     #[test]
     fn any_number_of_vectors_gives_the_unrolled_bits() {
         let mut rng = crate::synthetic::Noise::new(5);
@@ -182,7 +232,7 @@ mod tests {
             let refs: Vec<&[f64]> = vectors.iter().map(|v| &v[..]).collect();
             for n in 1..=8 {
                 let unrolled = gram(&w, &refs[..n]);
-                let looped = gram_any(&w, &refs[..n]);
+                let looped = laminar_brdf_core::simd::run_portable(GramAny(&w, &refs[..n]));
                 assert_eq!(
                     unrolled.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
                     looped.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),

@@ -10,7 +10,9 @@ use crate::free::boundary::{boundary, BoundaryGroup};
 use crate::free::pool::{self, Free};
 use crate::grid::{Axis, Grid};
 use crate::model::{Family, Model, Param};
+use crate::simd;
 use laminar_brdf_core::radiance::{SLOPE_MAX, SLOPE_MIN};
+use laminar_brdf_core::simd::{Kernel, Lane4};
 use laminar_brdf_core::{
     f32x8, f64x4, inverse_slope_squared, surface_radiance, Angles, Correlation, Geometry, Lane,
 };
@@ -81,23 +83,73 @@ struct LayerGroup {
 
 impl LayerGroup {
     /// The terms of the measurements `g` on `boundary` at `(T/σ)²` `t` and
-    /// `(T′/σ′)²` `t_sub`.
+    /// `(T′/σ′)²` `t_sub`, computed in a kernel's lanes `L`.
     /// Inlined into the loop that collects them, so that each group is
     /// written in place in its Vec, not returned and then copied (a
     /// `memcpy` per group: 7.7% of the defaults' profile at K = 22,801, and
     /// 3.5% more sets per second without it).
     #[inline(always)]
-    fn new(
-        g: &Geometry<f64x4>,
-        boundary: BoundaryGroup,
+    fn new<L: Lane4>(
+        g: &Geometry<L>,
+        boundary: BoundaryGroup<L>,
         corr: Correlation,
-        [t, t_sub]: [f64x4; 2],
+        [t, t_sub]: [L; 2],
     ) -> Self {
         Self {
-            surface: surface_radiance(g, corr, t),
-            base: boundary.base(corr, t_sub),
-            boundary,
+            surface: surface_radiance(g, corr, t).store(),
+            base: boundary.base(corr, t_sub).store(),
+            boundary: boundary.store(),
         }
+    }
+}
+
+/// The pass of [`LayeredModel::terms`]: each group's terms, its boundary
+/// taken from `held` or built.
+struct TermsPass<'a> {
+    packed: &'a [Geometry<f64x4>],
+    held: Option<&'a [BoundaryGroup]>,
+    n: f64,
+    corr: Correlation,
+    /// `(T/σ)²` and `(T′/σ′)²`.
+    t: [f64; 2],
+    /// Empty, with room for every group.
+    groups: Vec<LayerGroup>,
+}
+
+impl Kernel for TermsPass<'_> {
+    type Output = Vec<LayerGroup>;
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> Vec<LayerGroup> {
+        let Self {
+            packed,
+            held,
+            n,
+            corr,
+            t,
+            mut groups,
+        } = self;
+        let t = t.map(L::splat);
+        match held {
+            Some(boundaries) => {
+                for (g, b) in packed.iter().zip(boundaries) {
+                    groups.push(LayerGroup::new(&g.map(L::load), b.load(), corr, t));
+                }
+            }
+            None => {
+                let inv_n = 1.0 / n;
+                for g in packed {
+                    let g = g.map(L::load);
+                    groups.push(LayerGroup::new(
+                        &g,
+                        BoundaryGroup::new(&g, n, inv_n),
+                        corr,
+                        t,
+                    ));
+                }
+            }
+        }
+        groups
     }
 }
 
@@ -136,35 +188,97 @@ impl Drop for LayeredTerms {
 /// adds its elasticity `∂ ln shape/∂ ln x′` times `ℓ`. Each transmission
 /// (eq. 7) is `t = 2 n c c′ (1/s² + 1/p²)` with `s = c + n c′`,
 /// `p = n c + c′`. Where `B = 0` the caller uses 0.
-fn log_n_derivative(
+#[inline(always)]
+fn log_n_derivative<L: Lane4>(
     corr: Correlation,
-    g: &Geometry<f64x4>,
-    b: &BoundaryGroup,
+    g: &Geometry<L>,
+    b: &BoundaryGroup<L>,
     n: f64,
-    x_refracted: f64x4,
-) -> f64x4 {
-    let c = f64x4::c;
-    let (n, inv_n) = (f64x4::splat(n), f64x4::splat(1.0 / n));
+    x_refracted: L,
+) -> L {
+    let c = L::c;
+    let (n, inv_n) = (L::splat(n), L::splat(1.0 / n));
     let (ci, cs) = (b.cos_i, b.cos_s);
     // `∂cos θ′/∂n / cos θ′ = sin²θ/(n³ cos²θ′)`, and the derivative itself.
-    let rel = |sin2: f64x4, c: f64x4| sin2 * inv_n * inv_n * inv_n / (c * c);
-    let (ri, rs) = (rel(g.sin2_i, ci), rel(g.sin2_s, cs));
+    let (ri, rs) = (
+        g.sin2_i * inv_n * inv_n * inv_n / (ci * ci),
+        g.sin2_s * inv_n * inv_n * inv_n / (cs * cs),
+    );
     let (dci, dcs) = (ri * ci, rs * cs);
     let ell = c(-2.0) * inv_n - c(2.0) * (dci + dcs) / (ci + cs);
     // The elasticity of the shape in x′ is half that in σ/T with the sign
     // turned, as x ∝ (σ/T)⁻².
     let elasticity = c(-0.5) * corr.log_slope_derivative(x_refracted);
-    // `∂ ln t/∂n = 1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`,
-    // the last term as `2 (s_n p³ + p_n s³)/(s p (s² + p²))`.
-    let transmission = |c1: f64x4, c2: f64x4, dc2: f64x4, rel2: f64x4| {
-        let (s, p) = (c1 + n * c2, n * c1 + c2);
-        let (ds, dp) = (c2 + n * dc2, c1 + dc2);
-        let (s2, p2) = (s * s, p * p);
-        inv_n + rel2 - c(2.0) * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
-    };
     (c(1.0) + elasticity) * ell
-        + transmission(g.cos_i, ci, dci, ri)
-        + transmission(g.cos_s, cs, dcs, rs)
+        + log_transmission_derivative([n, inv_n], g.cos_i, [ci, dci, ri])
+        + log_transmission_derivative([n, inv_n], g.cos_s, [cs, dcs, rs])
+}
+
+/// `∂ ln t/∂n` of one direction's transmission (eq. 7), `c1` its cosine
+/// above the boundary, `c2` below, `dc2 = ∂c2/∂n` and `rel2 = dc2/c2`:
+/// `1/n + ∂ ln c′/∂n − 2 (s_n/s³ + p_n/p³)/(1/s² + 1/p²)`, the last term as
+/// `2 (s_n p³ + p_n s³)/(s p (s² + p²))`. A function, not a closure, so
+/// that a kernel surely inlines it.
+#[inline(always)]
+fn log_transmission_derivative<L: Lane>([n, inv_n]: [L; 2], c1: L, [c2, dc2, rel2]: [L; 3]) -> L {
+    let (s, p) = (c1 + n * c2, n * c1 + c2);
+    let (ds, dp) = (c2 + n * dc2, c1 + dc2);
+    let (s2, p2) = (s * s, p * p);
+    inv_n + rel2 - L::c(2.0) * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
+}
+
+/// The pass of [`LayeredModel::derivative_vectors`]: each wanted
+/// derivative (`out`'s non-empty vectors) per group of measurements.
+struct DerivativePass<'a> {
+    terms: &'a LayeredTerms,
+    packed: &'a [Geometry<f64x4>],
+    corr: Correlation,
+    n_a: (f64, f64),
+    /// `[∂S/∂ ln σ/T, ∂U/∂ ln σ′/T′, ∂U/∂n, ∂U/∂a]`, empty when unwanted.
+    out: [&'a mut [[f64; 4]]; 4],
+}
+
+impl Kernel for DerivativePass<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        let Self {
+            terms,
+            packed,
+            corr,
+            n_a: (n, a),
+            out: [d_s, d_u, d_n, d_a],
+        } = self;
+        let [slope, sub_slope, index, absorption] = [&d_s, &d_u, &d_n, &d_a].map(|d| !d.is_empty());
+        let (t, t_sub) = (L::splat(terms.t), L::splat(terms.t_sub));
+        let a = L::splat(a);
+        let zero = L::zero();
+        for (i, (l, g)) in terms.groups.iter().zip(packed).enumerate() {
+            let g = g.map(L::load);
+            let (surface, base) = (L::load(l.surface), L::load(l.base));
+            let boundary = l.boundary.load::<L>();
+            // U again (the same bits as the column).
+            let (attenuation, [ci, cs]) = attenuation(&g, a);
+            let u = base * attenuation;
+            let x_refracted = boundary.ratio * t_sub;
+            if slope {
+                let ds = surface * corr.log_slope_derivative(g.ratio * t);
+                d_s[i] = ds.to_array();
+            }
+            if sub_slope {
+                d_u[i] = (u * corr.log_slope_derivative(x_refracted)).to_array();
+            }
+            if index {
+                let log = log_n_derivative(corr, &g, &boundary, n, x_refracted);
+                d_n[i] = L::select(u.eq(zero), zero, u * log).to_array();
+            }
+            if absorption {
+                let da = base * (L::c(2.0) * a * ci * cs - ci - cs);
+                d_a[i] = da.to_array();
+            }
+        }
+    }
 }
 
 /// σ/T (or σ′/T′) of its logarithm: exp(ln x) can miss x by an ulp, so
@@ -227,8 +341,9 @@ fn unpack(groups: impl Iterator<Item = f64x4>, len: usize) -> Vec<f64> {
 
 /// The absorption factor `(1 − a cos²θi)(1 − a cos²θs)` of four
 /// measurements `g` (eqs. 10–14), and the two `cos²`.
-fn attenuation(g: &Geometry<f64x4>, a: f64x4) -> (f64x4, [f64x4; 2]) {
-    let one = f64x4::c(1.0);
+#[inline(always)]
+fn attenuation<L: Lane>(g: &Geometry<L>, a: L) -> (L, [L; 2]) {
+    let one = L::c(1.0);
     let (ci, cs) = (one - g.sin2_i, one - g.sin2_s);
     ((one - a * ci) * (one - a * cs), [ci, cs])
 }
@@ -305,27 +420,14 @@ impl LayeredModel {
         } else {
             t
         };
-        let t4 = [t, t_sub].map(f64x4::splat);
-        let corr = self.corr;
-        let group =
-            |g: &Geometry<f64x4>, boundary: BoundaryGroup| LayerGroup::new(g, boundary, corr, t4);
-        let mut groups = GROUPS.with(|f| f.take(self.packed.len()));
-        match held.at(n) {
-            Some(boundaries) => groups.extend(
-                self.packed
-                    .iter()
-                    .zip(boundaries)
-                    .map(|(g, b)| group(g, *b)),
-            ),
-            None => {
-                let inv_n = 1.0 / n;
-                groups.extend(
-                    self.packed
-                        .iter()
-                        .map(|g| group(g, BoundaryGroup::new(g, n, inv_n))),
-                )
-            }
-        }
+        let groups = simd::run(TermsPass {
+            packed: &self.packed,
+            held: held.at(n),
+            n,
+            corr: self.corr,
+            t: [t, t_sub],
+            groups: GROUPS.with(|f| f.take(self.packed.len())),
+        });
         LayeredTerms { groups, t, t_sub }
     }
 
@@ -339,10 +441,6 @@ impl LayeredModel {
         (n, a): (f64, f64),
         [slope, sub_slope, index, absorption]: [bool; 4],
     ) -> [Vec<f64>; 4] {
-        let corr = self.corr;
-        let (t, t_sub) = (f64x4::splat(terms.t), f64x4::splat(terms.t_sub));
-        let a = f64x4::splat(a);
-        let zero = f64x4::ZERO;
         let filled = [slope, sub_slope, index, absorption];
         let mut d: [Vec<f64>; 4] = filled.map(|f| {
             if !f {
@@ -352,30 +450,13 @@ impl LayeredModel {
             v.resize(4 * terms.groups.len(), 0.0);
             v
         });
-        {
-            let [d_s, d_u, d_n, d_a] = d.each_mut().map(|v| v.as_chunks_mut::<4>().0);
-            for (i, (l, g)) in terms.groups.iter().zip(&self.packed).enumerate() {
-                // U again (the same bits as the column).
-                let (attenuation, [ci, cs]) = attenuation(g, a);
-                let u = l.base * attenuation;
-                let x_refracted = l.boundary.ratio * t_sub;
-                if slope {
-                    let ds = l.surface * corr.log_slope_derivative(g.ratio * t);
-                    d_s[i] = ds.to_array();
-                }
-                if sub_slope {
-                    d_u[i] = (u * corr.log_slope_derivative(x_refracted)).to_array();
-                }
-                if index {
-                    let log = log_n_derivative(corr, g, &l.boundary, n, x_refracted);
-                    d_n[i] = f64x4::select(u.eq(zero), zero, u * log).to_array();
-                }
-                if absorption {
-                    let da = l.base * (f64x4::c(2.0) * a * ci * cs - ci - cs);
-                    d_a[i] = da.to_array();
-                }
-            }
-        }
+        simd::run(DerivativePass {
+            terms,
+            packed: &self.packed,
+            corr: self.corr,
+            n_a: (n, a),
+            out: d.each_mut().map(|v| v.as_chunks_mut::<4>().0),
+        });
         let len = self.len();
         d.map(|mut v| {
             v.truncate(len);
