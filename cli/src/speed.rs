@@ -46,6 +46,9 @@ pub struct SpeedReport {
     /// Fraction of the β sweeps the envelope searches skipped by their lower
     /// bound (exp, gauss).
     pub pruned: [Option<f64>; 2],
+    /// The lanes the free objective's kernels ran with
+    /// ([`laminar_brdf_fit::simd`]).
+    pub simd: laminar_brdf_fit::simd::Path,
 }
 
 /// Index of the smallest value (first on ties).
@@ -151,6 +154,7 @@ pub fn speed_vs_error(
         direct_slopes: slice.slope.len(),
         mean_front,
         pruned,
+        simd: laminar_brdf_fit::simd::path(),
     })
 }
 
@@ -197,6 +201,10 @@ impl SpeedReport {
         out += &format!(
             "\nReference: `onepass-f64` over the whole grid; `direct-f64` agrees with it to {:.2e} (max |ΔRMS|) on the slice of the first {} σ/T value(s), where the direct paths were run.\n",
             self.reference_agreement, self.direct_slopes
+        );
+        out += &format!(
+            "\nLanes: the free objective's kernels ran with `{}` (`LAMINAR_SIMD` forces `portable` or `avx2`; every path gives the same bits); the search paths above run `wide`'s lanes as built.\n",
+            self.simd.name()
         );
         if let [Some(exp), Some(gauss)] = self.mean_front {
             out += &format!(

@@ -67,6 +67,8 @@ impl<R: Real> Linear<R> {
 
 impl<L: Lane> Linear<L> {
     /// `if mask { t } else { f }`, lane by lane.
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     fn select(mask: L::Mask, t: Self, f: Self) -> Self {
         Self {
             p: L::select(mask, t.p, f.p),
@@ -78,6 +80,8 @@ impl<L: Lane> Linear<L> {
 
 impl<L: Lane> Moments<L> {
     /// The objective at `(p, q)`.
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     pub fn objective(&self, p: L, q: L) -> L {
         let two = L::c(2.0);
         (self.dd - two * (p * self.ds + q * self.du)
@@ -88,6 +92,8 @@ impl<L: Lane> Moments<L> {
     }
 
     /// The best point on the ray of balance `beta`.
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     fn ray(&self, beta: L) -> Linear<L> {
         let zero = L::c(0.0);
         let (w0, w1) = (L::c(1.0) - beta, beta);
@@ -106,6 +112,8 @@ impl<L: Lane> Moments<L> {
     /// The minimum over `c ≥ 0`, `β ∈ [lo, hi]` (`0 ≤ lo ≤ hi ≤ 1`): the
     /// unconstrained minimum when it lies in the cone, else the better ray
     /// (the lower one on ties; one ray when `lo = hi`).
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     pub fn solve(&self, (lo, hi): (f64, f64)) -> Linear<L> {
         let (zero, lo_l, hi_l) = (L::c(0.0), L::c(lo), L::c(hi));
         if lo == hi {
@@ -163,10 +171,11 @@ pub struct Quadratic<R> {
 
 impl<R: Real> Quadratic<R> {
     /// The moments at the absorptions `a` (one per lane).
+    #[cfg_attr(target_arch = "x86_64", inline(always))] // inside `simd` kernels
+    #[cfg_attr(not(target_arch = "x86_64"), inline)]
     pub fn moments<L: Lane<Scalar = R>>(&self, a: L) -> Moments<L> {
         let pow = [L::c(1.0), a, a * a];
         let c = L::splat;
-        let lin = |v: &[R; 3]| c(v[0]) + a * c(v[1]) + a * a * c(v[2]);
         let mut uu = L::c(0.0);
         for (i, &pi) in pow.iter().enumerate() {
             for (j, &pj) in pow.iter().enumerate() {
@@ -176,9 +185,9 @@ impl<R: Real> Quadratic<R> {
         Moments {
             dd: c(self.dd),
             ds: c(self.ds),
-            du: lin(&self.db),
+            du: c(self.db[0]) + a * c(self.db[1]) + a * a * c(self.db[2]),
             ss: c(self.ss),
-            su: lin(&self.sb),
+            su: c(self.sb[0]) + a * c(self.sb[1]) + a * a * c(self.sb[2]),
             uu,
         }
     }

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render
+from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render, simd_path
 from ._laminar import evaluate as _evaluate
 from ._laminar import compare
 from ._laminar import fit_joint
@@ -43,6 +43,7 @@ __all__ = [
     "FittedModel",
     "render",
     "paper_angles",
+    "simd_path",
     "BATCH_DTYPE",
     "BATCH_DTYPES",
     "FLAG_BITS",

@@ -19,6 +19,7 @@ from ._laminar import render as render
 from ._laminar import AngleUnit, Grid, LayeredModel, Model, Noise, Objective, Precision, Quantity, Uncertainty
 from ._laminar import Measurements as Measurements
 from ._laminar import paper_angles as paper_angles
+from ._laminar import simd_path as simd_path
 
 BATCH_DTYPE: np.dtype[np.void]
 

@@ -39,6 +39,12 @@ def evaluate(
     precision: Precision = "f64",
 ) -> dict[str, Array]: ...
 def paper_angles(theta_i: float, phi_i: float, theta_v: float, phi_v: float) -> tuple[float, float, float]: ...
+def simd_path() -> str:
+    """The lanes the fitting kernels run with: ``"avx2"`` or ``"portable"``
+    (``LAMINAR_SIMD`` forces one; every path gives the same bits). Raises
+    ``ValueError`` when ``LAMINAR_SIMD`` names no path or one this processor
+    cannot run."""
+    ...
 
 class Measurements:
     @staticmethod

@@ -25,6 +25,18 @@ use laminar_brdf_fit::{Edge, Grid, Model, Param};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+/// The lanes the fitting kernels run with: `"avx2"` or `"portable"`
+/// (`LAMINAR_SIMD` forces one; every path gives the same bits).
+///
+/// Raises `ValueError` when `LAMINAR_SIMD` names no path or one this
+/// processor cannot run.
+#[pyfunction]
+fn simd_path() -> PyResult<&'static str> {
+    laminar_brdf_fit::simd::from_env()
+        .map(|path| path.name())
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+}
+
 /// The native module.
 #[pymodule]
 fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -34,6 +46,7 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fit_result::compare, m)?)?;
     m.add_function(wrap_pyfunction!(joint::fit_joint, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::paper_angles, m)?)?;
+    m.add_function(wrap_pyfunction!(simd_path, m)?)?;
     m.add_class::<measurements::Measurements>()?;
     m.add_class::<fit_result::FitResult>()?;
     m.add_class::<fitted_model::FittedModel>()?;

@@ -541,3 +541,32 @@ def test_the_real_spectral_sources_read_as_the_cli_does(tmp_path):
         cli_fit = cli_fits("--measurements", Path(rgl) / "paper_white_rgb.bsdf", "--channels", "g", "--models", "exp", *GRID_ARGS)
         assert json.loads(fit.to_json())["fits"] == cli_fit
 
+
+
+def test_the_simd_path_is_reported_and_gives_the_same_bits(tmp_path):
+    import subprocess
+    import sys
+
+    assert laminar.simd_path() in ("avx2", "portable")
+    script = (
+        "import numpy as np, sys; sys.path.insert(0, %r); import laminar_brdf as laminar; "
+        "from conftest import geometry, radiance, GRID; g = geometry(90); "
+        "values = np.stack([radiance(g, slope=s, a=a, seed=i) for i, (s, a) in enumerate([(0.6, 0.1), (1.6, 0.8)])]); "
+        "out = laminar.fit_batch(g, values, 'exp', grid=GRID, quantity='radiance'); "
+        "print(laminar.simd_path()); sys.stdout.write(out.tobytes().hex())"
+    ) % str(Path(__file__).parent)
+    runs = {}
+    for path in ("portable", "auto"):
+        env = dict(os.environ, LAMINAR_SIMD=path)
+        done = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True)
+        name, data = done.stdout.split("\n", 1)
+        runs[path] = (name, data)
+    assert runs["portable"][0] == "portable"
+    assert runs["auto"][0] == laminar.simd_path()
+    # The fits' bytes, every field, whichever lanes ran them.
+    assert runs["portable"][1] == runs["auto"][1]
+    env = dict(os.environ, LAMINAR_SIMD="sse9")
+    bad = subprocess.run(
+        [sys.executable, "-c", "import laminar_brdf as l; l.simd_path()"], env=env, capture_output=True, text=True
+    )
+    assert bad.returncode != 0 and 'LAMINAR_SIMD="sse9": expected one of auto, portable, avx2' in bad.stderr

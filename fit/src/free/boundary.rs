@@ -133,16 +133,6 @@ fn transmission_parts<L: Lane>(n: L, c: L, c2: L) -> (L, L) {
     (s2 + p2, s2 * p2)
 }
 
-/// The boundary of every measurement at one n, a lane's width at a time
-/// ([`super::basis`]'s packing).
-pub fn boundary<L: Lane>(packed: &[Geometry<L>], n: f64) -> Vec<BoundaryGroup<L>> {
-    let inv_n = 1.0 / n;
-    packed
-        .iter()
-        .map(|g| BoundaryGroup::new(g, n, inv_n))
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,8 +6,9 @@
 
 use super::table::{Nonlinear, Table};
 use super::{Columns, Evaluated, FreeModel};
-use crate::free::boundary::{boundary, BoundaryGroup};
+use crate::free::boundary::BoundaryGroup;
 use crate::free::pool::{self, Free};
+use crate::free::search::quadratic::Bases;
 use crate::grid::{Axis, Grid};
 use crate::model::{Family, Model, Param};
 use crate::simd;
@@ -99,6 +100,49 @@ impl LayerGroup {
             surface: surface_radiance(g, corr, t).store(),
             base: boundary.base(corr, t_sub).store(),
             boundary: boundary.store(),
+        }
+    }
+}
+
+/// The pass of [`LayeredModel::boundary`].
+struct BoundaryPass<'a, P> {
+    packed: &'a [Geometry<P>],
+    n: f64,
+}
+
+impl<P: Packed> Kernel for BoundaryPass<'_, P> {
+    type Output = Vec<BoundaryGroup<P>>;
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> Vec<BoundaryGroup<P>> {
+        let inv_n = 1.0 / self.n;
+        let mut out = Vec::with_capacity(self.packed.len());
+        for g in self.packed {
+            out.push(P::boundary_group::<L>(g, self.n, inv_n));
+        }
+        out
+    }
+}
+
+/// The pass of [`LayeredModel::surface`]: the surface term of every
+/// group, appended to `out`.
+struct SurfacePass<'a> {
+    packed: &'a [Geometry<f64x4>],
+    corr: Correlation,
+    /// `(T/σ)²`.
+    t: f64,
+    out: &'a mut Vec<f64>,
+}
+
+impl Kernel for SurfacePass<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        let t = L::splat(self.t);
+        for g in self.packed {
+            let s = surface_radiance(&g.map(L::load), self.corr, t);
+            self.out.extend_from_slice(&s.to_array());
         }
     }
 }
@@ -306,6 +350,23 @@ pub trait Packed: Lane {
     /// Groups of this lane's values as groups of four `f64`, exactly and in
     /// order (the grid stage's sums run in `f64x4`).
     fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4>;
+
+    /// The base `B` ([`LayeredModel::base_groups`]) at `slope` on
+    /// `boundary`, as groups of four in a kernel's lanes.
+    fn bases<'a>(
+        model: &LayeredModel,
+        slope: f64,
+        boundary: &'a [BoundaryGroup<Self>],
+    ) -> impl Bases + 'a;
+
+    /// The boundary of the group `g` at `n` (`inv_n` its reciprocal),
+    /// computed in a kernel's lanes `L` where the packing is four `f64`.
+    fn boundary_group<L: Lane4>(g: &Geometry<Self>, n: f64, inv_n: f64) -> BoundaryGroup<Self>;
+
+    /// `kernel` on the lanes this packing's grid stage runs with: the
+    /// dispatched ones ([`crate::simd`]) for `f64x4`, the portable ones for
+    /// `f32x8` (whose bases are `wide`'s).
+    fn run<K: Kernel>(kernel: K) -> K::Output;
 }
 
 impl Packed for f64x4 {
@@ -315,6 +376,27 @@ impl Packed for f64x4 {
 
     fn widened(groups: impl Iterator<Item = Self>) -> impl Iterator<Item = f64x4> {
         groups
+    }
+
+    fn bases<'a>(
+        model: &LayeredModel,
+        slope: f64,
+        boundary: &'a [BoundaryGroup<Self>],
+    ) -> impl Bases + 'a {
+        BasesOnBoundary {
+            boundary,
+            corr: model.corr,
+            t: inverse_slope_squared(slope),
+        }
+    }
+
+    #[inline(always)]
+    fn boundary_group<L: Lane4>(g: &Geometry<Self>, n: f64, inv_n: f64) -> BoundaryGroup<Self> {
+        BoundaryGroup::new(&g.map(L::load), n, inv_n).store()
+    }
+
+    fn run<K: Kernel>(kernel: K) -> K::Output {
+        simd::run(kernel)
     }
 }
 
@@ -328,6 +410,52 @@ impl Packed for f32x8 {
             let v = v.to_array();
             [0, 4].map(|h| f64x4::from_f64_lanes(|i| f64::from(v[h + i])))
         })
+    }
+
+    fn bases<'a>(
+        model: &LayeredModel,
+        slope: f64,
+        boundary: &'a [BoundaryGroup<Self>],
+    ) -> impl Bases + 'a {
+        BasesWidened(Self::widened(model.base_groups(slope, boundary)).collect())
+    }
+
+    /// In `f32x8`, whatever `L`.
+    #[inline(always)]
+    fn boundary_group<L: Lane4>(g: &Geometry<Self>, n: f64, inv_n: f64) -> BoundaryGroup<Self> {
+        BoundaryGroup::new(g, n, inv_n)
+    }
+
+    fn run<K: Kernel>(kernel: K) -> K::Output {
+        laminar_brdf_core::simd::run_portable(kernel)
+    }
+}
+
+/// The base on a boundary in `f64x4`, computed group by group in the
+/// kernel's lanes.
+struct BasesOnBoundary<'a> {
+    boundary: &'a [BoundaryGroup],
+    corr: Correlation,
+    /// `(T/σ)²` (or `(T′/σ′)²`).
+    t: f64,
+}
+
+impl Bases for BasesOnBoundary<'_> {
+    #[inline(always)]
+    fn group<L: Lane4>(&self, i: usize) -> L {
+        self.boundary[i]
+            .load::<L>()
+            .base(self.corr, L::splat(self.t))
+    }
+}
+
+/// The base computed in `f32x8` lanes and widened, in groups of four.
+struct BasesWidened(Vec<f64x4>);
+
+impl Bases for BasesWidened {
+    #[inline(always)]
+    fn group<L: Lane4>(&self, i: usize) -> L {
+        L::load(self.0[i])
     }
 }
 
@@ -351,18 +479,24 @@ fn attenuation<L: Lane>(g: &Geometry<L>, a: L) -> (L, [L; 2]) {
 impl LayeredModel {
     /// The boundary at refractive index `n` ([`crate::free::boundary`]), a
     /// lane's width of measurements at a time.
-    pub fn boundary<L: Packed>(&self, n: f64) -> Vec<BoundaryGroup<L>> {
-        boundary(L::packed(self), n)
+    pub fn boundary<P: Packed>(&self, n: f64) -> Vec<BoundaryGroup<P>> {
+        P::run(BoundaryPass {
+            packed: P::packed(self),
+            n,
+        })
     }
 
     /// The raw surface term at σ/T.
     pub fn surface(&self, slope: f64) -> Vec<f64> {
-        let t = f64x4::splat(inverse_slope_squared(slope));
-        let groups = self
-            .packed
-            .iter()
-            .map(|g| surface_radiance(g, self.corr, t));
-        unpack(groups, self.len())
+        let mut out = pool::vector(self.packed.len() * 4);
+        simd::run(SurfacePass {
+            packed: &self.packed,
+            corr: self.corr,
+            t: inverse_slope_squared(slope),
+            out: &mut out,
+        });
+        out.truncate(self.len());
+        out
     }
 
     /// The Ragheb–Hancock base `B_k` (eqs. 3–4) at the lower boundary's

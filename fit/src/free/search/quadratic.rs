@@ -14,6 +14,8 @@ use crate::free::problem::Problem;
 use crate::free::sums::{dots, total};
 use crate::model::Param;
 use crate::settings::precision::Precision;
+use crate::simd;
+use laminar_brdf_core::simd::{Kernel, Lane4};
 use laminar_brdf_core::{f32x8, f64x4, Lane};
 use rayon::prelude::*;
 
@@ -24,8 +26,15 @@ type Layered = Problem<LayeredModel>;
 /// four at a time (the last group padded with its last a): bit for bit
 /// one at a time, as the core's `f64x4` is its `f64` lane by lane.
 pub(crate) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
+    objectives_in::<f64x4>(q, a_axis, beta, out);
+}
+
+/// [`objectives`] in a kernel's lanes.
+#[inline(always)]
+fn objectives_in<L: Lane4>(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
     for (group, out) in a_axis.chunks(4).zip(out.chunks_mut(4)) {
-        let a = f64x4::from_f64_lanes(|i| group[i.min(group.len() - 1)]);
+        let last = group.len() - 1;
+        let a = L::from_array([0, 1, 2, 3].map(|i| group[i.min(last)]));
         let sse = q.moments(a).solve(beta).sse.to_array();
         out.copy_from_slice(&sse[..group.len()]);
     }
@@ -80,53 +89,53 @@ impl ColumnSums {
     /// set's weighted data `wd` (split the same way), its sums `db` are
     /// formed in the same pass, bit for bit [`data_sums`]'s, and `B` is not
     /// kept.
-    fn new(
-        groups: impl Iterator<Item = f64x4>,
+    #[inline(always)]
+    fn new<L: Lane4>(
+        groups: &impl Bases,
         len: usize,
         coefficients: (&[[f64x4; 6]], &[[f64; 6]]),
         ws: (&[[f64; 4]], &[f64]),
         wd: Option<(&[[f64; 4]], &[f64])>,
     ) -> Self {
-        let mut groups = groups;
         let mut base = Vec::with_capacity(if wd.is_none() {
             len.next_multiple_of(4)
         } else {
             0
         });
         // Σ w B² against [1, g1, g2, g11, g12, g22]; Σ w S B against [1, g1, g2].
-        let mut bb = [f64x4::ZERO; 6];
-        let mut sb = [f64x4::ZERO; 3];
-        let mut db = [f64x4::ZERO; 3];
-        // The coefficients lead the zip, so that it stops before taking the
-        // last, partial group from `groups`.
-        let whole = coefficients.0.iter().zip(ws.0).zip(groups.by_ref());
+        let mut bb = [L::zero(); 6];
+        let mut sb = [L::zero(); 3];
+        let mut db = [L::zero(); 3];
+        // Indexed, not zipped: an iterator adapter yielding lanes might not
+        // be inlined into the kernel.
+        let whole = coefficients.0.iter().zip(ws.0).enumerate();
         match wd {
             None => {
-                for ((c, ws), b) in whole {
+                for (i, (c, ws)) in whole {
+                    let b = groups.group::<L>(i);
                     base.extend_from_slice(&b.to_array());
-                    accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
+                    accumulate(&mut bb, &mut sb, (b, L::from_array(*ws)), &loaded(c));
                 }
             }
             Some((wd, _)) => {
-                for (((c, ws), b), wd) in whole.zip(wd) {
-                    accumulate(&mut bb, &mut sb, (b, f64x4::from(*ws)), c);
-                    accumulate_data(&mut db, (b, f64x4::from(*wd)), [c[1], c[2]]);
+                for ((i, (c, ws)), wd) in whole.zip(wd) {
+                    let (b, c) = (groups.group::<L>(i), loaded(c));
+                    accumulate(&mut bb, &mut sb, (b, L::from_array(*ws)), &c);
+                    accumulate_data(&mut db, (b, L::from_array(*wd)), [c[1], c[2]]);
                 }
             }
         }
         // The last, partial group's measurements.
         let body = len - coefficients.1.len();
-        let mut rest = [0.0; 4];
-        for (r, b) in rest
-            .iter_mut()
-            .zip(groups.flat_map(|b| b.to_array()).take(len - body))
-        {
-            *r = b;
-        }
+        let rest = if body < len {
+            groups.group::<L>(coefficients.0.len()).to_array()
+        } else {
+            [0.0; 4]
+        };
         let rest = &rest[..len - body];
-        let mut bb = bb.map(total);
-        let mut sb = sb.map(total);
-        let mut db = db.map(total);
+        let mut bb = [0, 1, 2, 3, 4, 5].map(|i| total(bb[i]));
+        let mut sb = [0, 1, 2].map(|i| total(sb[i]));
+        let mut db = [0, 1, 2].map(|i| total(db[i]));
         for ((&b, c), &ws) in rest.iter().zip(coefficients.1).zip(ws.1) {
             accumulate(&mut bb, &mut sb, (b, ws), c);
         }
@@ -149,10 +158,31 @@ impl ColumnSums {
     }
 }
 
+/// A column's base `B`, a group of four measurements at a time, in a
+/// kernel's lanes ([`Packed::bases`]).
+pub trait Bases {
+    /// The `i`-th group of four.
+    fn group<L: Lane4>(&self, i: usize) -> L;
+}
+
+/// Six stored groups in a kernel's lanes.
+#[inline(always)]
+fn loaded<L: Lane4>(c: &[f64x4; 6]) -> [L; 6] {
+    [
+        L::load(c[0]),
+        L::load(c[1]),
+        L::load(c[2]),
+        L::load(c[3]),
+        L::load(c[4]),
+        L::load(c[5]),
+    ]
+}
+
 /// One term of [`ColumnSums::new`]'s sums: `w B²` times each of `[1, g1,
 /// g2, g1², g1 g2, g2²]` into `bb`, `w S B` times each of `[1, g1, g2]`
 /// into `sb`, from the base `b`, the weighted surface term `ws` and the
 /// coefficients `[w, g1, g2, g1², g1 g2, g2²]`.
+#[inline(always)]
 fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], (b, ws): (L, L), [w, f @ ..]: &[L; 6]) {
     let wbb = *w * b * b;
     let wsb = ws * b;
@@ -168,6 +198,7 @@ fn accumulate<L: Lane>(bb: &mut [L; 6], sb: &mut [L; 3], (b, ws): (L, L), [w, f 
 /// One term of a set's data's sums: `w D B` times each of `[1, g1, g2]`
 /// into `db`, from the base `b`, the weighted datum `wd` and the factors
 /// `g1`, `g2` ([`data_sums`], and [`ColumnSums::new`] for one set).
+#[inline(always)]
 fn accumulate_data<L: Lane>(db: &mut [L; 3], (b, wd): (L, L), [g1, g2]: [L; 2]) {
     let t = b * wd;
     db[0] = db[0] + t;
@@ -240,21 +271,22 @@ impl ModelSide {
         let [g1, g2, g11, g12, g22] = g;
         // What every σ/T row shares, interleaved once.
         let (coefficients, tail) = interleave([w, g1, g2, g11, g12, g22]);
+        let wd = one_set.then(|| problem.weighted_data.as_chunks::<4>());
         slopes
             .par_iter()
             .map(|&slope| {
                 let s = model.surface(slope);
                 let ws: Vec<f64> = w.iter().zip(&s).map(|(w, s)| w * s).collect();
                 let [ss] = dots(&s, [&ws]);
-                let ws_groups = ws.as_chunks::<4>();
-                let columns = boundaries
-                    .iter()
-                    .map(|b| {
-                        let groups = L::widened(model.base_groups(slope, b));
-                        let wd = one_set.then(|| problem.weighted_data.as_chunks::<4>());
-                        ColumnSums::new(groups, k, (&coefficients, &tail), ws_groups, wd)
-                    })
-                    .collect();
+                let columns = L::run(ColumnsPass {
+                    model,
+                    slope,
+                    boundaries: &boundaries,
+                    len: k,
+                    coefficients: (&coefficients, &tail),
+                    ws: ws.as_chunks::<4>(),
+                    wd,
+                });
                 SlopeRow { s, ss, columns }
             })
             .collect()
@@ -324,32 +356,35 @@ const BLOCK: usize = 256;
 /// [`BLOCK`] measurements. Per set, four partial sums per product over
 /// groups of four in measurement order, combined as [`super::sums::dots`]
 /// does: the same bits whatever the number of sets.
-fn data_sums(
+#[inline(always)]
+fn data_sums<L: Lane4>(
     base: &[f64],
     [g1, g2]: [&[f64]; 2],
     wds: &[&[f64]],
-    acc: &mut [[f64x4; 3]],
+    acc: &mut [[L; 3]],
     out: &mut [[f64; 3]],
 ) {
     let len = base.len();
     let (b4, _) = base.as_chunks::<4>();
     let (x1, _) = g1[..len].as_chunks::<4>();
     let (x2, _) = g2[..len].as_chunks::<4>();
-    acc.fill([f64x4::ZERO; 3]);
+    for acc in acc.iter_mut() {
+        *acc = [L::zero(); 3];
+    }
     for start in (0..b4.len()).step_by(BLOCK / 4) {
         let end = (start + BLOCK / 4).min(b4.len());
         let (b, x1, x2) = (&b4[start..end], &x1[start..end], &x2[start..end]);
         for (acc, wd) in acc.iter_mut().zip(wds) {
             let w = &wd[..len].as_chunks::<4>().0[start..end];
             for i in 0..b.len() {
-                let (x1, x2) = (f64x4::from(x1[i]), f64x4::from(x2[i]));
-                accumulate_data(acc, (f64x4::from(b[i]), f64x4::from(w[i])), [x1, x2]);
+                let (x1, x2) = (L::from_array(x1[i]), L::from_array(x2[i]));
+                accumulate_data(acc, (L::from_array(b[i]), L::from_array(w[i])), [x1, x2]);
             }
         }
     }
     let body = 4 * b4.len();
     for ((out, acc), wd) in out.iter_mut().zip(acc.iter()).zip(wds) {
-        *out = acc.map(total);
+        *out = [total(acc[0]), total(acc[1]), total(acc[2])];
         for k in body..len {
             accumulate_data(out, (base[k], wd[k]), [g1[k], g2[k]]);
         }
@@ -387,33 +422,15 @@ pub fn grid_values_many(
     }
     rows.into_par_iter()
         .zip(&model.rows)
-        .for_each(|(mut out, row)| {
-            let ds: Vec<f64> = wds.iter().map(|wd| dots(&row.s, [wd])[0]).collect();
-            let mut acc = vec![[f64x4::ZERO; 3]; problems.len()];
-            let mut sums = vec![[0.0; 3]; problems.len()];
-            for (n, c) in row.columns.iter().enumerate() {
-                match c.db {
-                    Some(db) => sums[0] = db,
-                    None => data_sums(&c.base, g, &wds, &mut acc, &mut sums),
-                }
-                let at = n * a_axis.len();
-                for (set, problem) in problems.iter().enumerate() {
-                    let q = Quadratic {
-                        dd: problem.dd,
-                        ds: ds[set],
-                        ss: row.ss,
-                        db: sums[set],
-                        sb: c.sb,
-                        bb: c.bb,
-                    };
-                    objectives(
-                        &q,
-                        &a_axis,
-                        problem.beta,
-                        &mut out[set][at..at + a_axis.len()],
-                    );
-                }
-            }
+        .for_each(|(out, row)| {
+            simd::run(RowValues {
+                problems,
+                row,
+                g,
+                wds: &wds,
+                a_axis: &a_axis,
+                out,
+            });
         });
     sse.into_iter()
         .map(|sse| GridValues {
@@ -421,6 +438,91 @@ pub fn grid_values_many(
             sse,
         })
         .collect()
+}
+
+/// The columns of one σ/T row of the model side ([`ColumnSums::new`] at
+/// each n), the bases packed in `P`'s lanes.
+struct ColumnsPass<'a, P: Lane> {
+    model: &'a LayeredModel,
+    slope: f64,
+    /// The boundary at each n.
+    boundaries: &'a [Vec<BoundaryGroup<P>>],
+    len: usize,
+    coefficients: (&'a [[f64x4; 6]], &'a [[f64; 6]]),
+    ws: (&'a [[f64; 4]], &'a [f64]),
+    wd: Option<(&'a [[f64; 4]], &'a [f64])>,
+}
+
+impl<P: Packed> Kernel for ColumnsPass<'_, P> {
+    type Output = Vec<ColumnSums>;
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> Vec<ColumnSums> {
+        let mut columns = Vec::with_capacity(self.boundaries.len());
+        for b in self.boundaries {
+            let groups = P::bases(self.model, self.slope, b);
+            columns.push(ColumnSums::new::<L>(
+                &groups,
+                self.len,
+                self.coefficients,
+                self.ws,
+                self.wd,
+            ));
+        }
+        columns
+    }
+}
+
+/// The pass of [`grid_values_many`] over one σ/T row: each set's
+/// objectives along (n, a).
+struct RowValues<'a, 'o> {
+    problems: &'a [&'a Layered],
+    row: &'a SlopeRow,
+    /// The factors of B1 and B2.
+    g: [&'a [f64]; 2],
+    /// Each set's weighted data.
+    wds: &'a [&'a [f64]],
+    a_axis: &'a [f64],
+    /// Each set's objectives along this row.
+    out: Vec<&'o mut [f64]>,
+}
+
+impl Kernel for RowValues<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        let Self {
+            problems,
+            row,
+            g,
+            wds,
+            a_axis,
+            mut out,
+        } = self;
+        let ds: Vec<f64> = wds.iter().map(|wd| dots(&row.s, [wd])[0]).collect();
+        let mut acc = vec![[L::zero(); 3]; problems.len()];
+        let mut sums = vec![[0.0; 3]; problems.len()];
+        for (n, c) in row.columns.iter().enumerate() {
+            match c.db {
+                Some(db) => sums[0] = db,
+                None => data_sums(&c.base, g, wds, &mut acc, &mut sums),
+            }
+            let at = n * a_axis.len();
+            for (set, problem) in problems.iter().enumerate() {
+                let q = Quadratic {
+                    dd: problem.dd,
+                    ds: ds[set],
+                    ss: row.ss,
+                    db: sums[set],
+                    sb: c.sb,
+                    bb: c.bb,
+                };
+                let out = &mut out[set][at..at + a_axis.len()];
+                objectives_in::<L>(&q, a_axis, problem.beta, out);
+            }
+        }
+    }
 }
 
 #[cfg(test)]
