@@ -1,5 +1,5 @@
 //! Four `f64` lanes in one AVX register (`__m256d`), for kernels run
-//! through [`crate::simd::run_avx2`] on a processor that has AVX2 and FMA.
+//! through [`crate::simd::run`] on a processor that has AVX2 and FMA.
 //!
 //! `wide::f64x4` fixes its layout when the crate is compiled: a build for
 //! every x86-64 processor (what `cargo install` and `pip install` give)
@@ -11,8 +11,8 @@
 //!
 //! The type is not nameable outside the crate: a kernel receives it only as
 //! the lane parameter of [`crate::simd::Kernel::run`], inside a function
-//! compiled with AVX2 enabled, which [`crate::simd::run_avx2`] calls only
-//! when its caller vouches that the processor has the instructions. Every
+//! compiled with AVX2 enabled, which [`crate::simd::run`] calls only when
+//! [`detected`] found the instructions. Every
 //! method is `#[inline(always)]`, so that it is compiled inside that
 //! function (called out of line, each intrinsic would be a call).
 //!
@@ -44,8 +44,8 @@ pub struct Mask64x4(__m256d);
 
 // SAFETY (every `unsafe` block below): the intrinsics need AVX (and AVX2 for
 // the integer ones); a value of these types exists only inside a kernel run
-// by `simd::run_avx2`, whose caller guarantees both. None reads memory other
-// than the arrays passed to it.
+// by `simd::run` after `detected()` found both. None reads memory other than
+// the arrays passed to it.
 
 macro_rules! binary {
     ($trait:ident, $method:ident, $intrinsic:ident, $ty:ty) => {

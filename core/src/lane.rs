@@ -1,5 +1,5 @@
-//! The lane trait: one numeric interface for `f32`, `f64`, `wide::f32x8`
-//! and `wide::f64x4`.
+//! The lane trait: one numeric interface for `f32`, `f64`, `wide::f32x8`,
+//! `wide::f64x4` and the AVX2 lanes of [`crate::simd`].
 //!
 //! Every equation of the model is written once against [`Lane`]. The trait
 //! exposes only operations whose results are defined bit for bit by IEEE 754
@@ -38,7 +38,7 @@ impl Mask for f64x4 {
     }
 }
 
-/// Seals [`Lane`]: its four implementations are the whole determinism
+/// Seals [`Lane`]: its five implementations are the whole determinism
 /// policy, so no other type may join them.
 pub(crate) mod sealed {
     pub trait Sealed {}
@@ -49,7 +49,8 @@ pub(crate) mod sealed {
 }
 
 /// A vector of one or more floating-point lanes (see the module docs).
-/// Sealed: implemented for `f32`, `f64`, `wide::f32x8` and `wide::f64x4` only.
+/// Sealed: implemented for `f32`, `f64`, `wide::f32x8`, `wide::f64x4` and
+/// the AVX2 lanes of [`crate::simd`] only.
 pub trait Lane:
     sealed::Sealed
     + Copy

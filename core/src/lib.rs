@@ -22,14 +22,18 @@
 //! # Ok::<(), laminar_brdf_core::InputError>(())
 //! ```
 //!
-//! ## One implementation, four lane types
+//! ## One implementation, five lane types
 //! Every equation is written once against [`Lane`], implemented for `f32`,
-//! `f64`, `wide::f32x8` (eight measurement geometries per vector) and
-//! `wide::f64x4` (four, for the host's f64 fits).
+//! `f64`, `wide::f32x8` (eight measurement geometries per vector),
+//! `wide::f64x4` (four, for the host's f64 fits) and, on x86-64, four
+//! `f64` in an AVX register, which [`simd::run`] hands to a kernel when the
+//! processor has AVX2 (chosen when the program runs; a build for every
+//! x86-64 processor otherwise runs `wide::f64x4` as two SSE halves).
 //!
 //! ## Determinism policy
 //! * The `f32x8` path is **bitwise identical** to the scalar `f32` path, and
-//!   the `f64x4` path to the scalar `f64` path, lane by lane, on every target: only IEEE-exact operations are used
+//!   the `f64x4` and AVX2 paths to the scalar `f64` path, lane by lane, on
+//!   every target: only IEEE-exact operations are used
 //!   (`+ − × ÷ sqrt`, comparisons, selects, exact power-of-two scaling), never
 //!   `mul_add`, vendor `exp` or horizontal reductions. [`exp`](exp::exp) is our
 //!   own, written once generically. The workspace's `clippy.toml` forbids
@@ -78,7 +82,7 @@
 //! only, on geometry and σ/T, on geometry and n, or on geometry and a.
 #![no_std]
 #![forbid(missing_docs)]
-#![deny(unsafe_code)] // allowed in `sqrt` (one FPU instruction), `avx2` and `simd::run_avx2`
+#![deny(unsafe_code)] // allowed in `sqrt` (one FPU instruction), `avx2` and `simd::run`
 
 #[cfg(test)]
 extern crate std;

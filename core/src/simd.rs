@@ -2,15 +2,16 @@
 //! program runs.
 //!
 //! A kernel is a pass over packed measurements written once, generic over
-//! a four-`f64` lane type ([`Lane4`]), as a [`Kernel`]. [`run_portable`]
-//! runs it with `wide::f64x4` (two SSE halves in a build for every x86-64
-//! processor; one register on aarch64 and in a build for AVX); on x86-64,
-//! [`run_avx2`] runs it with AVX2 lanes, inside a function compiled for
+//! a four-`f64` lane type ([`Lane4`]), as a [`Kernel`]. [`run`] with
+//! [`Path::Portable`] runs it with `wide::f64x4` (two SSE halves in a build
+//! for every x86-64 processor; one register on aarch64 and in a build for
+//! AVX); with [`Path::Avx2`], on an x86-64 processor that has AVX2 and FMA
+//! ([`avx2_available`]), with AVX2 lanes, inside a function compiled for
 //! AVX2 and FMA. The two give the same bits: both lane types are the IEEE
 //! operations of the scalar `f64` path.
 //!
-//! This crate cannot ask the processor what it has (`no_std`); the fitting
-//! library does, once, and chooses. A kernel's `run` and everything it
+//! The fitting library chooses the path (`LAMINAR_SIMD`, else what the
+//! processor has). A kernel's `run` and everything it
 //! calls with the lane type must be inlined into it (`#[inline(always)]`):
 //! a generic function compiled on its own is compiled for every x86-64
 //! processor, and each AVX instruction in it would become a call.
@@ -20,7 +21,7 @@ use core::ops::AddAssign;
 use wide::f64x4;
 
 /// Four `f64` lanes: `wide::f64x4`, or on x86-64 the AVX2 lanes of
-/// [`run_avx2`]. Storage stays `wide::f64x4` (or `[f64; 4]`); a kernel
+/// [`Path::Avx2`]. Storage stays `wide::f64x4` (or `[f64; 4]`); a kernel
 /// loads from it and stores to it.
 pub trait Lane4: Lane<Scalar = f64> + AddAssign {
     /// The four values in order.

@@ -16,7 +16,8 @@ use super::pool;
 use super::sums::{dots, total};
 use crate::model::Model;
 use crate::scene::Scene;
-use laminar_brdf_core::f64x4;
+use crate::simd;
+use laminar_brdf_core::simd::{Kernel, Lane4};
 use std::sync::Arc;
 
 /// A `[lo, hi]` range per parameter.
@@ -220,23 +221,16 @@ impl<M: FreeModel> Problem<M> {
     fn sse(&self, columns: &Columns, linear: &Linear) -> f64 {
         let Linear { p, q, .. } = *linear;
         let len = self.data.len();
-        let (d, d_tail) = self.data.as_chunks::<4>();
-        let (s, s_tail) = columns.s[..len].as_chunks::<4>();
-        let (w, w_tail) = self.root_weight[..len].as_chunks::<4>();
-        let rows = d.iter().zip(s).zip(w);
-        let tail = d_tail.iter().zip(s_tail).zip(w_tail);
-        if columns.u.is_empty() {
+        simd::run(WeightedSquares {
+            d: &self.data,
+            s: &columns.s[..len],
             // A baseline: q times zero adds nothing, `d − p s − 0` is
             // `d − p s` exactly.
-            let zeros = std::iter::repeat(&[0.0; 4]);
-            let rows = rows.zip(zeros).map(|(((d, s), w), u)| [d, s, u, w]);
-            let tail = tail.map(|((d, s), w)| [*d, *s, 0.0, *w]);
-            return weighted_sum_of_squares(rows, tail, (p, q));
-        }
-        let (u, u_tail) = columns.u[..len].as_chunks::<4>();
-        let rows = rows.zip(u).map(|(((d, s), w), u)| [d, s, u, w]);
-        let tail = tail.zip(u_tail).map(|(((d, s), w), u)| [*d, *s, *u, *w]);
-        weighted_sum_of_squares(rows, tail, (p, q))
+            u: (!columns.u.is_empty()).then(|| &columns.u[..len]),
+            root_weight: &self.root_weight[..len],
+            p,
+            q,
+        })
     }
 
     /// The point at `theta` and the Gauss–Newton normal equations of the
@@ -283,50 +277,101 @@ impl<M: FreeModel> Problem<M> {
 /// `Σ w s²`, `Σ w s u` and `Σ w u²`, four partial sums each in the fixed
 /// order of [`dots`].
 fn squares(w: &[f64], s: &[f64], u: &[f64]) -> [f64; 3] {
-    let len = w.len();
-    let (ws, w_tail) = w.as_chunks::<4>();
-    let (ss, s_tail) = s[..len].as_chunks::<4>();
-    let (us, u_tail) = u[..len].as_chunks::<4>();
-    let mut acc = [f64x4::ZERO; 3];
-    for ((&wk, &sk), &uk) in ws.iter().zip(ss).zip(us) {
-        let (wk, sk, uk) = (f64x4::from(wk), f64x4::from(sk), f64x4::from(uk));
-        let wsk = wk * sk;
-        acc[0] += wsk * sk;
-        acc[1] += wsk * uk;
-        acc[2] += wk * uk * uk;
-    }
-    let mut out = acc.map(total);
-    for ((w, s), u) in w_tail.iter().zip(s_tail).zip(u_tail) {
-        let ws = w * s;
-        out[0] += ws * s;
-        out[1] += ws * u;
-        out[2] += w * u * u;
-    }
-    out
+    simd::run(Squares { w, s, u })
 }
 
-/// `Σ ((d − p s − q u) w)²` over the groups of four `[d, s, u, w]` of
-/// `rows`, then the measurements of the last, partial group (`tail`), in
+/// The pass of [`squares`].
+struct Squares<'a> {
+    w: &'a [f64],
+    s: &'a [f64],
+    u: &'a [f64],
+}
+
+impl Kernel for Squares<'_> {
+    type Output = [f64; 3];
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> [f64; 3] {
+        let Self { w, s, u } = self;
+        let len = w.len();
+        let (ws, w_tail) = w.as_chunks::<4>();
+        let (ss, s_tail) = s[..len].as_chunks::<4>();
+        let (us, u_tail) = u[..len].as_chunks::<4>();
+        let mut acc = [L::zero(); 3];
+        for ((&wk, &sk), &uk) in ws.iter().zip(ss).zip(us) {
+            let (wk, sk, uk) = (L::from_array(wk), L::from_array(sk), L::from_array(uk));
+            let wsk = wk * sk;
+            acc[0] += wsk * sk;
+            acc[1] += wsk * uk;
+            acc[2] += wk * uk * uk;
+        }
+        let mut out = [total(acc[0]), total(acc[1]), total(acc[2])];
+        for ((w, s), u) in w_tail.iter().zip(s_tail).zip(u_tail) {
+            let ws = w * s;
+            out[0] += ws * s;
+            out[1] += ws * u;
+            out[2] += w * u * u;
+        }
+        out
+    }
+}
+
+/// `Σ ((d − p s − q u) w)²` over the measurements (`u` zero when absent,
+/// `w` the root weights): groups of four, then the last, partial group, in
 /// order: the same four partial sums as [`dots`], so the same bits as the
 /// weighted residuals dotted with themselves.
-fn weighted_sum_of_squares<'a>(
-    rows: impl Iterator<Item = [&'a [f64; 4]; 4]>,
-    tail: impl Iterator<Item = [f64; 4]>,
-    (p, q): (f64, f64),
-) -> f64 {
-    let (p4, q4) = (f64x4::splat(p), f64x4::splat(q));
-    let mut acc = f64x4::ZERO;
-    for row in rows {
-        let [d, s, u, w] = row.map(|v| f64x4::from(*v));
-        let e = (d - p4 * s - q4 * u) * w;
-        acc += e * e;
+struct WeightedSquares<'a> {
+    d: &'a [f64],
+    s: &'a [f64],
+    u: Option<&'a [f64]>,
+    root_weight: &'a [f64],
+    p: f64,
+    q: f64,
+}
+
+impl Kernel for WeightedSquares<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> f64 {
+        let Self {
+            d,
+            s,
+            u,
+            root_weight,
+            p,
+            q,
+        } = self;
+        let (d4, d_tail) = d.as_chunks::<4>();
+        let (s4, s_tail) = s.as_chunks::<4>();
+        let (w4, w_tail) = root_weight.as_chunks::<4>();
+        let u4 = u.map(|u| u.as_chunks::<4>());
+        let (p4, q4) = (L::splat(p), L::splat(q));
+        let mut acc = L::zero();
+        for i in 0..d4.len() {
+            let u = match u4 {
+                Some((u, _)) => L::from_array(u[i]),
+                None => L::zero(),
+            };
+            let (d, s, w) = (
+                L::from_array(d4[i]),
+                L::from_array(s4[i]),
+                L::from_array(w4[i]),
+            );
+            let e = (d - p4 * s - q4 * u) * w;
+            acc += e * e;
+        }
+        let mut sum = total(acc);
+        for i in 0..d_tail.len() {
+            let u = match u4 {
+                Some((_, u)) => u[i],
+                None => 0.0,
+            };
+            let e = (d_tail[i] - p * s_tail[i] - q * u) * w_tail[i];
+            sum += e * e;
+        }
+        sum
     }
-    let mut sum = total(acc);
-    for [d, s, u, w] in tail {
-        let e = (d - p * s - q * u) * w;
-        sum += e * e;
-    }
-    sum
 }
 
 #[cfg(test)]

@@ -147,6 +147,26 @@ impl Kernel for SurfacePass<'_> {
     }
 }
 
+/// The pass of [`LayeredModel::base`]: the first `groups` groups of
+/// `bases`, appended to `out`.
+struct BasePass<'a, B> {
+    bases: &'a B,
+    groups: usize,
+    out: &'a mut Vec<f64>,
+}
+
+impl<B: Bases> Kernel for BasePass<'_, B> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        for i in 0..self.groups {
+            self.out
+                .extend_from_slice(&self.bases.group::<L>(i).to_array());
+        }
+    }
+}
+
 /// The pass of [`LayeredModel::terms`]: each group's terms, its boundary
 /// taken from `held` or built.
 struct TermsPass<'a> {
@@ -269,6 +289,28 @@ fn log_transmission_derivative<L: Lane>([n, inv_n]: [L; 2], c1: L, [c2, dc2, rel
     let (ds, dp) = (c2 + n * dc2, c1 + dc2);
     let (s2, p2) = (s * s, p * p);
     inv_n + rel2 - L::c(2.0) * (ds * p2 * p + dp * s2 * s) / (s * p * (s2 + p2))
+}
+
+/// The subsurface column `U = B (1 − a cos²θi)(1 − a cos²θs)` of every
+/// group (eqs. 12–14), appended to `out`.
+struct AttenuatedPass<'a> {
+    terms: &'a LayeredTerms,
+    packed: &'a [Geometry<f64x4>],
+    a: f64,
+    out: &'a mut Vec<f64>,
+}
+
+impl Kernel for AttenuatedPass<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        let a = L::splat(self.a);
+        for (l, g) in self.terms.groups.iter().zip(self.packed) {
+            let u = L::load(l.base) * attenuation(&g.map(L::load), a).0;
+            self.out.extend_from_slice(&u.to_array());
+        }
+    }
 }
 
 /// The pass of [`LayeredModel::derivative_vectors`]: each wanted
@@ -512,8 +554,17 @@ impl LayeredModel {
     }
 
     /// [`LayeredModel::base_groups`] as one value per measurement.
-    pub fn base<L: Packed>(&self, slope: f64, boundary: &[BoundaryGroup<L>]) -> Vec<f64> {
-        unpack(L::widened(self.base_groups(slope, boundary)), self.len())
+    pub fn base<P: Packed>(&self, slope: f64, boundary: &[BoundaryGroup<P>]) -> Vec<f64> {
+        let bases = P::bases(self, slope, boundary);
+        let groups = self.len().div_ceil(4);
+        let mut out = pool::vector(4 * groups);
+        P::run(BasePass {
+            bases: &bases,
+            groups,
+            out: &mut out,
+        });
+        out.truncate(self.len());
+        out
     }
 
     /// The factors that turn the base `B` into `B1` and `B2` of `U`'s
@@ -681,12 +732,15 @@ impl FreeModel for LayeredModel {
     fn evaluate(&self, theta: &[f64], held: &Held) -> Evaluated<LayeredTerms> {
         let (slope, n, a) = self.slope_n_a(theta);
         let terms = self.terms([slope, self.sub_slope(theta)], n, held);
-        let a = f64x4::splat(a);
         let s = unpack(terms.groups.iter().map(|l| l.surface), self.len());
-        let u = unpack(
-            (terms.groups.iter().zip(&self.packed)).map(|(l, g)| l.base * attenuation(g, a).0),
-            self.len(),
-        );
+        let mut u = pool::vector(terms.groups.len() * 4);
+        simd::run(AttenuatedPass {
+            terms: &terms,
+            packed: &self.packed,
+            a,
+            out: &mut u,
+        });
+        u.truncate(self.len());
         Evaluated {
             columns: Columns { s, u },
             kept: terms,
