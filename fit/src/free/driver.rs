@@ -215,7 +215,6 @@ fn fit_from<M: GridStage>(
     let (grid_point, grid_columns) = problem.evaluate(&grid_theta, problem.beta);
     let model = (problem.model.model(), problem.parameter_count());
     let best = estimate_at(scene, (&problem, layout), model, &grid_point, &grid_columns);
-    let rh = ragheb_hancock(scene, (&problem, layout), &values, analysis.refine);
     let grid = Solution {
         problem: &problem,
         layout,
@@ -225,8 +224,8 @@ fn fit_from<M: GridStage>(
         .map(|i| grid.value(i))
         .collect();
     let mut record = record_of(scene, &grid, best, values.sse.len());
-    record.rh = rh;
     if !analysis.refine {
+        record.rh = ragheb_hancock(scene, (&problem, layout), &values, false);
         record.parameters = parameters(&grid, &grid_values, None);
         record.chi2_weighted = chi2_weighted(&problem, &grid.minimum);
         return record;
@@ -236,7 +235,12 @@ fn fit_from<M: GridStage>(
         .map(|(indices, _)| layout.axes.theta(&indices))
         .collect();
     let corner = M::corner_start(&problem, &layout.axes, &values);
-    let refined = refinement(&problem, &starts, corner);
+    // The Ragheb–Hancock side result beside the refinement (independent).
+    let (rh, refined) = rayon::join(
+        || ragheb_hancock(scene, (&problem, layout), &values, true),
+        || refinement(&problem, &starts, corner),
+    );
+    record.rh = rh;
     let analysed = if analysis.uncertainty == Uncertainty::Off {
         Analysed::none(refined)
     } else {
