@@ -177,7 +177,7 @@ fn special_values_give_the_scalar_bits() {
     }
     let avx2 = simd::run(Path::Avx2, Pairs);
     let portable = simd::run(Path::Portable, Pairs);
-    assert_eq!(avx2, portable);
+    assert_eq!(avx2.len(), portable.len());
     let specials = specials();
     for (k, row) in avx2.iter().enumerate() {
         let (x, y) = (specials[k / specials.len()], specials[k % specials.len()]);
@@ -193,7 +193,26 @@ fn special_values_give_the_scalar_bits() {
             Lane::sqrt(x),
         ]
         .map(f64::to_bits);
-        assert_eq!(row, &scalar, "({x}, {y})");
+        // A NaN's sign and payload are not IEEE 754's to fix: the compiler
+        // folds 0/0 to a positive NaN where the processor makes a negative
+        // one, and may swap an addition's operands, so which NaN of two
+        // propagates varies. Any NaN matches any NaN; all else to the bit.
+        let same =
+            |a: u64, b: u64| a == b || (f64::from_bits(a).is_nan() && f64::from_bits(b).is_nan());
+        for (i, ((&got, &want), &wide)) in row.iter().zip(&scalar).zip(&portable[k]).enumerate() {
+            assert!(
+                same(got, wide),
+                "({x}, {y}) operation {i}: avx2 {:e}, wide {:e}",
+                f64::from_bits(got),
+                f64::from_bits(wide)
+            );
+            assert!(
+                same(got, want),
+                "({x}, {y}) operation {i}: {:e} against {:e}",
+                f64::from_bits(got),
+                f64::from_bits(want)
+            );
+        }
     }
 }
 
@@ -221,7 +240,12 @@ fn exp_and_its_scaling_give_the_scalar_bits_everywhere() {
     let avx2 = simd::run(Path::Avx2, Exp(xs.clone()));
     for (k, x) in xs.iter().enumerate() {
         let got = avx2[k];
-        assert_eq!(got.to_bits(), exp(*x).to_bits(), "exp({x})");
+        let want = exp(*x);
+        // exp(NaN) is a NaN; which one is not specified (see above).
+        assert!(
+            got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()),
+            "exp({x}): {got:e} against {want:e}"
+        );
     }
     struct Pow2(Vec<f64>);
     impl Kernel for Pow2 {
