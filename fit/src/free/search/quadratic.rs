@@ -26,7 +26,29 @@ type Layered = Problem<LayeredModel>;
 /// four at a time (the last group padded with its last a): bit for bit
 /// one at a time, as the core's `f64x4` is its `f64` lane by lane.
 pub(crate) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
-    objectives_in::<f64x4>(q, a_axis, beta, out);
+    simd::run(Objectives {
+        q,
+        a_axis,
+        beta,
+        out,
+    });
+}
+
+/// The pass of [`objectives`].
+struct Objectives<'a> {
+    q: &'a Quadratic<f64>,
+    a_axis: &'a [f64],
+    beta: (f64, f64),
+    out: &'a mut [f64],
+}
+
+impl Kernel for Objectives<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) {
+        objectives_in::<L>(self.q, self.a_axis, self.beta, self.out);
+    }
 }
 
 /// [`objectives`] in a kernel's lanes.
