@@ -395,7 +395,8 @@ impl Fitter {
     /// of one sample on one geometry: σ/T, σ′/T′ (untied models) and n
     /// shared, a, β and the amplitude per channel, weighted by the fitter's
     /// noise model, in its box, with the analysis's bootstrap resamples
-    /// (none when the uncertainty is off) for the percentile intervals
+    /// (none when the uncertainty is off) for the percentile intervals and
+    /// its folds for each channel's error on held-out geometries
     /// (`crate::free::joint`).
     ///
     /// # Errors
@@ -432,7 +433,7 @@ impl Fitter {
                 &scenes,
                 model,
                 (&self.grid, self.precision),
-                (resamples, self.analysis.seed),
+                (resamples, self.analysis.seed, self.analysis.folds),
             )
         }))
     }

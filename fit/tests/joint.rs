@@ -179,3 +179,41 @@ fn each_channels_fitted_model_is_the_joint_estimate() {
     }
     assert!(joint.fitted(3).is_none());
 }
+
+/// Each channel's error on held-out geometries: on data the model made,
+/// near the noise (1% of the max) and above the fit's own residuals, the
+/// same on another thread count, none without folds.
+#[test]
+fn held_out_geometries_are_predicted_to_the_noise() {
+    use laminar_brdf_fit::Analysis;
+    let scenes = channels();
+    let fitter = |folds, threads| {
+        Fitter::new(Grid::user())
+            .unwrap()
+            .analysis(Analysis {
+                folds,
+                resamples: 20,
+                ..Analysis::FULL
+            })
+            .threads(threads)
+            .unwrap()
+    };
+    let joint = fitter(5, 2).fit_joint(&scenes, Model::Exp2).unwrap();
+    for channel in &joint.channels {
+        let cv = channel.cross_validation.expect("five folds");
+        assert_eq!(cv.folds, 5);
+        assert!(cv.in_sample < cv.rms, "{}: {cv:?}", channel.channel);
+        assert!(
+            (0.008..0.0125).contains(&cv.rms),
+            "{}: held-out rms {} against noise 0.01",
+            channel.channel,
+            cv.rms
+        );
+        let sse_rms = (channel.sse / joint.measurements as f64).sqrt();
+        assert_eq!(cv.in_sample.to_bits(), sse_rms.to_bits());
+    }
+    let one = fitter(5, 1).fit_joint(&scenes, Model::Exp2).unwrap();
+    assert_eq!(format!("{joint:?}"), format!("{one:?}"));
+    let none = fitter(0, 2).fit_joint(&scenes, Model::Exp2).unwrap();
+    assert!(none.channels.iter().all(|c| c.cross_validation.is_none()));
+}

@@ -203,6 +203,7 @@ def fit_joint(
     precision: Precision = "f64",
     noise: Noise = "given",
     noise_floor: float = 1.0,
+    folds: int = 5,
 ) -> dict[str, Any]: ...
 def fit_batch(
     geometry: npt.NDArray[np.float64],

@@ -3,7 +3,7 @@
 use crate::convert::{parse, value_error};
 use crate::fit_result::{fitter, refine_threads, whole_or, Named};
 use crate::measurements::Measurements;
-use laminar_brdf_fit::analysis::DEFAULT_RESAMPLES;
+use laminar_brdf_fit::analysis::{DEFAULT_FOLDS, DEFAULT_RESAMPLES};
 use laminar_brdf_fit::noise::DEFAULT_FLOOR;
 use laminar_brdf_fit::{Chromatic, JointValue, Model};
 use pyo3::exceptions::PyTypeError;
@@ -36,11 +36,14 @@ fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
 /// ``hi95``: the pairs bootstrap's percentile intervals, and
 /// ``open_below``/``open_above``), ``channels`` (per channel: ``channel``,
 /// ``a`` as the shared ones, ``beta``, ``amplitude``, ``data_scale``,
-/// ``sse``, ``adequacy``: ``chi2_p``, ``runs_p``, ``lack_of_fit``), ``sse`` (their sum), ``measurements``, ``parameters``,
+/// ``sse``, ``adequacy``: ``chi2_p``, ``runs_p``, ``lack_of_fit``;
+/// ``cross_validation``: ``folds``, ``rms`` on held-out geometries and
+/// ``in_sample``, or None with ``folds=0``), ``sse`` (their sum),
+/// ``measurements``, ``parameters``,
 /// ``resamples`` and ``chromatic`` (the test of one a for every channel:
 /// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why).
 #[pyfunction]
-#[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
+#[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR, folds = None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn fit_joint<'py>(
     py: Python<'py>,
@@ -54,6 +57,7 @@ pub(crate) fn fit_joint<'py>(
     precision: &str,
     noise: &str,
     noise_floor: f64,
+    folds: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let model: Model = parse("model", model)?;
     let not_a_sequence =
@@ -74,7 +78,7 @@ pub(crate) fn fit_joint<'py>(
         precision,
         resamples: whole_or("resamples", resamples.as_ref(), DEFAULT_RESAMPLES as u64)?,
         seed: whole_or("seed", seed.as_ref(), 0)?,
-        folds: 0,
+        folds: whole_or("folds", folds.as_ref(), DEFAULT_FOLDS as u64)?,
         noise,
         noise_floor,
     };
@@ -106,6 +110,17 @@ pub(crate) fn fit_joint<'py>(
             adequacy.set_item("runs_p", c.adequacy.runs_p)?;
             adequacy.set_item("lack_of_fit", c.adequacy.lack_of_fit)?;
             d.set_item("adequacy", adequacy)?;
+            let validated = c
+                .cross_validation
+                .map(|cv| -> PyResult<Bound<'py, PyDict>> {
+                    let v = PyDict::new(py);
+                    v.set_item("folds", cv.folds)?;
+                    v.set_item("rms", cv.rms)?;
+                    v.set_item("in_sample", cv.in_sample)?;
+                    Ok(v)
+                })
+                .transpose()?;
+            d.set_item("cross_validation", validated)?;
             Ok(d)
         })
         .collect::<PyResult<Vec<_>>>()?;

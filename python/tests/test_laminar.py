@@ -137,6 +137,8 @@ def test_fit_joint_equals_the_cli(tmp_path):
         assert c["beta"] == float(row["beta"]) and c["sse"] == float(row["sse"])
         assert c["adequacy"]["runs_p"] == float(row["runs_p"])
         assert c["adequacy"]["lack_of_fit"] == (row["lack_of_fit"] == "true")
+        cv = c["cross_validation"]
+        assert cv["folds"] == 5 and cv["rms"] == float(row["cv_rms"]) and cv["in_sample"] == float(row["in_sample_rms"])
     assert joint["parameters"] == 8 and joint["resamples"] == 30
     assert joint["channels"][0]["a"]["value"] < joint["channels"][1]["a"]["value"]
     # The two channels' absorptions differ (0.1 and 0.6 made them): the
@@ -146,6 +148,8 @@ def test_fit_joint_equals_the_cli(tmp_path):
     untied = laminar.fit_joint(channels, grid=GRID, uncertainty="off")
     assert untied["model"] == "exp2" and set(untied["shared"]) == {"slope", "sub_slope", "n"}
     assert untied["resamples"] == 0 and untied["shared"]["n"]["lo95"] is None
+    unvalidated = laminar.fit_joint(channels, grid=GRID, uncertainty="off", folds=0)
+    assert all(c["cross_validation"] is None for c in unvalidated["channels"])
     with pytest.raises(ValueError, match="1 channel given"):
         laminar.fit_joint(channels[:1])
     with pytest.raises(TypeError, match="a sequence of Measurements"):

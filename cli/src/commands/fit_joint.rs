@@ -28,9 +28,12 @@ use std::time::Instant;
 /// parameter and a with _lo68, _hi68, _lo95, _hi95, then beta (eq. 8's),
 /// amplitude (of the data divided by their max), data_scale (that max),
 /// sse (the channel's weighted objective), runs_p and lack_of_fit (the
-/// adequacy of its residuals at the joint estimate, as `fit`'s), joint_sse
-/// (their sum),
-/// measurements (per channel), parameters (fitted in all), resamples,
+/// adequacy of its residuals at the joint estimate, as `fit`'s), cv_rms
+/// (sqrt(Σ w r²/K) of its residuals on held-out geometries: --folds
+/// folds, the same in every channel, each refitted without its fold and
+/// predicted with that fit's amplitude and β; empty with --folds 0) and
+/// in_sample_rms (the same of the joint fit's own residuals), joint_sse
+/// (their sum), measurements (per channel), parameters (fitted in all), resamples,
 /// chromatic_p (the p-value of one a for every channel: Hotelling's T² of
 /// the contrasts a_c − a_1 with the bootstrap's covariance) or
 /// chromatic_note (why it is not tested: an a on a face of its box, too
@@ -233,6 +236,8 @@ fn csv(fits: &[JointFit]) -> String {
             "sse",
             "runs_p",
             "lack_of_fit",
+            "cv_rms",
+            "in_sample_rms",
             "joint_sse",
             "measurements",
             "parameters",
@@ -267,6 +272,12 @@ fn csv(fits: &[JointFit]) -> String {
             let adequacy = &channel.adequacy;
             row.push(adequacy.runs_p.map(number).unwrap_or_default());
             row.push(adequacy.lack_of_fit.to_string());
+            for v in channel
+                .cross_validation
+                .map_or([None; 2], |cv| [Some(cv.rms), Some(cv.in_sample)])
+            {
+                row.push(v.map(number).unwrap_or_default());
+            }
             row.push(number(fit.sse));
             row.extend(
                 [fit.measurements, fit.parameter_count, fit.resamples].map(|x| x.to_string()),

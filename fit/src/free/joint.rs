@@ -18,7 +18,12 @@
 //! correlation is kept), each resample refined from the estimate; the
 //! percentile intervals hold under misfit as the single fits' do
 //! (docs/estimation.md). Is the absorption chromatic: the contrasts
-//! `a_c − a_1` against their bootstrap covariance ([`Chromatic`]).
+//! `a_c − a_1` against their bootstrap covariance ([`Chromatic`]). How
+//! well it predicts geometries it was not fitted to: a K-fold
+//! cross-validation over the geometries (the same folds in every
+//! channel), each fold held out in turn while the others are refitted
+//! from the estimate, and each channel's held-out residuals predicted with
+//! the training fit's own amplitude and β.
 
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel};
@@ -27,7 +32,9 @@ use super::search::quadratic::objectives;
 use super::search::untied::{surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
+use super::statistics::cross_validation::assignment;
 use crate::adequacy::{Adequacy, RunsOrder};
+use crate::choice::CrossValidation;
 use crate::fitted::{FittedModel, ModelParams};
 use crate::free::linear::Quadratic;
 use crate::grid::Grid;
@@ -96,6 +103,9 @@ pub struct JointChannel {
     /// ([`crate::adequacy`]; the χ² test counts the shared parameters in
     /// full for each channel).
     pub adequacy: Adequacy,
+    /// Its error on held-out geometries (`None` with fewer than two
+    /// folds, or too few measurements per training set): the module doc.
+    pub cross_validation: Option<CrossValidation>,
 }
 
 /// Is the absorption chromatic: the test of one a for every channel
@@ -280,7 +290,7 @@ pub fn fit(
     scenes: &[Scene],
     model: Model,
     (grid, precision): (&Grid, Precision),
-    (resamples, seed): (usize, u64),
+    (resamples, seed, folds): (usize, u64, usize),
 ) -> JointFit {
     let built = Arc::new(LayeredModel::new(model, scenes[0].angles()));
     let layout = Layout::new(&*built, grid);
@@ -330,6 +340,9 @@ pub fn fit(
         .collect();
     let estimate: Vec<_> = evaluated.into_iter().map(|(point, _)| point).collect();
     let bootstrapped = bootstrap(&joint, &problems, &x, (resamples, seed));
+    let sse: Vec<f64> = estimate.iter().map(|p| p.sse).collect();
+    let parameters = joint.shared.len() + per_channel * scenes.len();
+    let validated = cross_validate(&joint, &problems, (&x, &sse), parameters, (folds, seed));
     // On a face of the box, the face as the user gave it (`ln` and `exp`
     // do not round-trip).
     let in_units = |j: usize, v: f64| {
@@ -364,6 +377,7 @@ pub fn fit(
             sse: point.sse,
             data_scale: scene.data_scale(),
             adequacy: adequacy[c],
+            cross_validation: validated.as_ref().map(|v| v[c]),
         })
         .collect();
     let chromatic = chromatic(
@@ -380,7 +394,7 @@ pub fn fit(
         channels,
         sse: estimate.iter().map(|p| p.sse).sum(),
         measurements: scenes[0].len(),
-        parameter_count: joint.shared.len() + per_channel * scenes.len(),
+        parameter_count: parameters,
         resamples: if bootstrapped.is_some() { resamples } else { 0 },
         chromatic: if a_at.is_some() {
             chromatic
@@ -497,6 +511,53 @@ fn refine(
     }
     let a = joint.at(problems, &x).1;
     (x, a)
+}
+
+/// Each channel's K-fold cross-validation (module doc) around the
+/// estimate `x` (each channel's objective there `sse`), the folds dealt by
+/// `seed` over the geometries; `None` with fewer than two folds or when a
+/// training set would not outnumber the `parameters` fitted in all.
+fn cross_validate(
+    joint: &Joint<'_>,
+    problems: &[Problem<LayeredModel>],
+    (x, sse): (&[f64], &[f64]),
+    parameters: usize,
+    (folds, seed): (usize, u64),
+) -> Option<Vec<CrossValidation>> {
+    let k = problems[0].data.len();
+    let training = k - k.div_ceil(folds.max(1));
+    if folds < 2 || training * problems.len() <= parameters {
+        return None;
+    }
+    let fold = assignment(k, folds, seed);
+    // Per fold, each channel's held-out Σ w r².
+    let held_out: Vec<Vec<f64>> = (0..folds)
+        .into_par_iter()
+        .map(|f| {
+            let keep: Vec<f64> = fold.iter().map(|&g| f64::from(g != f)).collect();
+            let train: Vec<_> = problems.iter().map(|p| reweighted(p, &keep)).collect();
+            let (xf, af) = refine(joint, &train, x, &RESAMPLE_STEPS);
+            (problems.iter().zip(&train).zip(&af))
+                .map(|((problem, trained), &a)| {
+                    // The training fit's amplitude and β, the whole
+                    // problem's weights.
+                    let (point, columns) = trained.evaluate(&joint.theta(&xf, a), trained.beta);
+                    let r = problem.residuals(&columns, &point.linear);
+                    (0..k).filter(|&i| fold[i] == f).map(|i| r[i] * r[i]).sum()
+                })
+                .collect()
+        })
+        .collect();
+    (0..problems.len())
+        .map(|c| {
+            let total: f64 = held_out.iter().map(|per_channel| per_channel[c]).sum();
+            total.is_finite().then(|| CrossValidation {
+                folds,
+                rms: (total / k as f64).sqrt(),
+                in_sample: (sse[c] / k as f64).sqrt(),
+            })
+        })
+        .collect()
 }
 
 /// Each resample's shared values (model units) then each channel's a:

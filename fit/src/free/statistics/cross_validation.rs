@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 /// The fold of each of `k` measurements: a shuffle seeded by `seed` dealt
 /// round the `folds` folds, so the folds' sizes differ by at most one.
-fn assignment(k: usize, folds: usize, seed: u64) -> Vec<usize> {
+pub(crate) fn assignment(k: usize, folds: usize, seed: u64) -> Vec<usize> {
     let mut order: Vec<usize> = (0..k).collect();
     let mut rng = Noise::new(seed ^ 0x9E37_79B9_7F4A_7C15);
     for i in (1..k).rev() {
