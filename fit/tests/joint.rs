@@ -116,42 +116,75 @@ fn what_cannot_be_fitted_jointly_is_refused() {
     assert!(message(paper.fit_joint(&scenes, Model::Exp)).contains("free objective"));
 }
 
-/// The test of chromatic absorption holds its rate where the channels
-/// share one a (0.3; 40 sets, 100 resamples each: measured over 100 sets,
-/// 4 rejected at 5%), and rejects the chromatic surface of [`channels`].
+/// The tests of chromatic absorption and of shared roughness hold their
+/// rate where the channels share one a and one σ/T (0.3 both; 40 sets,
+/// 100 resamples each: measured over 100 sets, the chromatic test 4
+/// rejected at 5%), the chromatic test rejects the chromatic surface of
+/// [`channels`], and the roughness test channels whose σ/T differ.
 #[test]
-fn the_chromatic_test_holds_its_rate_and_sees_colour() {
-    use laminar_brdf_fit::{Analysis, Chromatic};
+fn the_channel_tests_hold_their_rate_and_see_differences() {
+    use laminar_brdf_fit::{Analysis, ChannelTest, JointFit};
     let fitter = Fitter::new(Grid::user()).unwrap().analysis(Analysis {
         resamples: 100,
         ..Analysis::FULL
     });
-    let p_value = |scenes: &[Scene]| match fitter.fit_joint(scenes, Model::Exp2).unwrap().chromatic
-    {
-        Chromatic::Tested {
+    let p_value = |test: &ChannelTest| match test {
+        ChannelTest::Tested {
             p_value, df1, df2, ..
         } => {
-            assert_eq!((df1, df2), (2, 98));
-            p_value
+            assert_eq!((df1, df2), (&2, &98));
+            *p_value
         }
         other => panic!("not tested: {other:?}"),
     };
+    let fit = |scenes: &[Scene]| -> JointFit { fitter.fit_joint(scenes, Model::Exp2).unwrap() };
+    // Channels made with one a and one σ/T: both nulls hold.
     let sets = 40;
-    let rejected = (0..sets as u64)
-        .filter(|&set| {
-            let scenes: Vec<Scene> = (0..3)
-                .map(|c| {
-                    let truth = Params::untied(0.3, 1.5, 0.39, 1.44, 0.3).unwrap();
-                    synthetic::scene(Correlation::Exponential, &truth, 0.01, 1000 * set + c)
-                        .labelled("paint", &format!("c{c}"))
-                })
-                .collect();
-            p_value(&scenes) < 0.05
-        })
-        .count();
+    let (mut chromatic, mut roughness) = (0, 0);
+    for set in 0..sets as u64 {
+        let scenes: Vec<Scene> = (0..3)
+            .map(|c| {
+                let truth = Params::untied(0.3, 1.5, 0.39, 1.44, 0.3).unwrap();
+                synthetic::scene(Correlation::Exponential, &truth, 0.01, 1000 * set + c)
+                    .labelled("paint", &format!("c{c}"))
+            })
+            .collect();
+        let joint = fit(&scenes);
+        chromatic += usize::from(p_value(&joint.chromatic) < 0.05);
+        roughness += usize::from(p_value(&joint.shared_roughness) < 0.05);
+    }
+    eprintln!("rejected at 5%: chromatic {chromatic}, roughness {roughness} of {sets}");
     // At the stated 5%, 6 or more of 40 happen with probability 1.4%.
-    assert!(rejected <= 5, "{rejected} of {sets} rejected at 5%");
-    assert!(p_value(&channels()) < 1e-6);
+    assert!(
+        chromatic <= 5,
+        "chromatic: {chromatic} of {sets} rejected at 5%"
+    );
+    assert!(
+        roughness <= 5,
+        "roughness: {roughness} of {sets} rejected at 5%"
+    );
+    // A chromatic absorption, one σ/T.
+    let joint = fit(&channels());
+    assert!(p_value(&joint.chromatic) < 1e-6);
+    // One a, σ/T changing with the channel (0.2, 0.3, 0.45).
+    let rough: Vec<Scene> = [0.2, 0.3, 0.45]
+        .into_iter()
+        .enumerate()
+        .map(|(c, slope)| {
+            let truth = Params::untied(slope, 1.5, 0.39, 1.44, 0.3).unwrap();
+            synthetic::scene(Correlation::Exponential, &truth, 0.01, 77 + c as u64)
+                .labelled("paint", &format!("c{c}"))
+        })
+        .collect();
+    let joint = fit(&rough);
+    assert!(
+        p_value(&joint.shared_roughness) < 1e-6,
+        "{:?}",
+        joint.shared_roughness
+    );
+    // A tied model's σ/T is its subsurface's too: not tested.
+    let tied = fitter.fit_joint(&channels(), Model::Exp).unwrap();
+    assert!(matches!(tied.shared_roughness, ChannelTest::Untestable(_)));
 }
 
 /// Each channel's fitted model at the joint estimate predicts its data as

@@ -5,7 +5,7 @@ use crate::fit_result::{fitter, refine_threads, whole_or, Named};
 use crate::measurements::Measurements;
 use laminar_brdf_fit::analysis::{DEFAULT_FOLDS, DEFAULT_RESAMPLES};
 use laminar_brdf_fit::noise::DEFAULT_FLOOR;
-use laminar_brdf_fit::{Chromatic, JointValue, Model};
+use laminar_brdf_fit::{ChannelTest, JointValue, Model};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -28,6 +28,31 @@ fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
     Ok(out)
 }
 
+/// A test of one value for every channel as a dict: ``p_value``,
+/// ``statistic``, ``df``; or ``untested`` saying why (and ``channels`` at a
+/// face).
+fn channel_test<'py>(py: Python<'py>, test: &ChannelTest) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    match test {
+        ChannelTest::Tested {
+            statistic,
+            df1,
+            df2,
+            p_value,
+        } => {
+            out.set_item("p_value", p_value)?;
+            out.set_item("statistic", statistic)?;
+            out.set_item("df", (df1, df2))?;
+        }
+        ChannelTest::AtAFace(channels) => {
+            out.set_item("untested", "on a face of its box")?;
+            out.set_item("channels", channels)?;
+        }
+        ChannelTest::Untestable(why) => out.set_item("untested", why)?,
+    }
+    Ok(out)
+}
+
 /// Fits one layered `model` (default ``exp2``) across the channels
 /// ``measurements`` (a sequence of ``Measurements`` of one sample on one
 /// geometry): σ/T, σ′/T′ and n shared, a, β and the amplitude per channel,
@@ -40,8 +65,10 @@ fn value<'py>(py: Python<'py>, v: &JointValue) -> PyResult<Bound<'py, PyDict>> {
 /// ``cross_validation``: ``folds``, ``rms`` on held-out geometries and
 /// ``in_sample``, or None with ``folds=0``), ``sse`` (their sum),
 /// ``measurements``, ``parameters``,
-/// ``resamples`` and ``chromatic`` (the test of one a for every channel:
-/// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why).
+/// ``resamples``, ``chromatic`` (the test of one a for every channel:
+/// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why) and
+/// ``shared_roughness`` (the test of one σ/T for every channel, untied
+/// models, likewise).
 #[pyfunction]
 #[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR, folds = None))]
 #[allow(clippy::too_many_arguments)]
@@ -129,24 +156,7 @@ pub(crate) fn fit_joint<'py>(
     out.set_item("measurements", fit.measurements)?;
     out.set_item("parameters", fit.parameter_count)?;
     out.set_item("resamples", fit.resamples)?;
-    let chromatic = PyDict::new(py);
-    match &fit.chromatic {
-        Chromatic::Tested {
-            statistic,
-            df1,
-            df2,
-            p_value,
-        } => {
-            chromatic.set_item("p_value", p_value)?;
-            chromatic.set_item("statistic", statistic)?;
-            chromatic.set_item("df", (df1, df2))?;
-        }
-        Chromatic::AtAFace(channels) => {
-            chromatic.set_item("untested", "a on a face of its box")?;
-            chromatic.set_item("channels", channels)?;
-        }
-        Chromatic::Untestable(why) => chromatic.set_item("untested", why)?,
-    }
-    out.set_item("chromatic", chromatic)?;
+    out.set_item("chromatic", channel_test(py, &fit.chromatic)?)?;
+    out.set_item("shared_roughness", channel_test(py, &fit.shared_roughness)?)?;
     Ok(out)
 }

@@ -145,6 +145,8 @@ def test_fit_joint_equals_the_cli(tmp_path):
     # test of one a for both says so, as the CLI does.
     chromatic = joint["chromatic"]
     assert chromatic["p_value"] == float(rows[0]["chromatic_p"]) < 1e-3 and tuple(chromatic["df"]) == (1, 29)
+    # A tied model's σ/T is its subsurface's too: the roughness test is not made, as in the CLI.
+    assert joint["shared_roughness"]["untested"] == rows[0]["roughness_note"] != ""
     untied = laminar.fit_joint(channels, grid=GRID, uncertainty="off")
     assert untied["model"] == "exp2" and set(untied["shared"]) == {"slope", "sub_slope", "n"}
     assert untied["resamples"] == 0 and untied["shared"]["n"]["lo95"] is None

@@ -7,7 +7,7 @@ use clap::Args;
 use laminar_brdf::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
 use laminar_brdf::usage::UsageError;
 use laminar_brdf::CliError;
-use laminar_brdf_fit::{Chromatic, JointFit, JointValue, Model, Scene};
+use laminar_brdf_fit::{ChannelTest, JointFit, JointValue, Model, Scene};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -37,7 +37,10 @@ use std::time::Instant;
 /// chromatic_p (the p-value of one a for every channel: Hotelling's T² of
 /// the contrasts a_c − a_1 with the bootstrap's covariance) or
 /// chromatic_note (why it is not tested: an a on a face of its box, too
-/// few resamples), and edges (an interval that reaches a face of the box
+/// few resamples), roughness_p (the p-value of one σ/T for every channel,
+/// untied models: the fit again with σ/T per channel and σ′/T′ and n
+/// shared, its own bootstrap, Hotelling's T² of ln σ/T_c − ln σ/T_1) or
+/// roughness_note, and edges (an interval that reaches a face of the box
 /// that is not a bound of the parameter: name:open_below or
 /// name:open_above).
 #[derive(Args, Debug)]
@@ -201,15 +204,16 @@ fn cells(v: &JointValue, row: &mut Vec<String>, edges: &mut Vec<String>) {
     }
 }
 
-/// The chromatic test's two cells: its p-value, and why there is none.
-fn chromatic(test: &Chromatic) -> [String; 2] {
+/// A test's two cells (the chromatic test's on `a`, the shared
+/// roughness's on `slope`): its p-value, and why there is none.
+fn channel_test(test: &ChannelTest, parameter: &str) -> [String; 2] {
     match test {
-        Chromatic::Tested { p_value, .. } => [number(*p_value), String::new()],
-        Chromatic::AtAFace(channels) => [
+        ChannelTest::Tested { p_value, .. } => [number(*p_value), String::new()],
+        ChannelTest::AtAFace(channels) => [
             String::new(),
-            format!("a on a face of its box in {}", channels.join(" ")),
+            format!("{parameter} on a face of its box in {}", channels.join(" ")),
         ],
-        Chromatic::Untestable(why) => [String::new(), why.to_string()],
+        ChannelTest::Untestable(why) => [String::new(), why.to_string()],
     }
 }
 
@@ -244,6 +248,8 @@ fn csv(fits: &[JointFit]) -> String {
             "resamples",
             "chromatic_p",
             "chromatic_note",
+            "roughness_p",
+            "roughness_note",
             "edges",
         ]
         .map(String::from),
@@ -282,7 +288,8 @@ fn csv(fits: &[JointFit]) -> String {
             row.extend(
                 [fit.measurements, fit.parameter_count, fit.resamples].map(|x| x.to_string()),
             );
-            row.extend(chromatic(&fit.chromatic));
+            row.extend(channel_test(&fit.chromatic, "a"));
+            row.extend(channel_test(&fit.shared_roughness, "slope"));
             row.push(edges.join(";"));
             out += &(row.join(",") + "\n");
         }

@@ -18,7 +18,7 @@
 //! correlation is kept), each resample refined from the estimate; the
 //! percentile intervals hold under misfit as the single fits' do
 //! (docs/estimation.md). Is the absorption chromatic: the contrasts
-//! `a_c − a_1` against their bootstrap covariance ([`Chromatic`]). How
+//! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). How
 //! well it predicts geometries it was not fitted to: a K-fold
 //! cross-validation over the geometries (the same folds in every
 //! channel), each fold held out in turn while the others are refitted
@@ -108,11 +108,12 @@ pub struct JointChannel {
     pub cross_validation: Option<CrossValidation>,
 }
 
-/// Is the absorption chromatic: the test of one a for every channel
-/// against one per channel (module doc).
+/// A test of one value of a parameter for every channel against one per
+/// channel (module doc): is the absorption chromatic (a), is the
+/// roughness shared (σ/T).
 #[derive(Debug, Clone, PartialEq)]
-pub enum Chromatic {
-    /// Hotelling's T² of the contrasts `a_c − a_1` with the bootstrap's
+pub enum ChannelTest {
+    /// Hotelling's T² of the contrasts `v_c − v_1` with the bootstrap's
     /// covariance, and its p-value from `F(df1, df2)`.
     Tested {
         /// T².
@@ -121,14 +122,15 @@ pub enum Chromatic {
         df1: usize,
         /// `B − C + 1`.
         df2: usize,
-        /// The p-value of one a for all channels.
+        /// The p-value of one value for all channels.
         p_value: f64,
     },
-    /// Not tested: an a on a face of its box (the test's χ²/F calibration
-    /// holds inside the box only), named.
+    /// Not tested: the parameter on a face of its box in these channels
+    /// (the test's F calibration holds inside the box only).
     AtAFace(Vec<String>),
-    /// Not tested: no a (a Ragheb–Hancock model), too few resamples for the
-    /// channels (B ≤ C − 1), or their covariance singular.
+    /// Not tested: no such parameter (a Ragheb–Hancock model's a, a tied
+    /// model's σ/T), too few resamples for the channels (B ≤ C − 1), or
+    /// their covariance singular.
     Untestable(&'static str),
 }
 
@@ -153,8 +155,12 @@ pub struct JointFit {
     pub parameter_count: usize,
     /// Bootstrap resamples behind the intervals.
     pub resamples: usize,
-    /// Is the absorption chromatic ([`Chromatic`]).
-    pub chromatic: Chromatic,
+    /// Is the absorption chromatic: one a for every channel against one
+    /// per channel ([`ChannelTest`]).
+    pub chromatic: ChannelTest,
+    /// Is the roughness shared: one σ/T for every channel against one per
+    /// channel, σ′/T′ and n shared in both (untied models; the module doc).
+    pub shared_roughness: ChannelTest,
 }
 
 impl JointFit {
@@ -183,8 +189,11 @@ impl JointFit {
 /// The joint objective of the channels' problems on one layered model.
 struct Joint<'a> {
     model: &'a LayeredModel,
-    /// θ's positions of the shared parameters, in table order.
+    /// θ's positions of the shared parameters, in table order (σ/T first).
     shared: Vec<usize>,
+    /// σ/T one per channel (the shared-roughness test's alternative):
+    /// then `x` holds the channels' σ/T, then the other shared ones.
+    slope_per_channel: Option<usize>,
     /// θ's position of a, when the model has it.
     a_at: Option<usize>,
     a_box: (f64, f64),
@@ -192,11 +201,31 @@ struct Joint<'a> {
 }
 
 impl Joint<'_> {
-    /// The full θ of shared values `x` and absorption `a`.
-    fn theta(&self, x: &[f64], a: f64) -> Vec<f64> {
+    /// The θ position of each value of `x`.
+    fn positions(&self) -> Vec<usize> {
+        match self.slope_per_channel {
+            None => self.shared.clone(),
+            Some(channels) => std::iter::repeat_n(self.shared[0], channels)
+                .chain(self.shared[1..].iter().copied())
+                .collect(),
+        }
+    }
+
+    /// Channel `c`'s full θ at values `x` and absorption `a`.
+    fn theta_of(&self, x: &[f64], c: usize, a: f64) -> Vec<f64> {
         let mut theta = vec![0.0; self.shared.len() + usize::from(self.a_at.is_some())];
-        for (&j, &v) in self.shared.iter().zip(x) {
-            theta[j] = v;
+        match self.slope_per_channel {
+            None => {
+                for (&j, &v) in self.shared.iter().zip(x) {
+                    theta[j] = v;
+                }
+            }
+            Some(channels) => {
+                theta[self.shared[0]] = x[c];
+                for (&j, &v) in self.shared[1..].iter().zip(&x[channels..]) {
+                    theta[j] = v;
+                }
+            }
         }
         if let Some(j) = self.a_at {
             theta[j] = a;
@@ -204,22 +233,39 @@ impl Joint<'_> {
         theta
     }
 
-    /// `J` at shared values `x` and each channel's best a there.
+    /// The full θ of shared values `x` and absorption `a` (σ/T shared).
+    fn theta(&self, x: &[f64], a: f64) -> Vec<f64> {
+        self.theta_of(x, 0, a)
+    }
+
+    /// `J` at values `x` and each channel's best a there.
     fn at(&self, problems: &[Problem<LayeredModel>], x: &[f64]) -> (f64, Vec<f64>) {
-        let theta = self.theta(x, 0.0);
+        let theta = self.theta_of(x, 0, 0.0);
         let (slope, n, _) = self.model.slope_n_a(&theta);
-        let s = self.model.surface(slope);
+        let shared_surface = self
+            .slope_per_channel
+            .is_none()
+            .then(|| self.model.surface(slope));
         let boundary = self.model.boundary::<f64x4>(n);
         let b = self
             .model
             .base::<f64x4>(self.model.sub_slope(&theta), &boundary);
         let mut total = 0.0;
         let mut best = Vec::with_capacity(problems.len());
-        for problem in problems {
+        for (c, problem) in problems.iter().enumerate() {
+            let own;
+            let s = match &shared_surface {
+                Some(s) => s,
+                None => {
+                    let (slope, _, _) = self.model.slope_n_a(&self.theta_of(x, c, 0.0));
+                    own = self.model.surface(slope);
+                    &own
+                }
+            };
             let q = Column::new(problem, &b, &self.factors).quadratic(
                 problem,
-                &s,
-                surface_sums(problem, &s),
+                s,
+                surface_sums(problem, s),
             );
             let (a, value) = match self.a_at {
                 Some(_) => minimise_in(&q, problem.beta, self.a_box),
@@ -315,6 +361,7 @@ pub fn fit(
         model: &built,
         a_box: a_at.map_or((0.0, 0.0), |j| layout.bounds[j]),
         shared,
+        slope_per_channel: None,
         a_at,
         factors: built.factors(),
     };
@@ -380,12 +427,20 @@ pub fn fit(
             cross_validation: validated.as_ref().map(|v| v[c]),
         })
         .collect();
-    let chromatic = chromatic(
+    let chromatic = channel_test(
         &a,
         joint.a_box,
-        bootstrapped.as_deref(),
+        (bootstrapped.as_deref(), joint.shared.len()),
         scenes,
-        joint.shared.len(),
+        |v| v,
+    );
+    let slope_box = layout.bounds[joint.shared[0]];
+    let shared_roughness = shared_roughness(
+        &joint,
+        &problems,
+        (&x, slope_box),
+        (resamples, seed),
+        scenes,
     );
     JointFit {
         sample: scenes[0].sample().to_string(),
@@ -399,38 +454,42 @@ pub fn fit(
         chromatic: if a_at.is_some() {
             chromatic
         } else {
-            Chromatic::Untestable("the model has no absorption")
+            ChannelTest::Untestable("the model has no absorption")
         },
+        shared_roughness,
     }
 }
 
-/// The test of one a for every channel ([`Chromatic`]): the contrasts
-/// `d_c = a_c − a_1` at the estimate `a`, their covariance `S` over the
-/// bootstrap's resamples (whose values follow `shared` shared ones),
-/// `T² = dᵀ S⁻¹ d`, and `(B − p) T² / (p (B − 1))` against `F(p, B − p)`,
-/// `p = C − 1` (Hotelling's, for a covariance estimated from B draws).
-fn chromatic(
-    a: &[f64],
+/// The test of one value for every channel ([`ChannelTest`]): each
+/// channel's estimate `v` (in `box`'s units) and, per bootstrap resample,
+/// the channels' values from column `first` on; the contrasts
+/// `d_c = t(v_c) − t(v_1)` of the `transform`ed values, their covariance
+/// `S` over the resamples, `T² = dᵀ S⁻¹ d`, and `(B − p) T² / (p (B − 1))`
+/// against `F(p, B − p)`, `p = C − 1` (Hotelling's, for a covariance
+/// estimated from B draws). Not made with a value on a face of `box`.
+fn channel_test(
+    v: &[f64],
     (lo, hi): (f64, f64),
-    bootstrapped: Option<&[Vec<f64>]>,
+    (bootstrapped, first): (Option<&[Vec<f64>]>, usize),
     scenes: &[Scene],
-    shared: usize,
-) -> Chromatic {
-    let faces: Vec<String> = (scenes.iter().zip(a))
+    transform: fn(f64) -> f64,
+) -> ChannelTest {
+    let faces: Vec<String> = (scenes.iter().zip(v))
         .filter(|(_, &v)| v <= lo || v >= hi)
         .map(|(s, _)| s.channel().to_string())
         .collect();
     if !faces.is_empty() {
-        return Chromatic::AtAFace(faces);
+        return ChannelTest::AtAFace(faces);
     }
-    let p = a.len() - 1;
+    let p = v.len() - 1;
     let Some(values) = bootstrapped.filter(|v| v.len() > p + 1) else {
-        return Chromatic::Untestable("too few bootstrap resamples for the channels");
+        return ChannelTest::Untestable("too few bootstrap resamples for the channels");
     };
     let b = values.len();
-    let contrasts = |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| v[c] - v[0]).collect() };
-    let d = DVector::from_vec(contrasts(a));
-    let draws: Vec<Vec<f64>> = values.iter().map(|v| contrasts(&v[shared..])).collect();
+    let contrasts =
+        |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| transform(v[c]) - transform(v[0])).collect() };
+    let d = DVector::from_vec(contrasts(v));
+    let draws: Vec<Vec<f64>> = values.iter().map(|v| contrasts(&v[first..])).collect();
     let mean: Vec<f64> = (0..p)
         .map(|i| draws.iter().map(|x| x[i]).sum::<f64>() / b as f64)
         .collect();
@@ -441,7 +500,9 @@ fn chromatic(
         sum / (b - 1) as f64
     });
     let Some(cholesky) = covariance.cholesky() else {
-        return Chromatic::Untestable("the bootstrap's covariance of the absorptions is singular");
+        return ChannelTest::Untestable(
+            "the bootstrap's covariance of the channels' values is singular",
+        );
     };
     let statistic = d.dot(&cholesky.solve(&d));
     let (df1, df2) = (p, b - p);
@@ -449,12 +510,55 @@ fn chromatic(
     let p_value = FisherSnedecor::new(df1 as f64, df2 as f64)
         .map(|dist| dist.sf(f))
         .unwrap_or(f64::NAN);
-    Chromatic::Tested {
+    ChannelTest::Tested {
         statistic,
         df1,
         df2,
         p_value,
     }
+}
+
+/// Is the roughness shared ([`JointFit::shared_roughness`]): the joint
+/// fit again with σ/T one per channel (σ′/T′ and n shared), refined from
+/// the shared estimate `x`, its own bootstrap (the same resamples), and
+/// [`channel_test`] on the channels' `ln σ/T`. Untied models only (a tied
+/// model's σ/T is also its subsurface's).
+fn shared_roughness(
+    joint: &Joint<'_>,
+    problems: &[Problem<LayeredModel>],
+    (x, slope_box): (&[f64], (f64, f64)),
+    (resamples, seed): (usize, u64),
+    scenes: &[Scene],
+) -> ChannelTest {
+    if !joint.model.model().is_untied() {
+        return ChannelTest::Untestable("σ/T is the subsurface's too in a tied model");
+    }
+    let channels = problems.len();
+    let nested = Joint {
+        model: joint.model,
+        shared: joint.shared.clone(),
+        slope_per_channel: Some(channels),
+        a_at: joint.a_at,
+        a_box: joint.a_box,
+        factors: joint.factors.clone(),
+    };
+    let start: Vec<f64> = std::iter::repeat_n(x[0], channels)
+        .chain(x[1..].iter().copied())
+        .collect();
+    let (xn, _) = refine(&nested, problems, &start, &ESTIMATE_STEPS);
+    let Some(bootstrapped) = bootstrap(&nested, problems, &xn, (resamples, seed)) else {
+        return ChannelTest::Untestable("too few bootstrap resamples for the channels");
+    };
+    // In σ/T's units (the bootstrap's), tested on its logarithm.
+    let slopes: Vec<f64> = xn[..channels].iter().map(|v| v.exp()).collect();
+    let (lo, hi) = slope_box;
+    channel_test(
+        &slopes,
+        (lo.exp(), hi.exp()),
+        (Some(&bootstrapped), 0),
+        scenes,
+        f64::ln,
+    )
 }
 
 /// The best shared grid point: each channel's grid stage, every channel's
@@ -499,7 +603,7 @@ fn refine(
     steps: &[f64],
 ) -> (Vec<f64>, Vec<f64>) {
     let bounds: Vec<(f64, f64)> = joint
-        .shared
+        .positions()
         .iter()
         .map(|&j| problems[0].bounds[j])
         .collect();
@@ -579,7 +683,7 @@ fn bootstrap(
             let counts = resample_counts(problems[0].data.len(), seed, b);
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
             let (xb, ab) = refine(joint, &resampled, x, &RESAMPLE_STEPS);
-            let mut v: Vec<f64> = (joint.shared.iter().zip(&xb))
+            let mut v: Vec<f64> = (joint.positions().iter().zip(&xb))
                 .map(|(&j, &v)| entries[j].scale.external(v))
                 .collect();
             v.extend(ab);
