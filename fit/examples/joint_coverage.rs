@@ -8,8 +8,10 @@
 //! (`relative`, the default, with its `FLOOR`, the library's default
 //! unless given) or with the true σ given (`given`). Per parameter, the
 //! fraction of trials whose 68.27% and 95% intervals hold the truth, with
-//! the 3σ binomial band of the nominal rate, and the chromatic test's
-//! rejections at 5% (it should reject: the absorption is chromatic); then
+//! the 3σ binomial band of the nominal rate, the chromatic test's
+//! rejections at 5% (it should reject: the absorption is chromatic) and
+//! the shared-roughness test's (it should reject at 5%: σ/T is shared);
+//! then
 //! the same for each channel fitted alone (`Fitter::fit`, its headline
 //! intervals), the shared parameters pooled over the channels. The table
 //! of docs/conventions.md §4b. Run:
