@@ -12,9 +12,11 @@
 //! The type is not nameable outside the crate: a kernel receives it only as
 //! the lane parameter of [`crate::simd::Kernel::run`], inside a function
 //! compiled with AVX2 enabled, which [`crate::simd::run`] calls only when
-//! [`detected`] found the instructions. Every
-//! method is `#[inline(always)]`, so that it is compiled inside that
-//! function (called out of line, each intrinsic would be a call).
+//! [`detected`] found the instructions. Every method is
+//! `#[inline(always)]`, so that it is compiled inside that function (called
+//! out of line, each intrinsic would be a call). `load` and `store` are
+//! bit casts: `wide::f64x4` and `__m256d` are both 32 bytes holding the
+//! four lanes in order, whatever `wide`'s own layout.
 //!
 //! The intrinsics need `unsafe`; this module is, with `sqrt`, the only place
 //! in the crate that has any.
@@ -156,7 +158,6 @@ impl Lane4 for F64x4 {
         unsafe { _mm256_storeu_pd(a.as_mut_ptr(), self.0) };
         a
     }
-    /// A bit cast: both types are 32 bytes holding the lanes in order.
     #[inline(always)]
     fn load(v: f64x4) -> Self {
         Self(unsafe { core::mem::transmute::<f64x4, __m256d>(v) })

@@ -69,7 +69,10 @@ pub fn choose(value: Option<&str>) -> Result<Path, SimdError> {
 pub fn from_env() -> Result<Path, SimdError> {
     static CHOSEN: OnceLock<Result<Path, SimdError>> = OnceLock::new();
     CHOSEN
-        .get_or_init(|| choose(std::env::var("LAMINAR_SIMD").ok().as_deref()))
+        .get_or_init(|| {
+            let value = std::env::var_os("LAMINAR_SIMD");
+            choose(value.as_ref().map(|v| v.to_string_lossy()).as_deref())
+        })
         .clone()
 }
 
