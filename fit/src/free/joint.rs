@@ -18,7 +18,9 @@
 //! correlation is kept), each resample refined from the estimate; the
 //! percentile intervals hold under misfit as the single fits' do
 //! (docs/estimation.md). Is the absorption chromatic: the contrasts
-//! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). How
+//! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). Is
+//! the roughness shared: the same test on the channels' `ln σ/T` of the
+//! nested fit with σ/T per channel (untied models). How
 //! well it predicts geometries it was not fitted to: a K-fold
 //! cross-validation over the geometries (the same folds in every
 //! channel), each fold held out in turn while the others are refitted
@@ -532,6 +534,9 @@ fn shared_roughness(
 ) -> ChannelTest {
     if !joint.model.model().is_untied() {
         return ChannelTest::Untestable("σ/T is the subsurface's too in a tied model");
+    }
+    if resamples < 2 {
+        return ChannelTest::Untestable("too few bootstrap resamples for the channels");
     }
     let channels = problems.len();
     let nested = Joint {
