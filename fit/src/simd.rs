@@ -61,25 +61,29 @@ pub fn choose(value: Option<&str>) -> Result<Path, SimdError> {
     }
 }
 
+/// This process's `LAMINAR_SIMD`, read and judged once.
+fn chosen() -> &'static Result<Path, SimdError> {
+    static CHOSEN: OnceLock<Result<Path, SimdError>> = OnceLock::new();
+    CHOSEN.get_or_init(|| {
+        let value = std::env::var_os("LAMINAR_SIMD");
+        choose(value.as_ref().map(|v| v.to_string_lossy()).as_deref())
+    })
+}
+
 /// The path of this process's `LAMINAR_SIMD` (read once), or why it cannot
 /// be followed. Front ends call it at start to report the error.
 ///
 /// # Errors
 /// As [`choose`].
 pub fn from_env() -> Result<Path, SimdError> {
-    static CHOSEN: OnceLock<Result<Path, SimdError>> = OnceLock::new();
-    CHOSEN
-        .get_or_init(|| {
-            let value = std::env::var_os("LAMINAR_SIMD");
-            choose(value.as_ref().map(|v| v.to_string_lossy()).as_deref())
-        })
-        .clone()
+    chosen().clone()
 }
 
 /// The path the kernels take: [`from_env`]'s, or the portable one when
 /// `LAMINAR_SIMD` cannot be followed (front ends report that error first).
+/// Called at every kernel's entry: no allocation, even on the error.
 pub fn path() -> Path {
-    from_env().unwrap_or(Path::Portable)
+    chosen().as_ref().copied().unwrap_or(Path::Portable)
 }
 
 /// `kernel` on [`path`]'s lanes.
