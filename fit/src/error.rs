@@ -328,7 +328,7 @@ pub enum FitError {
     },
     /// The noise model.
     #[error(transparent)]
-    Noise(#[from] crate::noise::NoiseError),
+    Noise(#[from] NoiseError),
     /// A joint fit across channels that cannot be made.
     #[error("joint fit: {0}")]
     Joint(JointError),
@@ -339,6 +339,25 @@ pub enum FitError {
         threads: usize,
         /// Why.
         message: String,
+    },
+}
+
+/// A noise model a set cannot take ([`crate::Noise`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NoiseError {
+    /// A floor outside (0, 1].
+    #[error("noise floor `{floor}` is not in (0, 1] (a fraction of the median positive value)")]
+    Floor {
+        /// The floor given.
+        floor: f64,
+    },
+    /// Relative noise on a set without a positive value to scale the floor.
+    #[error("{sample} {channel}: relative noise needs a positive value")]
+    NoPositiveValue {
+        /// The set's sample.
+        sample: String,
+        /// Its channel.
+        channel: String,
     },
 }
 

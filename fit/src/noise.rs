@@ -30,6 +30,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub use crate::error::NoiseError;
 use crate::error::{find_named, UnknownName};
 use crate::scene::Scene;
 use std::fmt;
@@ -51,25 +52,6 @@ pub enum Noise {
     Relative {
         /// The floor as a fraction of the median positive value, in (0, 1].
         floor: f64,
-    },
-}
-
-/// A noise model a set cannot take.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum NoiseError {
-    /// A floor outside (0, 1].
-    #[error("noise floor `{floor}` is not in (0, 1] (a fraction of the median positive value)")]
-    Floor {
-        /// The floor given.
-        floor: f64,
-    },
-    /// Relative noise on a set without a positive value to scale the floor.
-    #[error("{sample} {channel}: relative noise needs a positive value")]
-    NoPositiveValue {
-        /// The set's sample.
-        sample: String,
-        /// Its channel.
-        channel: String,
     },
 }
 
