@@ -28,9 +28,9 @@
 //! the training fit's own amplitude and β.
 
 use super::layout::Layout;
-use super::model::{FreeModel, LayeredModel};
+use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::Problem;
-use super::search::quadratic::objectives;
+use super::search::objectives::objectives;
 use super::search::untied::{surface_sums, Column};
 use super::search::GridStage;
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
@@ -202,6 +202,25 @@ struct Joint<'a> {
     factors: [Vec<f64>; 2],
 }
 
+impl<'a> Joint<'a> {
+    /// Every parameter but a shared by the channels.
+    fn all_shared(model: &'a LayeredModel, layout: &Layout) -> Self {
+        let table = model.table();
+        let a_at = table.position(Param::A);
+        let shared: Vec<usize> = (0..table.entries().len())
+            .filter(|&j| Some(j) != a_at)
+            .collect();
+        Joint {
+            model,
+            a_box: a_at.map_or((0.0, 0.0), |j| layout.bounds[j]),
+            shared,
+            slope_per_channel: None,
+            a_at,
+            factors: model.factors(),
+        }
+    }
+}
+
 impl Joint<'_> {
     /// The θ position of each value of `x`.
     fn positions(&self) -> Vec<usize> {
@@ -342,31 +361,8 @@ pub fn fit(
 ) -> JointFit {
     let built = Arc::new(LayeredModel::new(model, scenes[0].angles()));
     let layout = Layout::new(&*built, grid);
-    let problems: Vec<Problem<LayeredModel>> = scenes
-        .iter()
-        .map(|scene| {
-            Problem::new(
-                scene,
-                (model, Some(Arc::clone(&built))),
-                (layout.bounds.clone(), layout.reported.clone()),
-                layout.domain.clone(),
-                layout.beta,
-            )
-        })
-        .collect();
-    let table = built.table();
-    let a_at = table.position(Param::A);
-    let shared: Vec<usize> = (0..table.entries().len())
-        .filter(|&j| Some(j) != a_at)
-        .collect();
-    let joint = Joint {
-        model: &built,
-        a_box: a_at.map_or((0.0, 0.0), |j| layout.bounds[j]),
-        shared,
-        slope_per_channel: None,
-        a_at,
-        factors: built.factors(),
-    };
+    let problems = channel_problems(scenes, model, &built, &layout);
+    let joint = Joint::all_shared(&built, &layout);
     let start = grid_start(&problems, &layout, &joint, precision);
     let (x, a) = refine(&joint, &problems, &start, &ESTIMATE_STEPS);
     let evaluated: Vec<_> = problems
@@ -374,53 +370,32 @@ pub fn fit(
         .zip(&a)
         .map(|(p, &a)| p.evaluate(&joint.theta(&x, a), p.beta))
         .collect();
-    let per_channel = 2 + usize::from(a_at.is_some());
+    let per_channel = 2 + usize::from(joint.a_at.is_some());
+    let parameters = joint.shared.len() + per_channel * scenes.len();
     let runs_order = RunsOrder::new(scenes[0].angles());
     let adequacy: Vec<Adequacy> = (problems.iter().zip(&evaluated))
         .map(|(p, (point, columns))| {
             let e = p.residuals(columns, &point.linear);
-            Adequacy::in_order(
-                &runs_order,
-                &e,
-                joint.shared.len() + per_channel,
-                p.weighted,
-            )
+            let fitted = joint.shared.len() + per_channel;
+            Adequacy::in_order(&runs_order, &e, fitted, p.weighted)
         })
         .collect();
     let estimate: Vec<_> = evaluated.into_iter().map(|(point, _)| point).collect();
     let bootstrapped = bootstrap(&joint, &problems, &x, (resamples, seed));
     let sse: Vec<f64> = estimate.iter().map(|p| p.sse).collect();
-    let parameters = joint.shared.len() + per_channel * scenes.len();
     let validated = cross_validate(&joint, &problems, (&x, &sse), parameters, (folds, seed));
-    // On a face of the box, the face as the user gave it (`ln` and `exp`
-    // do not round-trip).
-    let in_units = |j: usize, v: f64| {
-        let ((lo, hi), (ilo, ihi)) = (layout.reported[j], layout.bounds[j]);
-        match v {
-            v if v <= ilo => lo,
-            v if v >= ihi => hi,
-            v => table.entries()[j].scale.external(v).clamp(lo, hi),
-        }
-    };
-    let value_of = |j: usize, value: f64, column: usize| {
-        let name = table.entries()[j].name;
-        JointValue {
-            name,
-            value,
-            intervals: bootstrapped.as_ref().map(|values| {
-                let mut sorted: Vec<f64> = values.iter().map(|v| v[column]).collect();
-                sorted.sort_by(f64::total_cmp);
-                percentile_intervals(&sorted, value, layout.reported[j], attainable_domain(name)).0
-            }),
-        }
+    let reporter = Reporter {
+        layout: &layout,
+        table: built.table(),
+        bootstrapped: bootstrapped.as_deref(),
     };
     let shared: Vec<JointValue> = (joint.shared.iter().enumerate())
-        .map(|(i, &j)| value_of(j, in_units(j, x[i]), i))
+        .map(|(i, &j)| reporter.value(j, reporter.in_units(j, x[i]), i))
         .collect();
     let channels = (scenes.iter().zip(&estimate).enumerate())
         .map(|(c, (scene, point))| JointChannel {
             channel: scene.channel().to_string(),
-            a: a_at.map(|j| value_of(j, a[c], joint.shared.len() + c)),
+            a: (joint.a_at).map(|j| reporter.value(j, a[c], joint.shared.len() + c)),
             beta: point.linear.beta(layout.beta.0),
             amplitude: point.linear.amplitude(),
             sse: point.sse,
@@ -429,13 +404,16 @@ pub fn fit(
             cross_validation: validated.as_ref().map(|v| v[c]),
         })
         .collect();
-    let chromatic = channel_test(
-        &a,
-        joint.a_box,
-        (bootstrapped.as_deref(), joint.shared.len()),
-        scenes,
-        |v| v,
-    );
+    let chromatic = match joint.a_at {
+        Some(_) => channel_test(
+            &a,
+            joint.a_box,
+            (bootstrapped.as_deref(), joint.shared.len()),
+            scenes,
+            |v| v,
+        ),
+        None => ChannelTest::Untestable("the model has no absorption"),
+    };
     let slope_box = layout.bounds[joint.shared[0]];
     let shared_roughness = shared_roughness(
         &joint,
@@ -449,16 +427,72 @@ pub fn fit(
         model,
         shared,
         channels,
-        sse: estimate.iter().map(|p| p.sse).sum(),
+        sse: sse.iter().sum(),
         measurements: scenes[0].len(),
         parameter_count: parameters,
         resamples: if bootstrapped.is_some() { resamples } else { 0 },
-        chromatic: if a_at.is_some() {
-            chromatic
-        } else {
-            ChannelTest::Untestable("the model has no absorption")
-        },
+        chromatic,
         shared_roughness,
+    }
+}
+
+/// Each channel's problem on the one built model, in `layout`'s box.
+fn channel_problems(
+    scenes: &[Scene],
+    model: Model,
+    built: &Arc<LayeredModel>,
+    layout: &Layout,
+) -> Vec<Problem<LayeredModel>> {
+    scenes
+        .iter()
+        .map(|scene| {
+            Problem::new(
+                scene,
+                (model, Some(Arc::clone(built))),
+                (layout.bounds.clone(), layout.reported.clone()),
+                layout.domain.clone(),
+                layout.beta,
+            )
+        })
+        .collect()
+}
+
+/// A joint estimate's values in the user's units with their bootstrap
+/// percentile intervals.
+struct Reporter<'a> {
+    layout: &'a Layout,
+    table: &'a Table,
+    /// Per resample, the shared values then each channel's a.
+    bootstrapped: Option<&'a [Vec<f64>]>,
+}
+
+impl Reporter<'_> {
+    /// θ position `j`'s internal value `v` in the user's units; on a face
+    /// of the box, the face as the user gave it (`ln` and `exp` do not
+    /// round-trip).
+    fn in_units(&self, j: usize, v: f64) -> f64 {
+        let ((lo, hi), (ilo, ihi)) = (self.layout.reported[j], self.layout.bounds[j]);
+        match v {
+            v if v <= ilo => lo,
+            v if v >= ihi => hi,
+            v => self.table.entries()[j].scale.external(v).clamp(lo, hi),
+        }
+    }
+
+    /// θ position `j`'s `value` with the interval of the resamples'
+    /// `column`.
+    fn value(&self, j: usize, value: f64, column: usize) -> JointValue {
+        let name = self.table.entries()[j].name;
+        JointValue {
+            name,
+            value,
+            intervals: self.bootstrapped.map(|values| {
+                let mut sorted: Vec<f64> = values.iter().map(|v| v[column]).collect();
+                sorted.sort_by(f64::total_cmp);
+                let reported = self.layout.reported[j];
+                percentile_intervals(&sorted, value, reported, attainable_domain(name)).0
+            }),
+        }
     }
 }
 

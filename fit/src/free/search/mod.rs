@@ -5,6 +5,7 @@
 //! basins as the starts of the refinement ([`grid_starts`]).
 
 pub mod corner;
+pub(crate) mod objectives;
 pub mod quadratic;
 pub mod untied;
 

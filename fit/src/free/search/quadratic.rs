@@ -6,6 +6,7 @@
 //! pass over the measurements.
 
 use super::corner::corner_start;
+use super::objectives::objectives_in;
 use super::{GridAxes, GridStage, GridValues};
 use crate::free::boundary::BoundaryGroup;
 use crate::free::linear::Quadratic;
@@ -21,46 +22,6 @@ use rayon::prelude::*;
 
 /// The layered objective of one set.
 type Layered = Problem<LayeredModel>;
-
-/// The objective at every a of `a_axis` from one (σ/T, n)'s quadratic,
-/// four at a time (the last group padded with its last a): bit for bit
-/// one at a time, as the core's `f64x4` is its `f64` lane by lane.
-pub(crate) fn objectives(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
-    simd::run(Objectives {
-        q,
-        a_axis,
-        beta,
-        out,
-    });
-}
-
-/// The pass of [`objectives`].
-struct Objectives<'a> {
-    q: &'a Quadratic<f64>,
-    a_axis: &'a [f64],
-    beta: (f64, f64),
-    out: &'a mut [f64],
-}
-
-impl Kernel for Objectives<'_> {
-    type Output = ();
-
-    #[inline(always)]
-    fn run<L: Lane4>(self) {
-        objectives_in::<L>(self.q, self.a_axis, self.beta, self.out);
-    }
-}
-
-/// [`objectives`] in a kernel's lanes.
-#[inline(always)]
-fn objectives_in<L: Lane4>(q: &Quadratic<f64>, a_axis: &[f64], beta: (f64, f64), out: &mut [f64]) {
-    for (group, out) in a_axis.chunks(4).zip(out.chunks_mut(4)) {
-        let last = group.len() - 1;
-        let a = L::from_array([0, 1, 2, 3].map(|i| group[i.min(last)]));
-        let sse = q.moments(a).solve(beta).sse.to_array();
-        out.copy_from_slice(&sse[..group.len()]);
-    }
-}
 
 /// The model side of the layered grid stage: per σ/T the surface term and
 /// `Σ w S²`, per (σ/T, n) the base `B` and the sums of the quadratic's

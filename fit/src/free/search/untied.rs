@@ -6,7 +6,7 @@
 //! remain, and every a of the axis is a 2×2 solve from the quadratic in
 //! a, as for the tied models.
 
-use super::quadratic::objectives;
+use super::objectives::objectives;
 use super::{GridAxes, GridValues};
 use crate::free::linear::Quadratic;
 use crate::free::model::{LayeredModel, Packed};
