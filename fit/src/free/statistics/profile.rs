@@ -49,13 +49,13 @@ pub struct Side<'a, M> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WalkSettings {
     /// [`PROFILE_TOLERANCE`].
-    pub profile_tolerance: f64,
+    profile_tolerance: f64,
     /// [`MOST_STEPS`].
-    pub most_steps: usize,
+    most_steps: usize,
     /// [`END_TOLERANCE`].
-    pub end_tolerance: f64,
+    end_tolerance: f64,
     /// [`BRACKET_TOLERANCE`].
-    pub bracket_tolerance: f64,
+    bracket_tolerance: f64,
 }
 
 impl Default for WalkSettings {
@@ -227,70 +227,31 @@ impl<M: FreeModel> Side<'_, M> {
     }
 
     /// The end on this side of the level whose `sqrt(profile − min)` is
-    /// `target`, probing first at distance `next` (`probes` holds the
+    /// `target`, probing first at distance `first` (`probes` holds the
     /// walk's probes so far, and gets this level's); or a point below the
-    /// minimum.
+    /// minimum. Runs [`LevelSearch::next_iter`] for at most the settings'
+    /// steps.
     fn level_end(
         &self,
         frame: &Frame,
         probes: &mut Vec<Probe>,
         target: f64,
-        mut next: f64,
+        first: f64,
     ) -> Result<(f64, bool), Point> {
-        let before = probes.len();
-        let WalkSettings {
-            most_steps,
-            end_tolerance,
-            bracket_tolerance,
-            ..
-        } = self.settings;
+        let mut search = LevelSearch {
+            side: self,
+            frame,
+            target,
+            before: probes.len(),
+            next: first,
+        };
+        let most_steps = self.settings.most_steps;
         for step in 0..most_steps {
-            if step + 1 == most_steps && probes.iter().all(|p| p.height < target) {
-                // The last step probes the face, so that an end is put there
-                // only when the profile is seen below the level at the face
-                // itself.
-                next = frame.room;
-            }
-            let value = frame.value_at(next, self.direction);
-            let start = self.start(value, next, probes);
-            let (h, theta) = self.measure(value, target, &start)?;
-            probes.push(Probe {
-                distance: next.min(frame.room),
-                height: h,
-                theta,
-                rechecked: false,
-            });
-            if h < target && next >= frame.room {
-                return Ok((frame.face, true));
-            }
-            if (h - target).abs() <= end_tolerance * target {
-                return Ok(self.end_near(frame, probes, (target, h), value));
-            }
-            next =
-                next_distance(probes, probes.len() - before, target, frame.alpha).min(frame.room);
-            let (near, above) = bracket(probes, target);
-            let narrow = above.filter(|above| {
-                above.distance - near.distance <= bracket_tolerance * above.distance
-            });
-            if let Some(above) = narrow {
-                // A bracket this narrow without a probe near the level: the
-                // profile jumps across it (another valley takes over), and
-                // the end is the jump; unless the far side's minimisation
-                // stopped in another valley, which minimising there again
-                // from the near side's parameters (the profile's path
-                // continued) shows.
-                if !above.rechecked && self.recheck(frame, probes, target)? {
-                    next = next_distance(probes, probes.len() - before, target, frame.alpha)
-                        .min(frame.room);
-                    continue;
-                }
-                return Ok((frame.estimate + self.direction * next, false));
+            if let Step::End(end) = search.next_iter(probes, step + 1 == most_steps)? {
+                return Ok(end);
             }
         }
-        // Out of steps with a probe above the level (the last step saw to
-        // that): the crossing interpolated in the bracket.
-        let d = next_distance(probes, probes.len() - before, target, frame.alpha);
-        Ok((frame.estimate + self.direction * d.min(frame.room), false))
+        Ok(search.interpolated(probes))
     }
 
     /// The profile at `value` from `start`, and `sqrt(profile − min)` there
@@ -348,6 +309,92 @@ impl<M: FreeModel> Side<'_, M> {
             (far.height, far.theta) = (h, theta);
         }
         Ok(h < target)
+    }
+}
+
+/// The search for one level's end on one side, one probe per
+/// [`LevelSearch::next_iter`] (argmin's stepper shape; [`Side::level_end`]
+/// runs it).
+struct LevelSearch<'w, 'a, M> {
+    side: &'w Side<'a, M>,
+    frame: &'w Frame,
+    /// The level's `sqrt(profile − min)`.
+    target: f64,
+    /// The walk's probes before this level's.
+    before: usize,
+    /// The distance to probe next.
+    next: f64,
+}
+
+/// What one probe of a level's search found.
+enum Step {
+    /// Not there yet: the next probe is chosen.
+    Going,
+    /// The end, and whether it is the face with the profile below the level.
+    End((f64, bool)),
+}
+
+impl<M: FreeModel> LevelSearch<'_, '_, M> {
+    /// Probes the profile once (at the face when `last` and every probe is
+    /// still below the level, so that an end is put at the face only where
+    /// the profile is seen below the level at the face itself), and ends
+    /// the search there when the probe is within the end tolerance of the
+    /// level, at the face below it, or on a bracket too narrow to hold a
+    /// probe near the level (a jump); or a point below the minimum.
+    fn next_iter(&mut self, probes: &mut Vec<Probe>, last: bool) -> Result<Step, Point> {
+        let (side, frame, target) = (self.side, self.frame, self.target);
+        if last && probes.iter().all(|p| p.height < target) {
+            self.next = frame.room;
+        }
+        let value = frame.value_at(self.next, side.direction);
+        let start = side.start(value, self.next, probes);
+        let (h, theta) = side.measure(value, target, &start)?;
+        probes.push(Probe {
+            distance: self.next.min(frame.room),
+            height: h,
+            theta,
+            rechecked: false,
+        });
+        if h < target && self.next >= frame.room {
+            return Ok(Step::End((frame.face, true)));
+        }
+        if (h - target).abs() <= side.settings.end_tolerance * target {
+            return Ok(Step::End(side.end_near(frame, probes, (target, h), value)));
+        }
+        self.next = self.next_distance(probes);
+        let (near, above) = bracket(probes, target);
+        let narrow = above.filter(|above| {
+            above.distance - near.distance <= side.settings.bracket_tolerance * above.distance
+        });
+        if let Some(above) = narrow {
+            // A bracket this narrow without a probe near the level: the
+            // profile jumps across it (another valley takes over), and the
+            // end is the jump; unless the far side's minimisation stopped
+            // in another valley, which minimising there again from the
+            // near side's parameters (the profile's path continued) shows.
+            if !above.rechecked && side.recheck(frame, probes, target)? {
+                self.next = self.next_distance(probes);
+                return Ok(Step::Going);
+            }
+            return Ok(Step::End((
+                frame.estimate + side.direction * self.next,
+                false,
+            )));
+        }
+        Ok(Step::Going)
+    }
+
+    /// [`next_distance`] over this level's probes, inside the box.
+    fn next_distance(&self, probes: &[Probe]) -> f64 {
+        let fresh = probes.len() - self.before;
+        next_distance(probes, fresh, self.target, self.frame.alpha).min(self.frame.room)
+    }
+
+    /// The end after the last step (a probe above the level, the last
+    /// step saw to that): the crossing interpolated in the bracket.
+    fn interpolated(&self, probes: &[Probe]) -> (f64, bool) {
+        let d = self.next_distance(probes);
+        (self.frame.estimate + self.side.direction * d, false)
     }
 }
 
