@@ -10,14 +10,16 @@
 //! alone: a scan of [`A_SCAN`] values, then Brent's method between the
 //! scan's neighbours of the best. The grid stage is each
 //! channel's ([`GridStage::grid_values`]) with every channel's best a per
-//! shared point summed; the best shared point starts a Nelder–Mead search
-//! of `J` over the shared parameters in the box (the paper objective's,
-//! [`crate::paper::refine`]); each channel's fit is then evaluated
-//! exactly there. Intervals: a pairs bootstrap over the geometries (the
-//! same resampled geometries in every channel, so the channels'
-//! correlation is kept), each resample refined from the estimate; the
-//! percentile intervals hold under misfit as the single fits' do
-//! (docs/estimation.md). Is the absorption chromatic: the contrasts
+//! shared point summed; each basin of that sum starts a Nelder–Mead
+//! search of `J` over the shared parameters in the box (the paper
+//! objective's, [`crate::paper::refine`]), the lowest end is the estimate
+//! and the other minima near it are rival valleys; each channel's fit is
+//! then evaluated exactly there. Intervals: a pairs bootstrap over the
+//! geometries (the same resampled geometries in every channel, so the
+//! channels' correlation is kept), each resample refined from the
+//! estimate and from each rival valley, the lowest kept; the percentile
+//! intervals hold under misfit as the single fits' do (docs/estimation.md,
+//! docs/conventions.md §4c). Is the absorption chromatic: the contrasts
 //! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). Is
 //! the roughness shared: the same test on the channels' `ln σ/T` of the
 //! nested fit with σ/T per channel (untied models). How
@@ -27,12 +29,13 @@
 //! from the estimate, and each channel's held-out residuals predicted with
 //! the training fit's own amplitude and β.
 
+use super::driver::MOST_STARTS;
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::Problem;
 use super::search::objectives::objectives;
 use super::search::untied::{surface_sums, Column};
-use super::search::GridStage;
+use super::search::{grid_starts, GridStage, GridValues};
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use super::statistics::cross_validation::assignment;
 use crate::adequacy::{Adequacy, RunsOrder};
@@ -70,6 +73,17 @@ const ESTIMATE_STEPS: [f64; 2] = [0.1, 0.01];
 /// the scale of a resample's move (Nelder–Mead expands its steps where the
 /// optimum is farther).
 const RESAMPLE_STEPS: [f64; 1] = [0.01];
+
+/// How far above the lowest minimum (in units of the scale `s²`) another
+/// valley's minimum may lie and still be a start of every bootstrap
+/// resample's refinement: a resample of the data can move two valleys'
+/// objectives by several `s²` against each other, and a percentile
+/// interval then holds both valleys in proportion.
+const RIVAL_HEIGHT: f64 = 25.0;
+
+/// Two minima are distinct when some shared value differs by more than
+/// this fraction of its box.
+const DISTINCT: f64 = 1e-3;
 
 /// Most iterations of Brent's method (it takes 10–20 on these objectives).
 const BRENT_ITERATIONS: u64 = 100;
@@ -363,15 +377,15 @@ pub fn fit(
     let layout = Layout::new(&*built, grid);
     let problems = channel_problems(scenes, model, &built, &layout);
     let joint = Joint::all_shared(&built, &layout);
-    let start = grid_start(&problems, &layout, &joint, precision);
-    let (x, a) = refine(&joint, &problems, &start, &ESTIMATE_STEPS);
+    let starts = grid_starts_of(&problems, &layout, &joint, precision);
+    let per_channel = 2 + usize::from(joint.a_at.is_some());
+    let parameters = joint.shared.len() + per_channel * scenes.len();
+    let Minima { x, a, rivals } = refine_all(&joint, &problems, &starts, parameters);
     let evaluated: Vec<_> = problems
         .iter()
         .zip(&a)
         .map(|(p, &a)| p.evaluate(&joint.theta(&x, a), p.beta))
         .collect();
-    let per_channel = 2 + usize::from(joint.a_at.is_some());
-    let parameters = joint.shared.len() + per_channel * scenes.len();
     let runs_order = RunsOrder::new(scenes[0].angles());
     let adequacy: Vec<Adequacy> = (problems.iter().zip(&evaluated))
         .map(|(p, (point, columns))| {
@@ -381,7 +395,7 @@ pub fn fit(
         })
         .collect();
     let estimate: Vec<_> = evaluated.into_iter().map(|(point, _)| point).collect();
-    let bootstrapped = bootstrap(&joint, &problems, &x, (resamples, seed));
+    let bootstrapped = bootstrap(&joint, &problems, (&x, &rivals), (resamples, seed));
     let sse: Vec<f64> = estimate.iter().map(|p| p.sse).collect();
     let validated = cross_validate(&joint, &problems, (&x, &sse), parameters, (folds, seed));
     let reporter = Reporter {
@@ -585,7 +599,7 @@ fn shared_roughness(
         .chain(x[1..].iter().copied())
         .collect();
     let (xn, _) = refine(&nested, problems, &start, &ESTIMATE_STEPS);
-    let Some(bootstrapped) = bootstrap(&nested, problems, &xn, (resamples, seed)) else {
+    let Some(bootstrapped) = bootstrap(&nested, problems, (&xn, &[]), (resamples, seed)) else {
         return ChannelTest::Untestable("too few bootstrap resamples for the channels");
     };
     // In σ/T's units (the bootstrap's), tested on its logarithm.
@@ -600,35 +614,108 @@ fn shared_roughness(
     )
 }
 
-/// The best shared grid point: each channel's grid stage, every channel's
-/// best a per shared point summed (a is the table's last axis).
-fn grid_start(
+/// The joint grid stage's starts: each channel's grid values with its
+/// best a per shared point, summed over the channels; the basins of that
+/// sum ([`grid_starts`]), the lowest first, at most [`MOST_STARTS`] of
+/// them (one start alone missed the lowest valley of the untied models'
+/// σ′/T′–n trade in 5% of synthetic sets).
+fn grid_starts_of(
     problems: &[Problem<LayeredModel>],
     layout: &Layout,
     joint: &Joint<'_>,
     precision: Precision,
-) -> Vec<f64> {
+) -> Vec<Vec<f64>> {
     let values: Vec<_> = problems
         .par_iter()
         .map(|p| LayeredModel::grid_values(p, &layout.axes, precision))
         .collect();
-    let last = values[0].lens.last().copied().unwrap_or(1);
-    let per_a = if joint.a_at.is_some() { last } else { 1 };
+    let lens = &values[0].lens;
+    let (shared_lens, per_a) = match joint.a_at {
+        Some(_) => (lens[..lens.len() - 1].to_vec(), lens[lens.len() - 1]),
+        None => (lens.clone(), 1),
+    };
     let points = values[0].sse.len() / per_a;
-    let summed = (0..points).map(|i| {
-        let at = |v: &super::search::GridValues| {
-            v.sse[i * per_a..(i + 1) * per_a]
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min)
+    let summed = (0..points)
+        .map(|i| {
+            let at = |v: &GridValues| {
+                v.sse[i * per_a..(i + 1) * per_a]
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min)
+            };
+            values.iter().map(at).sum::<f64>()
+        })
+        .collect();
+    let summed = GridValues {
+        lens: shared_lens,
+        sse: summed,
+    };
+    let mut starts = grid_starts(&summed, MOST_STARTS);
+    if starts.is_empty() {
+        // No finite value on the grid: its first best point.
+        starts.push((summed.indices(summed.best()), f64::NAN));
+    }
+    starts
+        .into_iter()
+        .map(|(mut indices, _)| {
+            if joint.a_at.is_some() {
+                indices.push(0);
+            }
+            let theta = layout.axes.theta(&indices);
+            joint.shared.iter().map(|&j| theta[j]).collect()
+        })
+        .collect()
+}
+
+/// The joint estimate and the valleys that rival it.
+struct Minima {
+    /// The shared values of the lowest minimum.
+    x: Vec<f64>,
+    /// Each channel's a there.
+    a: Vec<f64>,
+    /// Other valleys' shared values ([`refine_all`]).
+    rivals: Vec<Vec<f64>>,
+}
+
+/// The refinements from each of `starts`: the lowest (the first on ties),
+/// its shared values and each channel's a; then the distinct other minima
+/// whose objective is within [`RIVAL_HEIGHT`] of the scale `s² = J/ν`
+/// above it (`ν` the measurements less the `parameters`), lowest first:
+/// the valleys a resample of the data could prefer.
+fn refine_all(
+    joint: &Joint<'_>,
+    problems: &[Problem<LayeredModel>],
+    starts: &[Vec<f64>],
+    parameters: usize,
+) -> Minima {
+    let mut refined: Vec<(Vec<f64>, Vec<f64>, f64)> = starts
+        .par_iter()
+        .map(|start| {
+            let (x, a) = refine(joint, problems, start, &ESTIMATE_STEPS);
+            let objective = joint.at(problems, &x).0;
+            (x, a, objective)
+        })
+        .collect();
+    // Stable: the first start on ties.
+    refined.sort_by(|p, q| p.2.total_cmp(&q.2));
+    let mut minima = refined.into_iter();
+    let (x, a, lowest) = minima.next().expect("at least one start");
+    let measurements: usize = problems.iter().map(|p| p.data.len()).sum();
+    let s2 = lowest / measurements.saturating_sub(parameters).max(1) as f64;
+    let bounds: Vec<(f64, f64)> = (joint.positions().iter())
+        .map(|&j| problems[0].bounds[j])
+        .collect();
+    let mut rivals: Vec<Vec<f64>> = Vec::new();
+    for (xr, _, objective) in minima {
+        let distinct = |other: &Vec<f64>| {
+            (xr.iter().zip(other).zip(&bounds))
+                .any(|((u, v), (lo, hi))| (u - v).abs() > DISTINCT * (hi - lo))
         };
-        values.iter().map(at).sum::<f64>()
-    });
-    let best = (summed.enumerate())
-        .min_by(|a, b| a.1.total_cmp(&b.1))
-        .map_or(0, |(i, _)| i);
-    let theta = layout.axes.theta(&values[0].indices(best * per_a));
-    joint.shared.iter().map(|&j| theta[j]).collect()
+        if objective - lowest <= RIVAL_HEIGHT * s2 && distinct(&x) && rivals.iter().all(distinct) {
+            rivals.push(xr);
+        }
+    }
+    Minima { x, a, rivals }
 }
 
 /// Nelder–Mead on `J` over the shared parameters in their box from
@@ -705,11 +792,12 @@ fn cross_validate(
 
 /// Each resample's shared values (model units) then each channel's a:
 /// the geometries resampled alike in every channel, each refined from the
-/// estimate `x`. `None` with fewer than two resamples.
+/// estimate `x` and from each of the `rivals` (other valleys' minima), the
+/// lowest kept. `None` with fewer than two resamples.
 fn bootstrap(
     joint: &Joint<'_>,
     problems: &[Problem<LayeredModel>],
-    x: &[f64],
+    (x, rivals): (&[f64], &[Vec<f64>]),
     (resamples, seed): (usize, u64),
 ) -> Option<Vec<Vec<f64>>> {
     if resamples < 2 {
@@ -721,7 +809,17 @@ fn bootstrap(
         .map(|b| {
             let counts = resample_counts(problems[0].data.len(), seed, b);
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
-            let (xb, ab) = refine(joint, &resampled, x, &RESAMPLE_STEPS);
+            // From the estimate, and from each rival valley: the lowest.
+            let mut best = refine(joint, &resampled, x, &RESAMPLE_STEPS);
+            let mut lowest = joint.at(&resampled, &best.0).0;
+            for rival in rivals {
+                let other = refine(joint, &resampled, rival, &RESAMPLE_STEPS);
+                let objective = joint.at(&resampled, &other.0).0;
+                if objective < lowest {
+                    (best, lowest) = (other, objective);
+                }
+            }
+            let (xb, ab) = best;
             let mut v: Vec<f64> = (joint.positions().iter().zip(&xb))
                 .map(|(&j, &v)| entries[j].scale.external(v))
                 .collect();
