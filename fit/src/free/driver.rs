@@ -14,7 +14,7 @@ use super::model::FreeModel;
 use super::problem::Problem;
 use super::record::{correlations, parameters, Statistics};
 use super::refine::refinement;
-use super::search::{grid_starts, GridStage, GridValues};
+use super::search::{grid_starts, GridStage, GridValues, MOST_STARTS};
 use super::slice::ragheb_hancock;
 use super::statistics::adequacy::{adequacy, chi2_weighted, information};
 use super::statistics::bootstrap::bootstrap;
@@ -33,10 +33,6 @@ use crate::scene::Scene;
 use crate::settings::Precision;
 use rayon::prelude::*;
 use std::sync::{Arc, OnceLock};
-
-/// Most starts of the refinement: the best point of each of the grid's
-/// best basins.
-pub const MOST_STARTS: usize = 8;
 
 /// Sets whose grid stage one pass over a shared model side serves
 /// ([`GridStage::grid_values_shared`]): the model side (K × 440 values

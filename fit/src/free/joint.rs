@@ -29,13 +29,12 @@
 //! from the estimate, and each channel's held-out residuals predicted with
 //! the training fit's own amplitude and β.
 
-use super::driver::MOST_STARTS;
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::Problem;
 use super::search::objectives::objectives;
 use super::search::untied::{surface_sums, Column};
-use super::search::{grid_starts, GridStage, GridValues};
+use super::search::{grid_starts, GridStage, GridValues, MOST_STARTS};
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use super::statistics::cross_validation::assignment;
 use crate::adequacy::{Adequacy, RunsOrder};

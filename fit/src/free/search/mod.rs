@@ -206,6 +206,10 @@ pub fn point_by_point<M: FreeModel>(problem: &Problem<M>, axes: &GridAxes) -> Gr
     }
 }
 
+/// Most starts of a refinement: the best point of each of the grid's
+/// best basins.
+pub const MOST_STARTS: usize = 8;
+
 /// The best point of each of the grid's basins (no axis neighbour lower;
 /// on ties the smaller flat index is lower), best first, at most `most`,
 /// as axis indices with their objective.
