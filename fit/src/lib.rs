@@ -90,7 +90,7 @@ pub use error::{FitError, GridError, JointError, MeasurementError, ModelError, U
 pub use estimate::Estimate;
 pub use fit::Fitter;
 pub use fitted::{FittedModel, ModelParams, NormalisationConstants};
-pub use free::joint::{ChannelTest, JointChannel, JointFit, JointValue};
+pub use free::joint::{ChannelTest, JointChannel, JointFit, JointValue, Variant, VariantFit};
 pub use grid::{Axis, Grid};
 pub use measurements::{Channel, MeasurementAngles, MeasurementSet, Quantity};
 pub use model::{Baseline, Model, Param};

@@ -6,7 +6,7 @@ mod common;
 use laminar_brdf_core::{Correlation, Params};
 use laminar_brdf_fit::{
     synthetic, FitError, Fitter, Grid, MeasurementAngles, MeasurementSet, Model, Objective, Param,
-    Quantity, Scene,
+    Quantity, Scene, Variant,
 };
 
 /// Three channels of one untied surface (σ/T 0.3, σ′/T′ 1.5, n 1.44) whose
@@ -184,9 +184,20 @@ fn the_channel_tests_hold_their_rate_and_see_differences() {
         "{:?}",
         joint.shared_roughness
     );
+    // The ranking of the variants agrees: the shared geometry's data rank
+    // the joint fit first, these rank σ/T per channel first.
+    assert_eq!(best_variant(&fit(&channels())), Variant::Joint);
+    assert_eq!(best_variant(&joint), Variant::RoughnessPerChannel);
     // A tied model's σ/T is its subsurface's too: not tested.
     let tied = fitter.fit_joint(&channels(), Model::Exp).unwrap();
     assert!(matches!(tied.shared_roughness, ChannelTest::Untestable(_)));
+}
+
+/// The variant ranked first of a joint fit's.
+fn best_variant(fit: &laminar_brdf_fit::JointFit) -> Variant {
+    assert_eq!(fit.variants.len(), 3, "{:?}", fit.variants);
+    let ranked = |v: &&laminar_brdf_fit::VariantFit| v.rank.is_some_and(|r| r.rank == 1);
+    fit.variants.iter().find(ranked).expect("a first").variant
 }
 
 /// Each channel's fitted model at the joint estimate predicts its data as

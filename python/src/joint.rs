@@ -68,7 +68,11 @@ fn channel_test<'py>(py: Python<'py>, test: &ChannelTest) -> PyResult<Bound<'py,
 /// ``resamples``, ``chromatic`` (the test of one a for every channel:
 /// ``p_value``, ``statistic``, ``df``; or ``untested`` saying why) and
 /// ``shared_roughness`` (the test of one σ/T for every channel, untied
-/// models, likewise).
+/// models, likewise), and ``variants`` (the ways of fitting the channels
+/// ranked by AICc over all of them, one noise scale: per variant
+/// ``variant`` — ``joint``, ``roughness_per_channel`` (untied models) or
+/// ``separate`` —, ``sse``, ``parameters``, ``aicc``, ``rank``, ``delta``
+/// and ``weight``).
 #[pyfunction]
 #[pyo3(signature = (measurements, model = "exp2", grid = None, uncertainty = "both", threads = None, resamples = None, seed = None, precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR, folds = None))]
 #[allow(clippy::too_many_arguments)]
@@ -158,5 +162,19 @@ pub(crate) fn fit_joint<'py>(
     out.set_item("resamples", fit.resamples)?;
     out.set_item("chromatic", channel_test(py, &fit.chromatic)?)?;
     out.set_item("shared_roughness", channel_test(py, &fit.shared_roughness)?)?;
+    let variants = (fit.variants.iter())
+        .map(|v| -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            d.set_item("variant", v.variant.name())?;
+            d.set_item("sse", v.sse)?;
+            d.set_item("parameters", v.parameters)?;
+            d.set_item("aicc", v.information.and_then(|i| i.aicc))?;
+            d.set_item("rank", v.rank.map(|r| r.rank))?;
+            d.set_item("delta", v.rank.map(|r| r.delta))?;
+            d.set_item("weight", v.rank.map(|r| r.weight))?;
+            Ok(d)
+        })
+        .collect::<PyResult<Vec<_>>>()?;
+    out.set_item("variants", variants)?;
     Ok(out)
 }

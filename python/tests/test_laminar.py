@@ -147,6 +147,14 @@ def test_fit_joint_equals_the_cli(tmp_path):
     assert chromatic["p_value"] == float(rows[0]["chromatic_p"]) < 1e-3 and tuple(chromatic["df"]) == (1, 29)
     # A tied model's σ/T is its subsurface's too: the roughness test is not made, as in the CLI.
     assert joint["shared_roughness"]["untested"] == rows[0]["roughness_note"] != ""
+    # The variants ranked as in the CLI: joint and separate (a tied model
+    # has no roughness-per-channel fit).
+    variants = {v["variant"]: v for v in joint["variants"]}
+    assert set(variants) == {"joint", "separate"} and variants["joint"]["parameters"] == 8
+    for name, v in variants.items():
+        assert v["delta"] == float(rows[0]["delta_aicc_" + name])
+    assert rows[0]["delta_aicc_roughness_per_channel"] == ""
+    assert [v["variant"] for v in joint["variants"] if v["rank"] == 1] == [rows[0]["best_variant"]]
     untied = laminar.fit_joint(channels, grid=GRID, uncertainty="off")
     assert untied["model"] == "exp2" and set(untied["shared"]) == {"slope", "sub_slope", "n"}
     assert untied["resamples"] == 0 and untied["shared"]["n"]["lo95"] is None

@@ -7,7 +7,7 @@ use clap::Args;
 use laminar_brdf::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
 use laminar_brdf::usage::UsageError;
 use laminar_brdf::CliError;
-use laminar_brdf_fit::{ChannelTest, JointFit, JointValue, Model, Scene};
+use laminar_brdf_fit::{ChannelTest, JointFit, JointValue, Model, Scene, Variant};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -40,7 +40,12 @@ use std::time::Instant;
 /// few resamples), roughness_p (the p-value of one σ/T for every channel,
 /// untied models: the fit again with σ/T per channel and σ′/T′ and n
 /// shared, its own bootstrap, Hotelling's T² of ln σ/T_c − ln σ/T_1) or
-/// roughness_note, and edges (an interval that reaches a face of the box
+/// roughness_note, delta_aicc_joint, delta_aicc_roughness_per_channel and
+/// delta_aicc_separate (each variant's AICc above the best variant's, over
+/// all channels' measurements with one noise scale: this joint fit, σ/T
+/// per channel with σ′/T′ and n shared (untied models, made with the
+/// roughness test), each channel fitted alone; empty where not fitted)
+/// and best_variant (the lowest's name), and edges (an interval that reaches a face of the box
 /// that is not a bound of the parameter: name:open_below or
 /// name:open_above).
 #[derive(Args, Debug)]
@@ -181,6 +186,31 @@ fn against_model(fit: &JointFit, scenes: &[Scene]) -> Result<String, CliError> {
     channels_vs_model_svg(&title, &panels).map_err(CliError::Figure)
 }
 
+/// The variants in the CSV's order.
+const VARIANTS: [Variant; 3] = [
+    Variant::Joint,
+    Variant::RoughnessPerChannel,
+    Variant::Separate,
+];
+
+/// Each variant's AICc above the best's (empty where it was not fitted),
+/// then the best variant's name.
+fn variant_cells(fit: &JointFit) -> Vec<String> {
+    let rank = |variant: Variant| {
+        (fit.variants.iter())
+            .find(|v| v.variant == variant)
+            .and_then(|v| v.rank)
+    };
+    let mut cells: Vec<String> = (VARIANTS.iter())
+        .map(|&v| rank(v).map(|r| number(r.delta)).unwrap_or_default())
+        .collect();
+    let best = VARIANTS
+        .into_iter()
+        .find(|&v| rank(v).is_some_and(|r| r.rank == 1));
+    cells.push(best.map(|v| v.name().to_string()).unwrap_or_default());
+    cells
+}
+
 /// A number as the shortest text that reads back to it, with an exponent
 /// where it is very small or large (`1.27e-34`, not 34 zeros).
 fn number(x: f64) -> String {
@@ -250,10 +280,11 @@ fn csv(fits: &[JointFit]) -> String {
             "chromatic_note",
             "roughness_p",
             "roughness_note",
-            "edges",
         ]
         .map(String::from),
     );
+    header.extend(VARIANTS.map(|v| format!("delta_aicc_{}", v.name())));
+    header.extend(["best_variant", "edges"].map(String::from));
     let mut out = header.join(",") + "\n";
     for fit in fits {
         for channel in &fit.channels {
@@ -290,6 +321,7 @@ fn csv(fits: &[JointFit]) -> String {
             );
             row.extend(channel_test(&fit.chromatic, "a"));
             row.extend(channel_test(&fit.shared_roughness, "slope"));
+            row.extend(variant_cells(fit));
             row.push(edges.join(";"));
             out += &(row.join(",") + "\n");
         }

@@ -38,7 +38,7 @@ use super::search::{grid_starts, GridStage, GridValues, MOST_STARTS};
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use super::statistics::cross_validation::assignment;
 use crate::adequacy::{Adequacy, RunsOrder};
-use crate::choice::CrossValidation;
+use crate::choice::{self, CrossValidation, Information, Rank};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::free::linear::Quadratic;
 use crate::grid::Grid;
@@ -176,9 +176,83 @@ pub struct JointFit {
     /// Is the roughness shared: one σ/T for every channel against one per
     /// channel, σ′/T′ and n shared in both (untied models; the module doc).
     pub shared_roughness: ChannelTest,
+    /// The variants fitted, ranked by AICc: this joint fit, σ/T per
+    /// channel (when the shared-roughness test made that fit) and each
+    /// channel alone (when [`crate::Fitter::fit_joint`] made those fits).
+    pub variants: Vec<VariantFit>,
+}
+
+/// A way of fitting a material's channels, ranked against the others by
+/// information criteria on one likelihood ([`JointFit::variants`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// σ/T, σ′/T′ and n shared; a, β and the amplitude per channel.
+    Joint,
+    /// σ/T per channel, σ′/T′ and n shared (the shared-roughness test's
+    /// alternative; untied models).
+    RoughnessPerChannel,
+    /// Each channel fitted alone.
+    Separate,
+}
+
+impl Variant {
+    /// The variant's name in the CSV and Python.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Joint => "joint",
+            Self::RoughnessPerChannel => "roughness_per_channel",
+            Self::Separate => "separate",
+        }
+    }
+}
+
+/// One variant's fit: its objective summed over the channels, its
+/// parameters, its criteria and its place among the variants.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VariantFit {
+    /// The variant.
+    pub variant: Variant,
+    /// `Σ_c F_c` at its estimate (the same weights in every variant).
+    pub sse: f64,
+    /// Its fitted parameters over all channels.
+    pub parameters: usize,
+    /// Its criteria over all channels' measurements (one noise scale for
+    /// all, estimated unless the uncertainties are known).
+    pub information: Option<Information>,
+    /// Its place (1 the best by AICc).
+    pub rank: Option<Rank>,
+}
+
+impl VariantFit {
+    /// The variant with objective `sse` and `parameters` over `measurements`
+    /// (all channels'), unranked.
+    pub(crate) fn new(
+        variant: Variant,
+        sse: f64,
+        (parameters, measurements): (usize, usize),
+        weighted: bool,
+    ) -> Self {
+        Self {
+            variant,
+            sse,
+            parameters,
+            information: Information::new(sse, measurements, parameters, weighted),
+            rank: None,
+        }
+    }
 }
 
 impl JointFit {
+    /// Adds `variant` and ranks every variant again ([`choice::rank`]).
+    pub(crate) fn add_variant(&mut self, variant: VariantFit) {
+        self.variants.push(variant);
+        let criteria: Vec<Option<Information>> =
+            self.variants.iter().map(|v| v.information).collect();
+        for (v, rank) in self.variants.iter_mut().zip(choice::rank(&criteria)) {
+            v.rank = rank;
+        }
+    }
+
     /// Channel `c`'s fitted model at the joint estimate (the shared
     /// parameters, its a, β and amplitude): what `predict`, `render` and the
     /// renderers take. `None` for a channel it does not have.
@@ -376,7 +450,11 @@ pub fn fit(
     let layout = Layout::new(&*built, grid);
     let problems = channel_problems(scenes, model, &built, &layout);
     let joint = Joint::all_shared(&built, &layout);
-    let starts = grid_starts_of(&problems, &layout, &joint, precision);
+    let grids = channel_grids(&problems, &layout, precision);
+    let own: Vec<usize> = joint.a_at.into_iter().collect();
+    let starts = channel_grid_starts(&grids, &layout, &own, |thetas| {
+        joint.shared.iter().map(|&j| thetas[0][j]).collect()
+    });
     let per_channel = 2 + usize::from(joint.a_at.is_some());
     let parameters = joint.shared.len() + per_channel * scenes.len();
     let Minima { x, a, rivals } = refine_all(&joint, &problems, &starts, parameters);
@@ -428,14 +506,16 @@ pub fn fit(
         None => ChannelTest::Untestable("the model has no absorption"),
     };
     let slope_box = layout.bounds[joint.shared[0]];
-    let shared_roughness = shared_roughness(
+    let (shared_roughness, nested_sse) = shared_roughness(
         &joint,
-        &problems,
+        (&problems, &grids, &layout),
         (&x, slope_box),
         (resamples, seed),
         scenes,
     );
-    JointFit {
+    let all = scenes.len() * scenes[0].len();
+    let weighted = problems[0].weighted;
+    let mut fit = JointFit {
         sample: scenes[0].sample().to_string(),
         model,
         shared,
@@ -446,7 +526,21 @@ pub fn fit(
         resamples: if bootstrapped.is_some() { resamples } else { 0 },
         chromatic,
         shared_roughness,
+        variants: Vec::new(),
+    };
+    let joint_variant = (Variant::Joint, fit.sse, parameters);
+    // σ/T once per channel instead of once.
+    let nested = nested_sse.map(|j| {
+        (
+            Variant::RoughnessPerChannel,
+            j,
+            parameters + scenes.len() - 1,
+        )
+    });
+    for (variant, sse, p) in std::iter::once(joint_variant).chain(nested) {
+        fit.add_variant(VariantFit::new(variant, sse, (p, all), weighted));
     }
+    fit
 }
 
 /// Each channel's problem on the one built model, in `layout`'s box.
@@ -574,16 +668,18 @@ fn channel_test(
 /// model's σ/T is also its subsurface's).
 fn shared_roughness(
     joint: &Joint<'_>,
-    problems: &[Problem<LayeredModel>],
+    (problems, grids, layout): (&[Problem<LayeredModel>], &[GridValues], &Layout),
     (x, slope_box): (&[f64], (f64, f64)),
     (resamples, seed): (usize, u64),
     scenes: &[Scene],
-) -> ChannelTest {
+) -> (ChannelTest, Option<f64>) {
     if !joint.model.model().is_untied() {
-        return ChannelTest::Untestable("σ/T is the subsurface's too in a tied model");
+        let why = "σ/T is the subsurface's too in a tied model";
+        return (ChannelTest::Untestable(why), None);
     }
     if resamples < 2 {
-        return ChannelTest::Untestable("too few bootstrap resamples for the channels");
+        let why = "too few bootstrap resamples for the channels";
+        return (ChannelTest::Untestable(why), None);
     }
     let channels = problems.len();
     let nested = Joint {
@@ -594,60 +690,112 @@ fn shared_roughness(
         a_box: joint.a_box,
         factors: joint.factors.clone(),
     };
-    let start: Vec<f64> = std::iter::repeat_n(x[0], channels)
+    // From the shared estimate and from each basin of the nested grid.
+    let shared_start: Vec<f64> = std::iter::repeat_n(x[0], channels)
         .chain(x[1..].iter().copied())
         .collect();
-    let (xn, _) = refine(&nested, problems, &start, &ESTIMATE_STEPS);
+    let slope_at = joint.shared[0];
+    let own: Vec<usize> = std::iter::once(slope_at).chain(joint.a_at).collect();
+    let grid_starts = channel_grid_starts(grids, layout, &own, |thetas| {
+        (thetas.iter().map(|theta| theta[slope_at]))
+            .chain(joint.shared[1..].iter().map(|&j| thetas[0][j]))
+            .collect()
+    });
+    let starts: Vec<Vec<f64>> = std::iter::once(shared_start).chain(grid_starts).collect();
+    let Minima { x: xn, .. } = refine_all(&nested, problems, &starts, 0);
+    let nested_sse = nested.at(problems, &xn).0;
     let Some(bootstrapped) = bootstrap(&nested, problems, (&xn, &[]), (resamples, seed)) else {
-        return ChannelTest::Untestable("too few bootstrap resamples for the channels");
+        let why = "too few bootstrap resamples for the channels";
+        return (ChannelTest::Untestable(why), Some(nested_sse));
     };
     // In σ/T's units (the bootstrap's), tested on its logarithm.
     let slopes: Vec<f64> = xn[..channels].iter().map(|v| v.exp()).collect();
     let (lo, hi) = slope_box;
-    channel_test(
+    let test = channel_test(
         &slopes,
         (lo.exp(), hi.exp()),
         (Some(&bootstrapped), 0),
         scenes,
         f64::ln,
-    )
+    );
+    (test, Some(nested_sse))
 }
 
-/// The joint grid stage's starts: each channel's grid values with its
-/// best a per shared point, summed over the channels; the basins of that
-/// sum ([`grid_starts`]), the lowest first, at most [`MOST_STARTS`] of
-/// them (one start alone missed the lowest valley of the untied models'
-/// σ′/T′–n trade in 5% of synthetic sets).
-fn grid_starts_of(
+/// Each channel's grid values on the layout's axes.
+fn channel_grids(
     problems: &[Problem<LayeredModel>],
     layout: &Layout,
-    joint: &Joint<'_>,
     precision: Precision,
-) -> Vec<Vec<f64>> {
-    let values: Vec<_> = problems
+) -> Vec<GridValues> {
+    problems
         .par_iter()
         .map(|p| LayeredModel::grid_values(p, &layout.axes, precision))
-        .collect();
+        .collect()
+}
+
+/// The starts of a search over the channels whose grid axes `own` (θ
+/// positions) each channel takes for itself (a; σ/T too in the nested
+/// fit) and the others are shared: per point of the shared axes, each
+/// channel's grid minimum over its own axes, summed over the channels;
+/// the basins of that sum ([`grid_starts`]), the lowest first, at most
+/// [`MOST_STARTS`] (one start alone, the best point, missed the lowest
+/// valley of the untied models' σ′/T′–n trade in 5% of synthetic sets).
+/// Each start as `x_of` makes it from each channel's θ at its minimum.
+fn channel_grid_starts(
+    values: &[GridValues],
+    layout: &Layout,
+    own: &[usize],
+    x_of: impl Fn(&[Vec<f64>]) -> Vec<f64>,
+) -> Vec<Vec<f64>> {
     let lens = &values[0].lens;
-    let (shared_lens, per_a) = match joint.a_at {
-        Some(_) => (lens[..lens.len() - 1].to_vec(), lens[lens.len() - 1]),
-        None => (lens.clone(), 1),
+    let shared_axes: Vec<usize> = (0..lens.len()).filter(|j| !own.contains(j)).collect();
+    let own_lens: Vec<usize> = own.iter().map(|&j| lens[j]).collect();
+    let own_grid = GridValues {
+        sse: Vec::new(),
+        lens: own_lens.clone(),
     };
-    let points = values[0].sse.len() / per_a;
-    let summed = (0..points)
-        .map(|i| {
-            let at = |v: &GridValues| {
-                v.sse[i * per_a..(i + 1) * per_a]
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min)
-            };
-            values.iter().map(at).sum::<f64>()
+    let summed_grid = GridValues {
+        sse: Vec::new(),
+        lens: shared_axes.iter().map(|&j| lens[j]).collect(),
+    };
+    let points: usize = summed_grid.lens.iter().product();
+    // Per shared point, each channel's flat index of its minimum.
+    let full_index = |shared: &[usize], mine: &[usize]| {
+        let mut indices = vec![0; lens.len()];
+        for (&j, &i) in shared_axes.iter().zip(shared) {
+            indices[j] = i;
+        }
+        for (&j, &i) in own.iter().zip(mine) {
+            indices[j] = i;
+        }
+        values[0].flat(&indices)
+    };
+    let (sums, argmins): (Vec<f64>, Vec<Vec<usize>>) = (0..points)
+        .map(|point| {
+            let shared = summed_grid.indices(point);
+            let flats: Vec<usize> = (0..own_lens.iter().product())
+                .map(|k| full_index(&shared, &own_grid.indices(k)))
+                .collect();
+            let best: Vec<(f64, usize)> = (values.iter())
+                .map(|v| {
+                    flats.iter().fold((f64::INFINITY, flats[0]), |best, &f| {
+                        if v.sse[f] < best.0 {
+                            (v.sse[f], f)
+                        } else {
+                            best
+                        }
+                    })
+                })
+                .collect();
+            (
+                best.iter().map(|b| b.0).sum::<f64>(),
+                best.iter().map(|b| b.1).collect(),
+            )
         })
-        .collect();
+        .unzip();
     let summed = GridValues {
-        lens: shared_lens,
-        sse: summed,
+        sse: sums,
+        ..summed_grid
     };
     let mut starts = grid_starts(&summed, MOST_STARTS);
     if starts.is_empty() {
@@ -656,12 +804,11 @@ fn grid_starts_of(
     }
     starts
         .into_iter()
-        .map(|(mut indices, _)| {
-            if joint.a_at.is_some() {
-                indices.push(0);
-            }
-            let theta = layout.axes.theta(&indices);
-            joint.shared.iter().map(|&j| theta[j]).collect()
+        .map(|(indices, _)| {
+            let thetas: Vec<Vec<f64>> = (argmins[summed.flat(&indices)].iter())
+                .map(|&flat| layout.axes.theta(&values[0].indices(flat)))
+                .collect();
+            x_of(&thetas)
         })
         .collect()
 }
