@@ -162,6 +162,21 @@ impl Measurements {
         Self::pick(set, channel)
     }
 
+    /// The same measurements with the specular test's tolerance set to
+    /// `tolerance` radians (``laminar --specular-tolerance``; default
+    /// 1e-4, the exact mirror only): a measurement within it of the
+    /// mirror configuration on every angle is left out of the fit
+    /// (docs/conventions.md §4b, near-mirror values).
+    fn with_specular_tolerance(&self, tolerance: f64) -> PyResult<Self> {
+        let set = (self.set.clone())
+            .with_specular_tolerance(tolerance)
+            .map_err(value_error)?;
+        Ok(Self {
+            set,
+            channel: self.channel.clone(),
+        })
+    }
+
     /// The set's channels.
     #[getter]
     fn channels(&self) -> Vec<String> {

@@ -1,6 +1,7 @@
 """The Python package against the CLI on the same input, and its errors."""
 
 import json
+import math
 import os
 from pathlib import Path
 
@@ -107,6 +108,31 @@ def test_relative_noise_and_untied_models_equal_the_cli(tmp_path):
         laminar.compare(m, ["exp", "exp2"], objective="paper")
     with pytest.raises(ValueError, match="fit_batch's columns"):
         laminar.fit_batch(g, radiance(g)[None, :], "exp2", quantity="radiance")
+
+
+def test_near_mirror_values_are_left_out_as_the_cli_does(tmp_path):
+    """``with_specular_tolerance``: three geometries near the mirror are
+    fitted by default and left out within 0.05 rad, as the CLI's
+    ``--specular-tolerance``; a negative tolerance is refused."""
+    g = geometry()
+    near = np.array([[0.5, 0.0, 0.51, math.pi - 0.01], [0.8, 0.0, 0.78, math.pi - 0.02], [0.3, 0.0, 0.3, -math.pi + 0.03]])
+    g = np.vstack([g, near])
+    path = tmp_path / "near.csv"
+    with open(path, "w") as f:
+        f.write("theta_i,phi_i,theta_v,phi_v,value\n")
+        for row, v in zip(g, radiance(g)):
+            f.write(",".join(repr(float(x)) for x in (*row, v)) + "\n")
+    m = laminar.Measurements.from_csv(path, quantity="radiance")
+    assert laminar.fit(m, "exp", grid=GRID, uncertainty="off").measurements == 123
+    narrow = m.with_specular_tolerance(0.05)
+    assert len(narrow) == len(m) == 123 and narrow.channel == m.channel
+    fitted = laminar.fit(narrow, "exp", grid=GRID, uncertainty="off")
+    [entry] = cli_fits("--measurements", path, "--quantity", "radiance", "--models", "exp", *GRID_ARGS,
+                       "--uncertainty", "off", "--specular-tolerance", 0.05)
+    assert fitted.measurements == entry["measurements"] == 120
+    assert fitted.params == pytest.approx(entry["params"], rel=0, abs=1e-9)
+    with pytest.raises(ValueError, match="tolerance"):
+        m.with_specular_tolerance(-1.0)
 
 
 def test_fit_joint_equals_the_cli(tmp_path):
