@@ -9,7 +9,8 @@
 //! ```
 
 use crate::fits::{
-    Energy, FitEntry, FitsFile, IntervalEntry, NotIdentified, ParamValue, ParameterEntry, Units,
+    Energy, FitEntry, FitsFile, IntervalEntry, JointEntry, MaterialChannel, MaterialEntry,
+    NotIdentified, ParamValue, ParameterEntry, Units,
 };
 use laminar_brdf_fit::adequacy::Adequacy;
 use laminar_brdf_fit::choice::{CrossValidation, Information, Rank};
@@ -102,6 +103,9 @@ const DECLARED: &[Declared] = &[
     Declared::of::<CrossValidation>(),
     Declared::of::<GraphicsMetrics>(),
     Declared::of::<FitEntry>(),
+    Declared::of::<JointEntry>(),
+    Declared::of::<MaterialChannel>(),
+    Declared::of::<MaterialEntry>(),
     Declared::of::<FitsFile>(),
 ];
 

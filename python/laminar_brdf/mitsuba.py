@@ -13,7 +13,9 @@ plugin type ``"laminar"``.
 Properties: ``filename``, a fitted-model file (``laminar fit --format
 json``), and ``select``: one label ``sample/channel/model`` (grey), or
 three separated by commas (red, green, blue: e.g. the r, g and b fits of
-one sample); left out when the file holds one fit. Or, without a file,
+one sample); left out when the file holds one fit. Or ``material``: the
+label ``sample/model`` of a jointly fitted material (``laminar fit-joint
+--fits``), its channels red, green and blue (or one, grey). Or, without a file,
 ``model`` (``exp``, ``gauss``, …), its parameters as floats (``slope``,
 ``beta``, ``n``, ``a``; ``sigma_a``, ``sigma_s``; ``sigma``, ``rho``) and
 ``amplitude`` (default 1): the grey BSDF ``amplitude · ((1 − β) L^sf + β
@@ -50,7 +52,16 @@ import laminar_brdf as laminar
 PLUGIN = "laminar"
 
 
-def _models(filename, select):
+def _models(filename, select, material=None):
+    if material is not None:
+        if select is not None:
+            raise ValueError("give `select` (fits) or `material` (a joint fit), not both")
+        models = laminar.FittedModel.from_material(str(filename), material or None)
+        if len(models) not in (1, 3):
+            raise ValueError(
+                f"material {material}: {len(models)} channels; the BSDF draws one (grey) or three (red, green, blue)"
+            )
+        return models
     labels = [None] if not select else [s.strip() for s in str(select).split(",")]
     if len(labels) not in (1, 3):
         raise ValueError(f"select: {len(labels)} labels; give one (grey) or three (red, green, blue)")
@@ -133,7 +144,8 @@ def register() -> None:
             if "filename" in props:
                 self.filename = str(props["filename"])
                 self.select = str(props["select"]) if "select" in props else None
-                self.models = _models(self.filename, self.select)
+                material = str(props["material"]) if "material" in props else None
+                self.models = _models(self.filename, self.select, material)
             elif "model" in props:
                 self.filename, self.select = None, None
                 model = str(props["model"])

@@ -44,6 +44,32 @@ impl FittedModel {
         })
     }
 
+    /// Each channel of the material labelled `select` (`sample/model`) in
+    /// the fitted-model file `path` (``laminar fit-joint --fits``; the
+    /// file's only material when `select` is None), in the order fitted:
+    /// one fitted model per channel at the joint estimate, labelled
+    /// `sample/channel/model`.
+    #[staticmethod]
+    #[pyo3(signature = (path, select = None))]
+    fn from_material(path: PathBuf, select: Option<&str>) -> PyResult<Vec<Self>> {
+        let file = fits::read_fits(&path).map_err(read_error)?;
+        let material = file
+            .select_material(select)
+            .map_err(|e| PyValueError::new_err(format!("{}: {e}", path.display())))?;
+        (material.channels.iter())
+            .map(|channel| {
+                let label = material.channel_label(channel);
+                channel.fitted.predict(&[]).map_err(|e| {
+                    PyValueError::new_err(format!("{}: fit {label}: {e}", path.display()))
+                })?;
+                Ok(Self {
+                    label,
+                    fitted: channel.fitted,
+                })
+            })
+            .collect()
+    }
+
     /// `model` at `params` (a dict of the model's parameters: `slope`,
     /// `beta`, `n`, `a`; `sigma_a`, `sigma_s`; or `sigma`, `rho`) times
     /// `amplitude`: the prediction is `amplitude · ((1 − β) L^sf + β L^sb)`

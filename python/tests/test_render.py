@@ -252,3 +252,48 @@ def test_spectral_and_mono_variants_are_refused_by_name():
     mi.set_variant("scalar_rgb")
     assert tried > 0, mi.variants()
 
+
+
+def test_a_joint_material_renders_as_one_rgb_bsdf(tmp_path):
+    """``laminar fit-joint --fits``: the material's channels as
+    ``FittedModel.from_material`` gives them are the file's per-channel
+    fits (``from_file`` with ``sample/channel/model``) and the joint fit's
+    own predictions; the Mitsuba plugin's ``material`` draws them as red,
+    green and blue."""
+    from conftest import geometry, radiance
+
+    g = geometry(150)
+    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
+    data = tmp_path / "paint.csv"
+    with open(data, "w") as f:
+        f.write("theta_i,phi_i,theta_v,phi_v,r,g,b\n")
+        for row, *v in zip(g, *values):
+            f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
+    path = tmp_path / "paint.json"
+    cli("fit-joint", "--measurements", data, "--quantity", "radiance", "--model", "exp",
+        "--uncertainty", "off", "--folds", 0, "--fits", path)
+    models = laminar.FittedModel.from_material(str(path))
+    assert [m.label for m in models] == ["paint/r/exp", "paint/g/exp", "paint/b/exp"]
+    channels = [laminar.Measurements.from_csv(data, quantity="radiance", channel=c) for c in "rgb"]
+    joint = laminar.fit_joint(channels, "exp", uncertainty="off", folds=0)
+    ti, tv, phi = np.radians([30.0, 50.0]), np.radians([40.0, 20.0]), np.radians([120.0, -60.0])
+    for c, m in enumerate(models):
+        same = laminar.FittedModel.from_file(str(path), m.label)
+        np.testing.assert_array_equal(m.radiance(ti, tv, phi), same.radiance(ti, tv, phi))
+        assert m.data_scale == joint["channels"][c]["data_scale"]
+    # The absorption differs between the channels, the geometry does not.
+    assert len({tuple(m.radiance(ti, tv, phi)) for m in models}) == 3
+    with pytest.raises(ValueError, match="no material `paint/gauss`"):
+        laminar.FittedModel.from_material(str(path), "paint/gauss")
+    mi = mitsuba_variant("scalar_rgb")
+    bsdf = mi.load_dict({"type": "laminar", "filename": str(path), "material": "paint/exp"})
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(np.sin(tv[0]) * np.cos(phi[0]), np.sin(tv[0]) * np.sin(phi[0]), np.cos(tv[0]))
+    wo = mi.Vector3f(np.sin(ti[0]), 0.0, np.cos(ti[0]))
+    got = bsdf.eval(mi.BSDFContext(), si, wo)
+    (pti, pts, pps, _) = laminar.mitsuba._paper_angles(si.wi, wo)
+    want = [m.radiance(pti, pts, pps)[0] for m in models]
+    np.testing.assert_allclose([got[0], got[1], got[2]], want, rtol=1e-5)
+    assert got[0] != got[2]
+    with pytest.raises(Exception, match="not both"):
+        mi.load_dict({"type": "laminar", "filename": str(path), "material": "paint/exp", "select": "paint/r/exp"})

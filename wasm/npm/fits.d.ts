@@ -523,6 +523,111 @@ graphics: GraphicsMetrics | null,
 energy?: Energy | null, };
 
 /**
+ * A jointly fitted value and its bootstrap percentile intervals.
+ */
+export type JointEntry = { 
+/**
+ * The estimate.
+ */
+value: number, 
+/**
+ * The 68.27% and 95% intervals, when bootstrapped.
+ */
+intervals: IntervalEntry | null, };
+
+/**
+ * One channel of a `MaterialEntry`.
+ */
+export type MaterialChannel = { 
+/**
+ * Channel name.
+ */
+channel: string, 
+/**
+ * Its absorption a (absent for a model without one).
+ */
+a: JointEntry | null, 
+/**
+ * Eq. 8's β.
+ */
+beta: number, 
+/**
+ * The amplitude of the data divided by `data_scale`.
+ */
+amplitude: number, 
+/**
+ * The max the channel's data were divided by.
+ */
+data_scale: number, 
+/**
+ * The channel's weighted objective at the joint estimate.
+ */
+sse: number, 
+/**
+ * Whether its residuals say the model does not fit.
+ */
+lack_of_fit: boolean, 
+/**
+ * The channel's fitted model at the joint estimate: what `predict`,
+ * `render`, `export` and the renderers take (its label
+ * `sample/channel/model` selects it).
+ */
+fitted: FittedModel, };
+
+/**
+ * One material: a joint fit across a sample's channels
+ * (`laminar_brdf_fit::JointFit`, docs/conventions.md §4c), its shared
+ * parameters once and each channel's own with its fitted model.
+ */
+export type MaterialEntry = { 
+/**
+ * Sample label.
+ */
+sample: string, 
+/**
+ * The layered model.
+ */
+model: Model, 
+/**
+ * The shared parameters (σ/T, σ′/T′ for an untied model, n) by name:
+ * the estimate and the pairs bootstrap's percentile intervals.
+ */
+shared: { [key in string]: JointEntry }, 
+/**
+ * Each channel, in the order fitted.
+ */
+channels: Array<MaterialChannel>, 
+/**
+ * Measurements per channel.
+ */
+measurements: number, 
+/**
+ * Fitted parameters in all.
+ */
+parameters: number, 
+/**
+ * Bootstrap resamples behind the intervals (0: none).
+ */
+resamples: number, 
+/**
+ * `J = Σ_c F_c` at the estimate.
+ */
+sse: number, 
+/**
+ * The p-value of one a for every channel, when tested.
+ */
+chromatic_p: number | null, 
+/**
+ * The p-value of one σ/T for every channel, when tested.
+ */
+roughness_p: number | null, 
+/**
+ * Each variant fitted (`joint`, `roughness_per_channel`, `separate`)
+ * by name: its AICc above the best variant's.
+ */
+variants: { [key in string]: number }, };
+
+/**
  * The fitted-model file: `laminar fit --format json`.
  */
 export type FitsFile = { 
@@ -541,4 +646,9 @@ quantities: { [key in string]: string },
 /**
  * The fits.
  */
-fits: Array<FitEntry>, };
+fits: Array<FitEntry>, 
+/**
+ * The materials: joint fits across a sample's channels (`laminar
+ * fit-joint --fits`). Absent from files without one.
+ */
+materials?: Array<MaterialEntry>, };

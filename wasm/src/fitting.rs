@@ -216,7 +216,7 @@ pub fn predict(fits_json: &str, select: Option<&str>, angles: &[f64]) -> Result<
             "select `{select}` matches no fit; the file holds {}",
             labels.join(", ")
         )),
-        SelectError::Empty => error(format_args!("the file {e}")),
+        SelectError::Empty | SelectError::NoMaterial { .. } => error(format_args!("the file {e}")),
     })?;
     entry.fitted.predict(&geometries(angles)?).map_err(error)
 }

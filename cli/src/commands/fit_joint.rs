@@ -8,6 +8,7 @@ use laminar_brdf::figures::{channels_vs_model_svg, spectrum_svg, SpectrumPoint};
 use laminar_brdf::usage::UsageError;
 use laminar_brdf::CliError;
 use laminar_brdf_fit::{ChannelTest, JointFit, JointValue, Model, Scene, Variant};
+use laminar_brdf_io::fits::{json_materials, MaterialEntry};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -65,6 +66,13 @@ pub struct FitJointArgs {
     /// Write the CSV to FILE instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Also write the fitted materials to FILE, a fitted-model file (JSON):
+    /// one material per sample, its shared parameters once, each channel's
+    /// own and its fitted model, selected as `sample/channel/model` by
+    /// predict, render, export and the renderers (Python's
+    /// `FittedModel.from_material` takes the whole material).
+    #[arg(long)]
+    fits: Option<PathBuf>,
     /// Also draw the absorption spectrum a(λ) with its 68% and 95% bands,
     /// and β(λ), into FILE (SVG; one sample). The x axis is the wavelength
     /// when every channel is named by one (`450nm`, `532`), else the
@@ -85,6 +93,7 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
     check_out(args.out.as_ref(), &inputs)?;
     check_out(args.plot.as_ref(), &inputs)?;
     check_out(args.plot_fit.as_ref(), &inputs)?;
+    check_out(args.fits.as_ref(), &inputs)?;
     let fitter = args.fitting.fitter()?;
     let jobs = jobs(&args.file, &args.channels, &args.curet)?;
     // Each sample's channels, in the order read.
@@ -109,6 +118,10 @@ pub fn run(args: &FitJointArgs) -> Result<(), CliError> {
         if let Some(plot) = &args.plot_fit {
             emit(Some(plot), &against_model(fit, scenes)?)?;
         }
+    }
+    if let Some(path) = &args.fits {
+        let materials: Vec<MaterialEntry> = fits.iter().map(MaterialEntry::new).collect();
+        emit(Some(path), &json_materials(&materials))?;
     }
     emit(args.out.as_ref(), &csv(&fits))?;
     report_time("fit-joint", start, fits.len() as f64, "samples");

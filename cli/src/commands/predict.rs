@@ -187,11 +187,14 @@ pub fn run(args: &PredictArgs) -> Result<(), CliError> {
     emit(args.out.as_ref(), &String::from_utf8_lossy(&bytes))?;
     if let Some(d) = &data {
         let rms = rms_error(d, &prediction).unwrap_or(f64::NAN);
+        let own = sel
+            .rms
+            .map(|r| format!(" (the fit's own: {r:e})"))
+            .unwrap_or_default();
         laminar_brdf::note!(
-            "predict {}: Δ_RMS (eq. 15) = {rms:e} over {} measurements (the fit's own: {:e})",
+            "predict {}: Δ_RMS (eq. 15) = {rms:e} over {} measurements{own}",
             sel.label,
             d.len(),
-            sel.rms
         );
     }
     report_time("predict", start, angles.len() as f64, "geometries");

@@ -35,7 +35,9 @@ impl FitFileArgs {
                     count,
                     labels,
                 },
-                source @ SelectError::NoMatch { .. } => UsageError::NoMatch { file, source },
+                source @ (SelectError::NoMatch { .. } | SelectError::NoMaterial { .. }) => {
+                    UsageError::NoMatch { file, source }
+                }
             }
         })?;
         // The model's parameters are checked here, once, for every command

@@ -1,7 +1,7 @@
 //! The fitted-model file: fits as pretty JSON (streamed, one fit at a
 //! time), and read back.
 
-use super::{FitEntry, FitsFile, FORMAT, READ_VERSIONS, VERSION};
+use super::{FitEntry, FitsFile, MaterialEntry, FORMAT, READ_VERSIONS, VERSION};
 use crate::error::ReadError;
 use laminar_brdf_fit::Fit;
 use std::io::Write;
@@ -50,7 +50,21 @@ pub(super) fn empty_file() -> FitsFile {
         .map(|(k, v)| (k.to_string(), v.to_string()))
         .collect(),
         fits: Vec::new(),
+        materials: Vec::new(),
     }
+}
+
+/// Materials (joint fits) as the fitted-model file (pretty JSON), with no
+/// single fits; each material's channels are selected by their labels
+/// `sample/channel/model` as fits are.
+pub fn json_materials(materials: &[MaterialEntry]) -> String {
+    let mut file = empty_file();
+    file.quantities.insert(
+        "materials".into(),
+        "joint fits across a sample's channels (laminar fit-joint): shared holds σ/T, σ′/T′ (untied models) and n once, each with the pairs bootstrap's 68.27% and 95% percentile intervals (the same geometries resampled in every channel); each channel its a (likewise), beta (eq. 8's), amplitude, data_scale, sse, lack_of_fit and fitted, the model to predict with (selected as sample/channel/model); chromatic_p and roughness_p the tests of one a and one σ/T for every channel; variants each way of fitting the channels (joint, roughness_per_channel, separate) by its AICc above the best's".into(),
+    );
+    file.materials = materials.to_vec();
+    serde_json::to_string_pretty(&file).expect("a fitted-model file serialises") + "\n"
 }
 
 /// The fitted-model file written one fit at a time, byte for byte what
@@ -154,7 +168,7 @@ pub fn parse_fits(file: &Path, text: &str) -> Result<FitsFile, ReadError> {
             file,
             0,
             format!(
-                "format `{}` version {}, expected `{FORMAT}` version 1, 2 or {VERSION}",
+                "format `{}` version {}, expected `{FORMAT}` version 1 to {VERSION}",
                 fits.format, fits.version
             ),
         ));

@@ -38,7 +38,7 @@ mod markdown;
 
 pub use batch_row::{BatchCsv, BatchRow, FieldKind, CSV_KEY, FIT_FIELDS, PARAMETER_FIELDS};
 pub use csv_rows::{csv, csv_header, CsvRows, CSV_HEADER, FIT_COLUMNS, PARAMETER_COLUMNS};
-pub use json_file::{json, json_entries, parse_fits, read_fits, JsonFits};
+pub use json_file::{json, json_entries, json_materials, parse_fits, read_fits, JsonFits};
 pub use markdown::{markdown, markdown_table};
 
 fn paper() -> Objective {
@@ -50,11 +50,12 @@ pub const FORMAT: &str = "laminar-fits";
 /// The version of the fitted-model file. Version 2 added the objective, the
 /// amplitude, the weighted χ²/ν and each parameter's box; version 3 names
 /// the weighted χ²/ν `chi2_weighted` (version 2's `chi2w_dof`), as the
-/// batch fields do. Version 1 and 2 files are still read.
-pub const VERSION: u32 = 3;
+/// batch fields do; version 4 adds the materials (joint fits). Version 1
+/// to 3 files are still read.
+pub const VERSION: u32 = 4;
 
 /// The versions [`read_fits`] reads.
-pub const READ_VERSIONS: [u32; 3] = [1, 2, 3];
+pub const READ_VERSIONS: [u32; 4] = [1, 2, 3, 4];
 
 /// One fit in the fitted-model file: the CSV's columns (params as an
 /// object) and the portable fitted models.
@@ -217,6 +218,136 @@ pub struct FitsFile {
     pub quantities: BTreeMap<String, String>,
     /// The fits.
     pub fits: Vec<FitEntry>,
+    /// The materials: joint fits across a sample's channels (`laminar
+    /// fit-joint --fits`). Absent from files without one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub materials: Vec<MaterialEntry>,
+}
+
+/// One material: a joint fit across a sample's channels
+/// ([`laminar_brdf_fit::JointFit`], docs/conventions.md §4c), its shared
+/// parameters once and each channel's own with its fitted model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+pub struct MaterialEntry {
+    /// Sample label.
+    pub sample: String,
+    /// The layered model.
+    pub model: Model,
+    /// The shared parameters (σ/T, σ′/T′ for an untied model, n) by name:
+    /// the estimate and the pairs bootstrap's percentile intervals.
+    pub shared: BTreeMap<String, JointEntry>,
+    /// Each channel, in the order fitted.
+    pub channels: Vec<MaterialChannel>,
+    /// Measurements per channel.
+    pub measurements: usize,
+    /// Fitted parameters in all.
+    pub parameters: usize,
+    /// Bootstrap resamples behind the intervals (0: none).
+    pub resamples: usize,
+    /// `J = Σ_c F_c` at the estimate.
+    pub sse: f64,
+    /// The p-value of one a for every channel, when tested.
+    pub chromatic_p: Option<f64>,
+    /// The p-value of one σ/T for every channel, when tested.
+    pub roughness_p: Option<f64>,
+    /// Each variant fitted (`joint`, `roughness_per_channel`, `separate`)
+    /// by name: its AICc above the best variant's.
+    pub variants: BTreeMap<String, f64>,
+}
+
+/// One channel of a [`MaterialEntry`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+pub struct MaterialChannel {
+    /// Channel name.
+    pub channel: String,
+    /// Its absorption a (absent for a model without one).
+    pub a: Option<JointEntry>,
+    /// Eq. 8's β.
+    pub beta: f64,
+    /// The amplitude of the data divided by `data_scale`.
+    pub amplitude: f64,
+    /// The max the channel's data were divided by.
+    pub data_scale: f64,
+    /// The channel's weighted objective at the joint estimate.
+    pub sse: f64,
+    /// Whether its residuals say the model does not fit.
+    pub lack_of_fit: bool,
+    /// The channel's fitted model at the joint estimate: what `predict`,
+    /// `render`, `export` and the renderers take (its label
+    /// `sample/channel/model` selects it).
+    pub fitted: FittedModel,
+}
+
+/// A jointly fitted value and its bootstrap percentile intervals.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(test, derive(ts_rs::TS))]
+pub struct JointEntry {
+    /// The estimate.
+    pub value: f64,
+    /// The 68.27% and 95% intervals, when bootstrapped.
+    pub intervals: Option<IntervalEntry>,
+}
+
+impl MaterialEntry {
+    /// The entry of `fit`.
+    pub fn new(fit: &laminar_brdf_fit::JointFit) -> Self {
+        let entry = |v: &laminar_brdf_fit::JointValue| JointEntry {
+            value: v.value,
+            intervals: v.intervals.map(|[i68, i95]| IntervalEntry {
+                interval: Source::Bootstrap,
+                lo68: i68.lo,
+                hi68: i68.hi,
+                lo95: i95.lo,
+                hi95: i95.hi,
+            }),
+        };
+        let p_value = |t: &laminar_brdf_fit::ChannelTest| match t {
+            laminar_brdf_fit::ChannelTest::Tested { p_value, .. } => Some(*p_value),
+            _ => None,
+        };
+        Self {
+            sample: fit.sample.clone(),
+            model: fit.model,
+            shared: (fit.shared.iter())
+                .map(|v| (v.name.to_string(), entry(v)))
+                .collect(),
+            channels: (fit.channels.iter().enumerate())
+                .filter_map(|(c, ch)| {
+                    Some(MaterialChannel {
+                        channel: ch.channel.clone(),
+                        a: ch.a.as_ref().map(entry),
+                        beta: ch.beta,
+                        amplitude: ch.amplitude,
+                        data_scale: ch.data_scale,
+                        sse: ch.sse,
+                        lack_of_fit: ch.adequacy.lack_of_fit,
+                        fitted: fit.fitted(c)?,
+                    })
+                })
+                .collect(),
+            measurements: fit.measurements,
+            parameters: fit.parameter_count,
+            resamples: fit.resamples,
+            sse: fit.sse,
+            chromatic_p: p_value(&fit.chromatic),
+            roughness_p: p_value(&fit.shared_roughness),
+            variants: (fit.variants.iter())
+                .filter_map(|v| Some((v.variant.name().to_string(), v.rank?.delta)))
+                .collect(),
+        }
+    }
+
+    /// The label `sample/model`.
+    pub fn label(&self) -> String {
+        format!("{}/{}", self.sample, self.model)
+    }
+
+    /// Channel `channel`'s label `sample/channel/model`.
+    pub fn channel_label(&self, channel: &MaterialChannel) -> String {
+        format!("{}/{}/{}", self.sample, channel.channel, self.model)
+    }
 }
 
 /// A parameter's value in `params`: a number, or [`NOT_IDENTIFIED`] when
@@ -483,6 +614,63 @@ mod tests {
     use laminar_brdf_fit::{synthetic, Fitter, Grid, NormalisationConstants};
     use std::path::Path;
 
+    /// A material written and read back whole; its channels are selected
+    /// by their labels as fits are, the material by `sample/model`.
+    #[test]
+    fn a_material_round_trips_and_its_channels_are_selected() {
+        use crate::selection::SelectError;
+        use laminar_brdf_fit::{Analysis, Uncertainty};
+        let scenes: Vec<_> = [(0.1, "r"), (0.5, "b")]
+            .into_iter()
+            .enumerate()
+            .map(|(seed, (a, name))| {
+                let truth = laminar_brdf_core::Params::new(0.4, 0.3, 1.45, a).unwrap();
+                let correlation = laminar_brdf_core::Correlation::Exponential;
+                synthetic::scene(correlation, &truth, 0.01, 5 + seed as u64).labelled("paint", name)
+            })
+            .collect();
+        let fitter = Fitter::new(Grid::user()).unwrap().analysis(Analysis {
+            uncertainty: Uncertainty::Off,
+            folds: 0,
+            ..Analysis::FULL
+        });
+        let joint = fitter.fit_joint(&scenes, Model::Exp).unwrap();
+        let entry = MaterialEntry::new(&joint);
+        assert_eq!(entry.channels.len(), 2);
+        assert_eq!(entry.variants.len(), 2, "joint and separate");
+        let file = parse_fits(
+            Path::new("m.json"),
+            &json_materials(std::slice::from_ref(&entry)),
+        )
+        .unwrap();
+        assert_eq!(file.version, VERSION);
+        assert!(file.fits.is_empty());
+        assert_eq!(file.materials, std::slice::from_ref(&entry));
+        let blue = file.select(Some("paint/b/exp")).unwrap();
+        assert_eq!(blue.fitted, entry.channels[1].fitted);
+        assert_eq!(blue.fitted, joint.fitted(1).unwrap());
+        assert_eq!(blue.rms, None);
+        assert!(matches!(
+            file.select(None),
+            Err(SelectError::Ambiguous { count: 2, .. })
+        ));
+        assert_eq!(file.select_material(None).unwrap().label(), "paint/exp");
+        assert_eq!(file.select_material(Some("paint/exp")).unwrap(), &entry);
+        let missing = file.select_material(Some("paint/gauss")).unwrap_err();
+        assert_eq!(
+            missing.to_string(),
+            "no material `paint/gauss`; the file holds paint/exp"
+        );
+        // A file of fits alone has no `materials` key and no material.
+        let plain = json_entries(&[]);
+        assert!(!plain.contains("materials"));
+        let none = parse_fits(Path::new("f.json"), &plain).unwrap();
+        assert!(matches!(
+            none.select_material(None),
+            Err(SelectError::NoMaterial { .. })
+        ));
+    }
+
     /// The streamed file is byte for byte the whole document serialised
     /// at once, for no, one and several fits.
     #[test]
@@ -533,7 +721,7 @@ mod tests {
         let rh_label = label.replace("/exp", "/rh-exp");
         let rh = one.select(Some(&rh_label)).unwrap();
         assert_eq!(Some(rh.fitted), one.fits[0].rh_fitted);
-        assert_eq!(Some(rh.rms), one.fits[0].rh_rms);
+        assert_eq!(rh.rms, one.fits[0].rh_rms);
         let two = FitsFile {
             fits: vec![FitEntry::new(&record), FitEntry::new(&record)],
             ..empty_file()
@@ -554,7 +742,7 @@ mod tests {
             fits: vec![FitEntry::new(&record), own],
             ..empty_file()
         };
-        assert_eq!(both.select(Some(&rh_label)).unwrap().rms, 123.0);
+        assert_eq!(both.select(Some(&rh_label)).unwrap().rms, Some(123.0));
     }
 
     fn fit(objective: Objective) -> Fit {
