@@ -418,7 +418,8 @@ fn free_objective_recovers_eq8_parameters() {
     let d = tempfile::tempdir().unwrap();
     let (_, data, fits) = eval_and_fit(d.path(), &[]);
     let j = json(&fits);
-    assert_eq!(j["version"], 3);
+    assert_eq!(j["version"], laminar_brdf_io::fits::VERSION);
+    assert_eq!(laminar_brdf_io::fits::VERSION, 4);
     let f = &j["fits"][0];
     assert_eq!(f["objective"], "free");
     for (name, truth) in [("slope", 1.48), ("beta", 0.4), ("n", 1.44), ("a", 0.2)] {

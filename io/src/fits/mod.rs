@@ -781,10 +781,10 @@ mod tests {
     }
 
     #[test]
-    fn version_3_round_trips_and_older_files_are_read() {
+    fn the_current_version_round_trips_and_older_files_are_read() {
         let free = json(&[fit(Objective::Free)]);
         let back = parse_fits(Path::new("f.json"), &free).unwrap();
-        assert_eq!(back.version, 3);
+        assert_eq!((back.version, VERSION), (4, 4));
         let entry = &back.fits[0];
         assert_eq!(entry.objective, Objective::Free);
         assert!(matches!(
@@ -801,7 +801,6 @@ mod tests {
         }
         let back = parse_fits(Path::new("old.json"), &v1.to_string()).unwrap();
         assert_eq!(back.fits[0].objective, Objective::Paper);
-        // A later version is refused with a message naming both.
         // A version 2 file names the weighted χ²/ν `chi2w_dof`.
         let mut v2: serde_json::Value =
             serde_json::from_str(&json(&[fit(Objective::Free)])).unwrap();
@@ -814,11 +813,14 @@ mod tests {
         let back = parse_fits(Path::new("v2.json"), &v2.to_string()).unwrap();
         assert_eq!(back.fits[0].chi2_weighted, weighted.as_f64());
         // A later version is refused with a message naming both.
-        v1["version"] = 4.into();
+        // Version 3 (before the materials) is read.
+        v1["version"] = 3.into();
+        assert!(parse_fits(Path::new("v3.json"), &v1.to_string()).is_ok());
+        v1["version"] = 5.into();
         let e = parse_fits(Path::new("new.json"), &v1.to_string()).unwrap_err();
         assert!(
             e.to_string()
-                .contains("version 4, expected `laminar-fits` version 1, 2 or 3"),
+                .contains("version 5, expected `laminar-fits` version 1 to 4"),
             "{e}"
         );
     }
