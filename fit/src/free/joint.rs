@@ -457,7 +457,7 @@ pub fn fit(
     });
     let per_channel = 2 + usize::from(joint.a_at.is_some());
     let parameters = joint.shared.len() + per_channel * scenes.len();
-    let Minima { x, a, rivals } = refine_all(&joint, &problems, &starts, parameters);
+    let Minima { x, a, rivals, .. } = refine_all(&joint, &problems, &starts, parameters);
     let evaluated: Vec<_> = problems
         .iter()
         .zip(&a)
@@ -702,8 +702,11 @@ fn shared_roughness(
             .collect()
     });
     let starts: Vec<Vec<f64>> = std::iter::once(shared_start).chain(grid_starts).collect();
-    let Minima { x: xn, .. } = refine_all(&nested, problems, &starts, 0);
-    let nested_sse = nested.at(problems, &xn).0;
+    let Minima {
+        x: xn,
+        objective: nested_sse,
+        ..
+    } = refine_all(&nested, problems, &starts, 0);
     let Some(bootstrapped) = bootstrap(&nested, problems, (&xn, &[]), (resamples, seed)) else {
         let why = "too few bootstrap resamples for the channels";
         return (ChannelTest::Untestable(why), Some(nested_sse));
@@ -819,6 +822,8 @@ struct Minima {
     x: Vec<f64>,
     /// Each channel's a there.
     a: Vec<f64>,
+    /// `J` there.
+    objective: f64,
     /// Other valleys' shared values ([`refine_all`]).
     rivals: Vec<Vec<f64>>,
 }
@@ -836,11 +841,7 @@ fn refine_all(
 ) -> Minima {
     let mut refined: Vec<(Vec<f64>, Vec<f64>, f64)> = starts
         .par_iter()
-        .map(|start| {
-            let (x, a) = refine(joint, problems, start, &ESTIMATE_STEPS);
-            let objective = joint.at(problems, &x).0;
-            (x, a, objective)
-        })
+        .map(|start| refine(joint, problems, start, &ESTIMATE_STEPS))
         .collect();
     // Stable: the first start on ties.
     refined.sort_by(|p, q| p.2.total_cmp(&q.2));
@@ -861,19 +862,24 @@ fn refine_all(
             rivals.push(xr);
         }
     }
-    Minima { x, a, rivals }
+    Minima {
+        x,
+        a,
+        objective: lowest,
+        rivals,
+    }
 }
 
 /// Nelder–Mead on `J` over the shared parameters in their box from
 /// `start`, once per fraction of `steps` (each a pass's first steps, as
 /// fractions of each box; each pass from the last one's best); the shared
-/// values and each channel's a.
+/// values, each channel's a and `J` there.
 fn refine(
     joint: &Joint<'_>,
     problems: &[Problem<LayeredModel>],
     start: &[f64],
     steps: &[f64],
-) -> (Vec<f64>, Vec<f64>) {
+) -> (Vec<f64>, Vec<f64>, f64) {
     let bounds: Vec<(f64, f64)> = joint
         .positions()
         .iter()
@@ -885,8 +891,8 @@ fn refine(
         let first: Vec<f64> = bounds.iter().map(|(lo, hi)| fraction * (hi - lo)).collect();
         x = nelder_mead(cost, &bounds, (&x, &first), TOLERANCE).x;
     }
-    let a = joint.at(problems, &x).1;
-    (x, a)
+    let (objective, a) = joint.at(problems, &x);
+    (x, a, objective)
 }
 
 /// Each channel's K-fold cross-validation (module doc) around the
@@ -912,7 +918,7 @@ fn cross_validate(
         .map(|f| {
             let keep: Vec<f64> = fold.iter().map(|&g| f64::from(g != f)).collect();
             let train: Vec<_> = problems.iter().map(|p| reweighted(p, &keep)).collect();
-            let (xf, af) = refine(joint, &train, x, &RESAMPLE_STEPS);
+            let (xf, af, _) = refine(joint, &train, x, &RESAMPLE_STEPS);
             (problems.iter().zip(&train).zip(&af))
                 .map(|((problem, trained), &a)| {
                     // The training fit's amplitude and β, the whole
@@ -957,15 +963,13 @@ fn bootstrap(
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
             // From the estimate, and from each rival valley: the lowest.
             let mut best = refine(joint, &resampled, x, &RESAMPLE_STEPS);
-            let mut lowest = joint.at(&resampled, &best.0).0;
             for rival in rivals {
                 let other = refine(joint, &resampled, rival, &RESAMPLE_STEPS);
-                let objective = joint.at(&resampled, &other.0).0;
-                if objective < lowest {
-                    (best, lowest) = (other, objective);
+                if other.2 < best.2 {
+                    best = other;
                 }
             }
-            let (xb, ab) = best;
+            let (xb, ab, _) = best;
             let mut v: Vec<f64> = (joint.positions().iter().zip(&xb))
                 .map(|(&j, &v)| entries[j].scale.external(v))
                 .collect();
