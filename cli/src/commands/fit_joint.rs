@@ -39,9 +39,9 @@ use std::time::Instant;
 /// the contrasts a_c − a_1 with the bootstrap's covariance) or
 /// chromatic_note (why it is not tested: an a on a face of its box, too
 /// few resamples), roughness_p (the p-value of one σ/T for every channel,
-/// untied models: the fit again with σ/T per channel and σ′/T′ and n
-/// shared, its own bootstrap, Hotelling's T² of ln σ/T_c − ln σ/T_1) or
-/// roughness_note, delta_aicc_joint, delta_aicc_roughness_per_channel and
+/// untied models: a robust score test at the joint estimate, each
+/// geometry's score over every channel, Hotelling's T² over the
+/// geometries) or roughness_note, delta_aicc_joint, delta_aicc_roughness_per_channel and
 /// delta_aicc_separate (each variant's AICc above the best variant's, over
 /// all channels' measurements with one noise scale: this joint fit, σ/T
 /// per channel with σ′/T′ and n shared (untied models, made with the

@@ -21,8 +21,8 @@
 //! intervals hold under misfit as the single fits' do (docs/estimation.md,
 //! docs/conventions.md §4c). Is the absorption chromatic: the contrasts
 //! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). Is
-//! the roughness shared: the same test on the channels' `ln σ/T` of the
-//! nested fit with σ/T per channel (untied models). How
+//! the roughness shared: a robust score test at the joint estimate
+//! ([`score_test`]; untied models). How
 //! well it predicts geometries it was not fitted to: a K-fold
 //! cross-validation over the geometries (the same folds in every
 //! channel), each fold held out in turn while the others are refitted
@@ -31,12 +31,13 @@
 
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
-use super::problem::Problem;
+use super::problem::{Point, Problem};
 use super::search::objectives::objectives;
 use super::search::untied::{surface_sums, Column};
 use super::search::{grid_starts, GridStage, GridValues, MOST_STARTS};
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use super::statistics::cross_validation::assignment;
+use super::statistics::score_test::{self, Hotelling};
 use crate::adequacy::{Adequacy, RunsOrder};
 use crate::choice::{self, CrossValidation, Information, Rank};
 use crate::fitted::{FittedModel, ModelParams};
@@ -128,14 +129,16 @@ pub struct JointChannel {
 /// roughness shared (σ/T).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ChannelTest {
-    /// Hotelling's T² of the contrasts `v_c − v_1` with the bootstrap's
-    /// covariance, and its p-value from `F(df1, df2)`.
+    /// Hotelling's T² and its p-value from `F(df1, df2)`: of the contrasts
+    /// `a_c − a_1` with the bootstrap's covariance (chromatic), or of the
+    /// channels' σ/T scores over the geometries (shared roughness,
+    /// [`score_test`]).
     Tested {
         /// T².
         statistic: f64,
         /// `C − 1`.
         df1: usize,
-        /// `B − C + 1`.
+        /// `B − C + 1` (B resamples), or `G − C + 1` (G geometries).
         df2: usize,
         /// The p-value of one value for all channels.
         p_value: f64,
@@ -145,7 +148,7 @@ pub enum ChannelTest {
     AtAFace(Vec<String>),
     /// Not tested: no such parameter (a Ragheb–Hancock model's a, a tied
     /// model's σ/T), too few resamples for the channels (B ≤ C − 1), or
-    /// their covariance singular.
+    /// a singular covariance or design.
     Untestable(&'static str),
 }
 
@@ -505,12 +508,10 @@ pub fn fit(
         ),
         None => ChannelTest::Untestable("the model has no absorption"),
     };
-    let slope_box = layout.bounds[joint.shared[0]];
     let (shared_roughness, nested_sse) = shared_roughness(
         &joint,
         (&problems, &grids, &layout),
-        (&x, slope_box),
-        (resamples, seed),
+        (&x, &estimate),
         scenes,
     );
     let all = scenes.len() * scenes[0].len();
@@ -661,24 +662,21 @@ fn channel_test(
     }
 }
 
-/// Is the roughness shared ([`JointFit::shared_roughness`]): the joint
-/// fit again with σ/T one per channel (σ′/T′ and n shared), refined from
-/// the shared estimate `x`, its own bootstrap (the same resamples), and
-/// [`channel_test`] on the channels' `ln σ/T`. Untied models only (a tied
-/// model's σ/T is also its subsurface's).
+/// Is the roughness shared ([`JointFit::shared_roughness`]): the robust
+/// score test of one σ/T for every channel at the joint estimate
+/// ([`score_test::shared_value`]; each channel's fit there, `estimate`),
+/// and the objective of the nested fit with σ/T per channel (σ′/T′ and n
+/// shared) for the ranking of the variants, refined from the shared
+/// estimate `x` and from each basin of the nested grid. Untied models only
+/// (a tied model's σ/T is also its subsurface's).
 fn shared_roughness(
     joint: &Joint<'_>,
     (problems, grids, layout): (&[Problem<LayeredModel>], &[GridValues], &Layout),
-    (x, slope_box): (&[f64], (f64, f64)),
-    (resamples, seed): (usize, u64),
+    (x, estimate): (&[f64], &[Point]),
     scenes: &[Scene],
 ) -> (ChannelTest, Option<f64>) {
     if !joint.model.model().is_untied() {
         let why = "σ/T is the subsurface's too in a tied model";
-        return (ChannelTest::Untestable(why), None);
-    }
-    if resamples < 2 {
-        let why = "too few bootstrap resamples for the channels";
         return (ChannelTest::Untestable(why), None);
     }
     let channels = problems.len();
@@ -702,25 +700,28 @@ fn shared_roughness(
             .collect()
     });
     let starts: Vec<Vec<f64>> = std::iter::once(shared_start).chain(grid_starts).collect();
-    let Minima {
-        x: xn,
-        objective: nested_sse,
-        ..
-    } = refine_all(&nested, problems, &starts, 0);
-    let Some(bootstrapped) = bootstrap(&nested, problems, (&xn, &[]), (resamples, seed)) else {
-        let why = "too few bootstrap resamples for the channels";
-        return (ChannelTest::Untestable(why), Some(nested_sse));
+    let nested_sse = refine_all(&nested, problems, &starts, 0).objective;
+    let (lo, hi) = layout.bounds[slope_at];
+    if x[0] <= lo || x[0] >= hi {
+        let faces = scenes.iter().map(|s| s.channel().to_string()).collect();
+        return (ChannelTest::AtAFace(faces), Some(nested_sse));
+    }
+    let own_a: Vec<usize> = joint.a_at.into_iter().collect();
+    let test = match score_test::shared_value(problems, estimate, (slope_at, &joint.shared, &own_a))
+    {
+        Ok(Hotelling {
+            statistic,
+            df1,
+            df2,
+            p_value,
+        }) => ChannelTest::Tested {
+            statistic,
+            df1,
+            df2,
+            p_value,
+        },
+        Err(why) => ChannelTest::Untestable(why),
     };
-    // In σ/T's units (the bootstrap's), tested on its logarithm.
-    let slopes: Vec<f64> = xn[..channels].iter().map(|v| v.exp()).collect();
-    let (lo, hi) = slope_box;
-    let test = channel_test(
-        &slopes,
-        (lo.exp(), hi.exp()),
-        (Some(&bootstrapped), 0),
-        scenes,
-        f64::ln,
-    );
     (test, Some(nested_sse))
 }
 

@@ -111,7 +111,7 @@ impl JacobianCovariance {
 /// `∂(c M_k)/∂` each reported parameter (in its own units) at `point`,
 /// then `∂/∂c`; whether each is on a face of the box; and the weighted
 /// residuals there.
-fn jacobian<M: FreeModel>(
+pub(crate) fn jacobian<M: FreeModel>(
     problem: &Problem<M>,
     point: &Point,
     coordinates: &[Coordinate],

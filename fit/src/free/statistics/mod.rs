@@ -5,8 +5,9 @@
 //! ([`profile`]), the intervals with their restarts from a lower point
 //! ([`intervals`]), the pairs bootstrap ([`bootstrap`]), the fits with a
 //! face of the box released ([`release`]), the residuals' adequacy and the
-//! information criteria ([`adequacy`]), and cross-validation
-//! ([`cross_validation`]).
+//! information criteria ([`adequacy`]), cross-validation
+//! ([`cross_validation`]), and the joint fit's robust score test of one
+//! value for every channel ([`score_test`]).
 
 pub mod adequacy;
 pub mod bootstrap;
@@ -16,6 +17,7 @@ pub mod intervals;
 pub mod levels;
 pub mod profile;
 pub mod release;
+pub mod score_test;
 
 use super::layout::Layout;
 use super::model::FreeModel;
