@@ -15,12 +15,14 @@
 //! orthonormal basis of the shared columns so projected. The score is a
 //! sum over the geometries, `U = Σ_g u_g`, `u_g[c] = Σ_c′ ž_c[c′, g] e_c′[g]`
 //! (a geometry's measurements in every channel together: the bootstrap's
-//! unit, so the channels' correlation at a geometry is kept). The `u_g`
-//! sum to zero over the channels (the shared σ/T is projected out), so
-//! channels `2..C` carry the test, and it is Hotelling's one-sample test
-//! of their mean being zero: `T² = G ūᵀ S⁻¹ ū` with `S` their covariance
-//! over the `G` geometries, `(G − p) T² / (p (G − 1))` against
-//! `F(p, G − p)`, `p = C − 1`. The covariance is the residuals' own, so
+//! unit, so the channels' correlation at a geometry is kept). A channel
+//! whose prediction σ/T does not enter (β at 1: no surface term) has no
+//! score and is left out. The `u_g` sum to zero over the channels (the
+//! shared σ/T is projected out), so all but the first carry the test,
+//! and it is Hotelling's one-sample test of their mean being zero:
+//! `T² = G ūᵀ S⁻¹ ū` with `S` their covariance over the `G` geometries,
+//! `(G − p) T² / (p (G − 1))` against `F(p, G − p)`, `p` one less than the
+//! channels tested. The covariance is the residuals' own, so
 //! the test holds when the model does not fit the data (Boos 1992,
 //! "On generalized score tests"; Kent 1982).
 
@@ -36,7 +38,7 @@ use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 pub struct Hotelling {
     /// `T²`.
     pub statistic: f64,
-    /// `p = C − 1`.
+    /// `p`: the channels tested less one.
     pub df1: usize,
     /// `G − p`, `G` the geometries.
     pub df2: usize,
@@ -58,10 +60,6 @@ pub fn shared_value<M: FreeModel>(
 ) -> Result<Hotelling, &'static str> {
     let channels = problems.len();
     let geometries = problems[0].data.len();
-    let p = channels.saturating_sub(1);
-    if p == 0 || geometries <= p + 1 {
-        return Err("too few channels or geometries for the test");
-    }
     let coordinates: Vec<Coordinate> = (shared.iter().chain(own))
         .map(|&j| Coordinate::Nonlinear { j, log: false })
         .chain([Coordinate::Beta])
@@ -109,6 +107,19 @@ pub fn shared_value<M: FreeModel>(
         shared_columns.push(DMatrix::from_columns(&s));
         residuals.push(e);
     }
+    // The channels whose prediction the value enters (with β at 1 a
+    // layered model has no surface term, and σ/T enters only that).
+    let largest = z.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let entered: Vec<usize> = (0..channels)
+        .filter(|&c| z[c].norm() > 1e-12 * largest)
+        .collect();
+    let p = entered.len().saturating_sub(1);
+    if p == 0 {
+        return Err("the value enters fewer than two channels' predictions");
+    }
+    if geometries <= p + 1 {
+        return Err("too few geometries for the channels");
+    }
     // The shared columns stacked over the channels, and an orthonormal
     // basis of them.
     let stacked = DMatrix::from_fn(channels * geometries, shared_columns[0].ncols(), |r, j| {
@@ -125,7 +136,7 @@ pub fn shared_value<M: FreeModel>(
             });
             DVector::from_iterator(
                 p,
-                (1..channels).map(|c| z[c][g] * residuals[c][g] - h[c].dot(&m)),
+                (entered[1..].iter()).map(|&c| z[c][g] * residuals[c][g] - h[c].dot(&m)),
             )
         })
         .collect();

@@ -29,6 +29,8 @@
 //! from the estimate, and each channel's held-out residuals predicted with
 //! the training fit's own amplitude and β.
 
+mod newton;
+
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::{Point, Problem};
@@ -68,11 +70,6 @@ const BRENT_T: f64 = 1e-10;
 /// The estimate's Nelder–Mead passes (first steps as fractions of each
 /// box): a tenth from the grid's point, then a hundredth from the best.
 const ESTIMATE_STEPS: [f64; 2] = [0.1, 0.01];
-
-/// A bootstrap resample's: one pass from the estimate with a hundredth,
-/// the scale of a resample's move (Nelder–Mead expands its steps where the
-/// optimum is farther).
-const RESAMPLE_STEPS: [f64; 1] = [0.01];
 
 /// How far above the lowest minimum (in units of the scale `s²`) another
 /// valley's minimum may lie and still be a start of every bootstrap
@@ -320,6 +317,23 @@ impl Joint<'_> {
                 .chain(self.shared[1..].iter().copied())
                 .collect(),
         }
+    }
+
+    /// Where θ position `j` of channel `c` is in `x`: `None` for a.
+    fn x_index(&self, c: usize, j: usize) -> Option<usize> {
+        let k = self.shared.iter().position(|&s| s == j)?;
+        Some(match self.slope_per_channel {
+            None => k,
+            Some(_) if k == 0 => c,
+            Some(channels) => channels + k - 1,
+        })
+    }
+
+    /// The box of each value of `x`.
+    fn bounds(&self, problems: &[Problem<LayeredModel>]) -> Vec<(f64, f64)> {
+        (self.positions().iter())
+            .map(|&j| problems[0].bounds[j])
+            .collect()
     }
 
     /// Channel `c`'s full θ at values `x` and absorption `a`.
@@ -850,9 +864,7 @@ fn refine_all(
     let (x, a, lowest) = minima.next().expect("at least one start");
     let measurements: usize = problems.iter().map(|p| p.data.len()).sum();
     let s2 = lowest / measurements.saturating_sub(parameters).max(1) as f64;
-    let bounds: Vec<(f64, f64)> = (joint.positions().iter())
-        .map(|&j| problems[0].bounds[j])
-        .collect();
+    let bounds = joint.bounds(problems);
     let mut rivals: Vec<Vec<f64>> = Vec::new();
     for (xr, _, objective) in minima {
         let distinct = |other: &Vec<f64>| {
@@ -881,11 +893,7 @@ fn refine(
     start: &[f64],
     steps: &[f64],
 ) -> (Vec<f64>, Vec<f64>, f64) {
-    let bounds: Vec<(f64, f64)> = joint
-        .positions()
-        .iter()
-        .map(|&j| problems[0].bounds[j])
-        .collect();
+    let bounds = joint.bounds(problems);
     let cost = |x: &[f64]| joint.at(problems, x).0;
     let mut x = start.to_vec();
     for &fraction in steps {
@@ -919,7 +927,7 @@ fn cross_validate(
         .map(|f| {
             let keep: Vec<f64> = fold.iter().map(|&g| f64::from(g != f)).collect();
             let train: Vec<_> = problems.iter().map(|p| reweighted(p, &keep)).collect();
-            let (xf, af, _) = refine(joint, &train, x, &RESAMPLE_STEPS);
+            let (xf, af, _) = newton::refine(joint, &train, x);
             (problems.iter().zip(&train).zip(&af))
                 .map(|((problem, trained), &a)| {
                     // The training fit's amplitude and β, the whole
@@ -963,9 +971,9 @@ fn bootstrap(
             let counts = resample_counts(problems[0].data.len(), seed, b);
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
             // From the estimate, and from each rival valley: the lowest.
-            let mut best = refine(joint, &resampled, x, &RESAMPLE_STEPS);
+            let mut best = newton::refine(joint, &resampled, x);
             for rival in rivals {
-                let other = refine(joint, &resampled, rival, &RESAMPLE_STEPS);
+                let other = newton::refine(joint, &resampled, rival);
                 if other.2 < best.2 {
                     best = other;
                 }
