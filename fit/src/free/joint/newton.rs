@@ -45,7 +45,8 @@ pub(super) fn refine(
         let moving: Vec<usize> = (0..x.len())
             .filter(|&i| {
                 let (lo, hi) = bounds[i];
-                !(x[i] <= lo && gradient[i] > 0.0) && !(x[i] >= hi && gradient[i] < 0.0)
+                let held = (x[i] <= lo && gradient[i] > 0.0) || (x[i] >= hi && gradient[i] < 0.0);
+                !held
             })
             .collect();
         let m = moving.len();
