@@ -35,7 +35,7 @@ use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::{Point, Problem};
 use super::search::objectives::objectives;
-use super::search::untied::{surface_sums, Column};
+use super::search::untied::{grid_values_many, surface_sums, Column};
 use super::search::{grid_starts, GridStage, GridValues, MOST_STARTS};
 use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweighted};
 use super::statistics::cross_validation::assignment;
@@ -739,16 +739,18 @@ fn shared_roughness(
     (test, Some(nested_sse))
 }
 
-/// Each channel's grid values on the layout's axes.
+/// Each channel's grid values on the layout's axes, the model's side (its
+/// terms at the grid's points) formed once for all the channels.
 fn channel_grids(
     problems: &[Problem<LayeredModel>],
     layout: &Layout,
     precision: Precision,
 ) -> Vec<GridValues> {
-    problems
-        .par_iter()
-        .map(|p| LayeredModel::grid_values(p, &layout.axes, precision))
-        .collect()
+    let channels: Vec<&Problem<LayeredModel>> = problems.iter().collect();
+    match LayeredModel::shared(&problems[0], &layout.axes, precision) {
+        Some(side) => LayeredModel::grid_values_shared(&channels, &layout.axes, &side),
+        None => grid_values_many(&channels, &layout.axes, precision),
+    }
 }
 
 /// The starts of a search over the channels whose grid axes `own` (θ

@@ -36,9 +36,22 @@ pub fn grid_values(
     axes: &GridAxes,
     precision: Precision,
 ) -> GridValues {
+    let mut values = grid_values_many(&[problem], axes, precision);
+    values.pop().expect("one set, one grid")
+}
+
+/// [`grid_values`] of each of `problems`, sets of one model on one
+/// geometry (a material's channels): the surface terms and the bases are
+/// the model's alone, so they are formed once for all; each set's sums
+/// then as for one, so each set's values are the same bits as alone.
+pub fn grid_values_many(
+    problems: &[&Problem<LayeredModel>],
+    axes: &GridAxes,
+    precision: Precision,
+) -> Vec<GridValues> {
     match precision {
-        Precision::F64 => values::<f64x4>(problem, axes),
-        Precision::F32 => values::<f32x8>(problem, axes),
+        Precision::F64 => values::<f64x4>(problems, axes),
+        Precision::F32 => values::<f32x8>(problems, axes),
     }
 }
 
@@ -95,42 +108,50 @@ pub(crate) fn surface_sums(problem: &Problem<LayeredModel>, s: &[f64]) -> [f64; 
     dots(s, [&ws, &problem.weighted_data])
 }
 
-fn values<L: Packed>(problem: &Problem<LayeredModel>, axes: &GridAxes) -> GridValues {
-    let model = &problem.model;
+fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Vec<GridValues> {
+    let model = &problems[0].model;
     let axis = |p: Param| axes.of(p).expect("an untied model's grid has this axis");
     let (slopes, subs, ns) = (axis(Param::Slope), axis(Param::SubSlope), axis(Param::N));
     let a_axis = axis(Param::A);
     let g = model.factors();
     let boundaries: Vec<_> = ns.par_iter().map(|&n| model.boundary::<L>(n)).collect();
-    let columns: Vec<Column> = (0..subs.len() * ns.len())
+    let bases: Vec<Vec<f64>> = (0..subs.len() * ns.len())
         .into_par_iter()
         .map(|c| {
             let (sub, n) = (subs[c / ns.len()], c % ns.len());
-            Column::new(problem, &model.base::<L>(sub, &boundaries[n]), &g)
+            model.base::<L>(sub, &boundaries[n])
         })
         .collect();
-    let row_len = columns.len() * a_axis.len();
-    let rows: Vec<Vec<f64>> = slopes
-        .par_iter()
-        .map(|&slope| {
-            let s = model.surface(slope);
-            let sums = surface_sums(problem, &s);
-            let mut out = vec![0.0; row_len];
-            for (column, out) in columns.iter().zip(out.chunks_mut(a_axis.len())) {
-                objectives(
-                    &column.quadratic(problem, &s, sums),
-                    a_axis,
-                    problem.beta,
-                    out,
-                );
+    let surfaces: Vec<Vec<f64>> = slopes.par_iter().map(|&s| model.surface(s)).collect();
+    problems
+        .iter()
+        .map(|problem| {
+            let columns: Vec<Column> = (bases.par_iter())
+                .map(|b| Column::new(problem, b, &g))
+                .collect();
+            let row_len = columns.len() * a_axis.len();
+            let rows: Vec<Vec<f64>> = surfaces
+                .par_iter()
+                .map(|s| {
+                    let sums = surface_sums(problem, s);
+                    let mut out = vec![0.0; row_len];
+                    for (column, out) in columns.iter().zip(out.chunks_mut(a_axis.len())) {
+                        objectives(
+                            &column.quadratic(problem, s, sums),
+                            a_axis,
+                            problem.beta,
+                            out,
+                        );
+                    }
+                    out
+                })
+                .collect();
+            GridValues {
+                lens: axes.lens(),
+                sse: rows.concat(),
             }
-            out
         })
-        .collect();
-    GridValues {
-        lens: axes.lens(),
-        sse: rows.concat(),
-    }
+        .collect()
 }
 
 #[cfg(test)]
@@ -163,7 +184,7 @@ mod tests {
             let problem = Problem::<LayeredModel>::new(
                 &scene,
                 (model, None),
-                (bounds.clone(), bounds),
+                (bounds.clone(), bounds.clone()),
                 vec![(-7.0, 7.0), (-7.0, 7.0), (1.0, 10.0), (0.0, 1.0)],
                 (0.0, 1.0),
             );
@@ -198,6 +219,35 @@ mod tests {
             };
             let other = grid_values(&problem, &swapped, Precision::F64);
             assert_ne!(other.sse[..9], values.sse[..9]);
+            // Sets on one geometry share the model's side: each set's
+            // values are its own alone, bit for bit.
+            let scenes = noisy_sets(
+                &angles,
+                model,
+                Objective::Free,
+                NoiseModel::Every(0.02),
+                2,
+                8,
+            );
+            let others: Vec<_> = (scenes.iter())
+                .map(|scene| {
+                    Problem::new(
+                        scene,
+                        (model, None),
+                        (bounds.clone(), bounds.clone()),
+                        problem.domain.clone(),
+                        (0.0, 1.0),
+                    )
+                })
+                .collect();
+            let sets = [&problem, &others[0], &others[1]];
+            for precision in [Precision::F64, Precision::F32] {
+                let many = grid_values_many(&sets, &axes, precision);
+                for (set, values) in sets.iter().zip(&many) {
+                    assert_eq!(values, &grid_values(set, &axes, precision));
+                }
+                assert_ne!(many[1], many[2]);
+            }
         }
     }
 }
