@@ -474,7 +474,8 @@ pub fn fit(
     });
     let per_channel = 2 + usize::from(joint.a_at.is_some());
     let parameters = joint.shared.len() + per_channel * scenes.len();
-    let Minima { x, a, rivals, .. } = refine_all(&joint, &problems, &starts, parameters);
+    let Minima { x, a, rivals, .. } =
+        refine_all(&joint, &problems, (&starts, Method::NelderMead), parameters);
     let evaluated: Vec<_> = problems
         .iter()
         .zip(&a)
@@ -714,7 +715,8 @@ fn shared_roughness(
             .collect()
     });
     let starts: Vec<Vec<f64>> = std::iter::once(shared_start).chain(grid_starts).collect();
-    let nested_sse = refine_all(&nested, problems, &starts, 0).objective;
+    let nested_sse =
+        refine_all(&nested, problems, (&starts, Method::LevenbergMarquardt), 0).objective;
     let (lo, hi) = layout.bounds[slope_at];
     if x[0] <= lo || x[0] >= hi {
         let faces = scenes.iter().map(|s| s.channel().to_string()).collect();
@@ -833,6 +835,18 @@ fn channel_grid_starts(
         .collect()
 }
 
+/// How [`refine_all`] refines from each start.
+#[derive(Debug, Clone, Copy)]
+enum Method {
+    /// Nelder–Mead, two passes ([`refine`]): the estimate's, over the
+    /// shared values (three or four), from the grid's basins.
+    NelderMead,
+    /// Levenberg–Marquardt ([`newton::refine`]): the nested fit's, whose
+    /// σ/T per channel makes `C + 2` values (33 for 31 wavelengths, where
+    /// Nelder–Mead took 1.4 s and stopped short).
+    LevenbergMarquardt,
+}
+
 /// The joint estimate and the valleys that rival it.
 struct Minima {
     /// The shared values of the lowest minimum.
@@ -853,12 +867,15 @@ struct Minima {
 fn refine_all(
     joint: &Joint<'_>,
     problems: &[Problem<LayeredModel>],
-    starts: &[Vec<f64>],
+    (starts, method): (&[Vec<f64>], Method),
     parameters: usize,
 ) -> Minima {
     let mut refined: Vec<(Vec<f64>, Vec<f64>, f64)> = starts
         .par_iter()
-        .map(|start| refine(joint, problems, start, &ESTIMATE_STEPS))
+        .map(|start| match method {
+            Method::NelderMead => refine(joint, problems, start, &ESTIMATE_STEPS),
+            Method::LevenbergMarquardt => newton::refine(joint, problems, start),
+        })
         .collect();
     // Stable: the first start on ties.
     refined.sort_by(|p, q| p.2.total_cmp(&q.2));

@@ -182,7 +182,13 @@ mod tests {
         let starts = channel_grid_starts(&grids, &layout, &[joint.a_at.unwrap()], |thetas| {
             joint.shared.iter().map(|&j| thetas[0][j]).collect()
         });
-        let x = refine_all(&joint, &problems, &starts, 0).x;
+        let x = refine_all(
+            &joint,
+            &problems,
+            (&starts, super::super::Method::NelderMead),
+            0,
+        )
+        .x;
         for b in 0..8 {
             let counts = resample_counts(problems[0].data.len(), 5, b);
             let resampled: Vec<_> = problems.iter().map(|p| reweighted(p, &counts)).collect();
