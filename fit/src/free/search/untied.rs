@@ -129,13 +129,16 @@ fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Ve
             let columns: Vec<Column> = (bases.par_iter())
                 .map(|b| Column::new(problem, b, &g))
                 .collect();
-            let row_len = columns.len() * a_axis.len();
-            let rows: Vec<Vec<f64>> = surfaces
-                .par_iter()
-                .map(|s| {
-                    let sums = surface_sums(problem, s);
-                    let mut out = vec![0.0; row_len];
-                    for (column, out) in columns.iter().zip(out.chunks_mut(a_axis.len())) {
+            let sums: Vec<[f64; 2]> = surfaces.iter().map(|s| surface_sums(problem, s)).collect();
+            // Column by column (its three vectors stay in the first-level
+            // cache while every σ/T's surface term passes over them), each
+            // column's values per σ/T then a.
+            let a_len = a_axis.len();
+            let per_column: Vec<Vec<f64>> = (columns.par_iter())
+                .map(|column| {
+                    let mut out = vec![0.0; surfaces.len() * a_len];
+                    for ((s, &sums), out) in (surfaces.iter().zip(&sums)).zip(out.chunks_mut(a_len))
+                    {
                         objectives(
                             &column.quadratic(problem, s, sums),
                             a_axis,
@@ -146,9 +149,14 @@ fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Ve
                     out
                 })
                 .collect();
+            // In the grid's order: σ/T, then the column, then a.
+            let sse = (0..surfaces.len())
+                .flat_map(|i| (per_column.iter()).flat_map(move |v| &v[i * a_len..(i + 1) * a_len]))
+                .copied()
+                .collect();
             GridValues {
                 lens: axes.lens(),
-                sse: rows.concat(),
+                sse,
             }
         })
         .collect()
