@@ -7,7 +7,7 @@ use crate::analysis::Analysis;
 use crate::error::{FitError, JointError};
 use crate::estimate::Estimate;
 use crate::fitted::ModelParams;
-use crate::free::joint::{JointFit, Variant, VariantFit};
+use crate::free::joint::JointFit;
 use crate::grid::Grid;
 use crate::model::Model;
 use crate::noise::Noise;
@@ -423,55 +423,12 @@ impl Fitter {
                 first: first.channel().to_string(),
             });
         }
-        let resamples = match self.analysis.uncertainty {
-            crate::Uncertainty::Off => 0,
-            _ => self.analysis.resamples,
-        };
         let scenes = self.weighed(scenes);
         Ok(self.run(|| {
-            let mut joint = free::joint::fit(
-                &scenes,
-                model,
-                (&self.grid, self.precision),
-                (resamples, self.analysis.seed, self.analysis.folds),
-            );
-            joint.add_variant(self.separately(&scenes, model));
-            joint
+            free::joint::fit(&scenes, model, (&self.grid, self.precision), self.analysis)
         }))
     }
 
-    /// The variant of a joint fit that fits each of the (weighted) `scenes`
-    /// alone (refined, without intervals): the channels' objectives summed.
-    fn separately(&self, scenes: &[Scene], model: Model) -> VariantFit {
-        use rayon::prelude::*;
-        let estimate_only = Analysis {
-            refine: true,
-            uncertainty: crate::Uncertainty::Off,
-            folds: 0,
-            ..self.analysis
-        };
-        // Each channel's table, β and amplitude.
-        let per_channel = model.free_params().len() + 1;
-        let sse: f64 = scenes
-            .par_iter()
-            .map(|scene| {
-                let fit =
-                    free::driver::fit(scene, model, (&self.grid, self.precision), estimate_only);
-                let nu = scene.len().saturating_sub(per_channel);
-                fit.chi2_weighted.map_or(f64::NAN, |chi2| chi2 * nu as f64)
-            })
-            .collect::<Vec<f64>>()
-            .iter()
-            .sum();
-        let weighted = scenes[0].weights().is_some_and(|(_, known)| known);
-        let all = scenes.len() * scenes[0].len();
-        VariantFit::new(
-            Variant::Separate,
-            sse,
-            (per_channel * scenes.len(), all),
-            weighted,
-        )
-    }
 
     /// `scenes` weighted by the noise model (copies only when it changes them).
     fn weighed<'a>(&self, scenes: &'a [Scene]) -> std::borrow::Cow<'a, [Scene]> {

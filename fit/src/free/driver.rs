@@ -199,7 +199,7 @@ pub fn fit_batch(
 /// A fit from its grid stage's values on; `runs_order`, the adequacy
 /// test's order of the measurements, is formed at the first fit that
 /// needs it (shared by the fits of a batch on one geometry).
-fn fit_from<M: GridStage>(
+pub(crate) fn fit_from<M: GridStage>(
     scene: &Scene,
     layout: &Layout,
     problem: Problem<M>,

@@ -31,6 +31,7 @@
 
 mod newton;
 
+use super::driver::fit_from;
 use super::layout::Layout;
 use super::model::{FreeModel, LayeredModel, Table};
 use super::problem::{Point, Problem};
@@ -41,6 +42,7 @@ use super::statistics::bootstrap::{percentile_intervals, resample_counts, reweig
 use super::statistics::cross_validation::assignment;
 use super::statistics::score_test::{self, Hotelling};
 use crate::adequacy::{Adequacy, RunsOrder};
+use crate::analysis::{Analysis, Uncertainty};
 use crate::choice::{self, CrossValidation, Information, Rank};
 use crate::fitted::{FittedModel, ModelParams};
 use crate::free::linear::Quadratic;
@@ -56,7 +58,7 @@ use laminar_brdf_core::f64x4;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Values of a in each channel's scan before Brent's method.
 pub const A_SCAN: usize = 21;
@@ -455,14 +457,20 @@ fn objective_at(q: &Quadratic<f64>, beta: (f64, f64), a: f64) -> f64 {
 
 /// The joint fit of `model` (a layered model) to `scenes` (channels of one
 /// sample on one geometry, already weighted by the noise model) in the box
-/// of `grid`, the grid stage in `precision`, with `resamples` bootstrap
-/// resamples seeded by `seed`.
+/// of `grid`, the grid stage in `precision`, with `analysis`'s bootstrap
+/// resamples (none when its uncertainty is off), seed and folds; and the
+/// variants ranked beside it.
 pub fn fit(
     scenes: &[Scene],
     model: Model,
     (grid, precision): (&Grid, Precision),
-    (resamples, seed, folds): (usize, u64, usize),
+    analysis: Analysis,
 ) -> JointFit {
+    let resamples = match analysis.uncertainty {
+        Uncertainty::Off => 0,
+        _ => analysis.resamples,
+    };
+    let (seed, folds) = (analysis.seed, analysis.folds);
     let built = Arc::new(LayeredModel::new(model, scenes[0].angles()));
     let layout = Layout::new(&*built, grid);
     let problems = channel_problems(scenes, model, &built, &layout);
@@ -556,7 +564,47 @@ pub fn fit(
     for (variant, sse, p) in std::iter::once(joint_variant).chain(nested) {
         fit.add_variant(VariantFit::new(variant, sse, (p, all), weighted));
     }
+    let alone = channel_problems(scenes, model, &built, &layout);
+    fit.add_variant(separately(scenes, (alone, grids), &layout, analysis));
     fit
+}
+
+/// The variant that fits each channel alone ([`Variant::Separate`]): each
+/// channel's single fit (refined, without intervals) from its grid values
+/// `grids` on its own `problems`, the channels' objectives summed; each
+/// fit the same bits as [`crate::Fitter::fit`]'s (the grid values are,
+/// [`grid_values_many`]).
+fn separately(
+    scenes: &[Scene],
+    (problems, grids): (Vec<Problem<LayeredModel>>, Vec<GridValues>),
+    layout: &Layout,
+    analysis: Analysis,
+) -> VariantFit {
+    let estimate_only = Analysis {
+        refine: true,
+        uncertainty: Uncertainty::Off,
+        folds: 0,
+        ..analysis
+    };
+    // Each channel's nonlinear parameters, β and amplitude.
+    let per_channel = problems[0].parameter_count();
+    let sse: f64 = (scenes.par_iter().zip(problems).zip(grids))
+        .map(|((scene, problem), values)| {
+            let fit = fit_from(scene, layout, problem, &OnceLock::new(), values, estimate_only);
+            let nu = scene.len().saturating_sub(per_channel);
+            fit.chi2_weighted.map_or(f64::NAN, |chi2| chi2 * nu as f64)
+        })
+        .collect::<Vec<f64>>()
+        .iter()
+        .sum();
+    let weighted = scenes[0].weights().is_some_and(|(_, known)| known);
+    let all = scenes.len() * scenes[0].len();
+    VariantFit::new(
+        Variant::Separate,
+        sse,
+        (per_channel * scenes.len(), all),
+        weighted,
+    )
 }
 
 /// Each channel's problem on the one built model, in `layout`'s box.
