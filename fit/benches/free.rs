@@ -15,13 +15,17 @@
 //! by 151 view directions (K = 22,801, as one UBO2014 material), 48 exp
 //! sets on that geometry, fitted with the defaults and by the search alone
 //! (in `f64` and `f32x8`; elements = sets).
+//! The `joint_krylon_blue` group is the joint fit of Cornell's
+//! `krylon_blue` (`CORNELL_DIR`) at three wavelengths and at all 31.
 //! Run: `cargo bench --bench free` (one group: `cargo bench --bench free -- free_large_k`).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use laminar_brdf_core::Angles;
 use laminar_brdf_fit::coverage::{noisy_sets, NoiseModel};
 use laminar_brdf_fit::synthetic;
-use laminar_brdf_fit::{Analysis, Fitter, Grid, Model, Objective, Precision, Scene, Uncertainty};
+use laminar_brdf_fit::{
+    Analysis, Fitter, Grid, Model, Noise, Objective, Precision, Scene, Uncertainty,
+};
 use laminar_brdf_io::curet::CuretDir;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -185,5 +189,48 @@ fn large_k(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, free, analyses, large_k);
+/// Cornell's `krylon_blue` (1,439 geometries × 31 wavelengths), when
+/// `CORNELL_DIR` is set.
+fn krylon_blue() -> Option<Vec<Scene>> {
+    let dir = std::env::var_os("CORNELL_DIR").or_else(|| {
+        eprintln!("SKIPPED the joint fits: CORNELL_DIR is not set");
+        None
+    })?;
+    let set = laminar_brdf_io::astm::read_astm(&Path::new(&dir).join("krylon_blue.astm"))
+        .expect("CORNELL_DIR holds krylon_blue.astm");
+    Some(set.scenes().expect("its channels make scenes"))
+}
+
+/// The joint fit of `exp2` (issue targets: three channels ≤ 0.2 s, all 31
+/// wavelengths ≤ 2 s) with the defaults (200 resamples, 5 folds, the
+/// tests and the variants) under relative noise.
+fn joint(c: &mut Criterion) {
+    let Some(all) = krylon_blue() else {
+        return;
+    };
+    let three: Vec<Scene> = ["450nm", "550nm", "650nm"]
+        .iter()
+        .map(|name| {
+            (all.iter().find(|s| s.channel() == *name).cloned())
+                .expect("krylon_blue has 450, 550 and 650 nm")
+        })
+        .collect();
+    let fitter = Fitter::new(Grid::user())
+        .and_then(|f| {
+            f.noise(Noise::Relative {
+                floor: laminar_brdf_fit::noise::DEFAULT_FLOOR,
+            })
+        })
+        .expect("the defaults are valid");
+    let mut group = c.benchmark_group("joint_krylon_blue");
+    group.sample_size(10);
+    for (label, scenes) in [("3_channels", &three), ("31_wavelengths", &all)] {
+        group.bench_function(format!("exp2_{label}_defaults"), |b| {
+            b.iter(|| black_box(fitter.fit_joint(scenes, Model::Exp2).expect("fits")))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, free, analyses, large_k, joint);
 criterion_main!(benches);

@@ -424,11 +424,9 @@ impl Fitter {
             });
         }
         let scenes = self.weighed(scenes);
-        Ok(self.run(|| {
-            free::joint::fit(&scenes, model, (&self.grid, self.precision), self.analysis)
-        }))
+        Ok(self
+            .run(|| free::joint::fit(&scenes, model, (&self.grid, self.precision), self.analysis)))
     }
-
 
     /// `scenes` weighted by the noise model (copies only when it changes them).
     fn weighed<'a>(&self, scenes: &'a [Scene]) -> std::borrow::Cow<'a, [Scene]> {

@@ -590,7 +590,14 @@ fn separately(
     let per_channel = problems[0].parameter_count();
     let sse: f64 = (scenes.par_iter().zip(problems).zip(grids))
         .map(|((scene, problem), values)| {
-            let fit = fit_from(scene, layout, problem, &OnceLock::new(), values, estimate_only);
+            let fit = fit_from(
+                scene,
+                layout,
+                problem,
+                &OnceLock::new(),
+                values,
+                estimate_only,
+            );
             let nu = scene.len().saturating_sub(per_channel);
             fit.chi2_weighted.map_or(f64::NAN, |chi2| chi2 * nu as f64)
         })
