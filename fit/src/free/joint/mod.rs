@@ -8,8 +8,9 @@
 //! point of the shared parameters each `F_c` is a quadratic in its own a
 //! (the grid stage's form, [`Column::quadratic`]), so each a is found
 //! alone: a scan of [`A_SCAN`] values, then Brent's method between the
-//! scan's neighbours of the best. The grid stage is each
-//! channel's ([`GridStage::grid_values`]) with every channel's best a per
+//! scan's neighbours of the best. The grid stage is each channel's
+//! (the model's terms formed once for all, [`grid_values_many`]) with
+//! every channel's best a per
 //! shared point summed; each basin of that sum starts a Nelder–Mead
 //! search of `J` over the shared parameters in the box (the paper
 //! objective's, [`crate::paper::refine`]), the lowest end is the estimate
@@ -17,7 +18,8 @@
 //! then evaluated exactly there. Intervals: a pairs bootstrap over the
 //! geometries (the same resampled geometries in every channel, so the
 //! channels' correlation is kept), each resample refined from the
-//! estimate and from each rival valley, the lowest kept; the percentile
+//! estimate and from each rival valley by Levenberg–Marquardt
+//! ([`newton`]), the lowest kept; the percentile
 //! intervals hold under misfit as the single fits' do (docs/estimation.md,
 //! docs/conventions.md §4c). Is the absorption chromatic: the contrasts
 //! `a_c − a_1` against their bootstrap covariance ([`ChannelTest`]). Is
