@@ -49,6 +49,59 @@ impl<const N: usize> Kernel for Dots<'_, N> {
     }
 }
 
+/// [`dots`] of each of `R` vectors `xs` (of one length) against the same
+/// `ys`: `out[r] = dots(xs[r], ys)`, bit for bit (each sum's partial sums
+/// and order are [`dots`]'), `R` of them in one pass so that each `y` is
+/// loaded once for all (the untied grid stage's cross sums of every σ/T's
+/// surface term against a column).
+pub fn dots_many<const R: usize, const N: usize>(
+    xs: [&[f64]; R],
+    ys: [&[f64]; N],
+) -> [[f64; N]; R] {
+    simd::run(DotsMany { xs, ys })
+}
+
+/// The pass of [`dots_many`].
+struct DotsMany<'a, const R: usize, const N: usize> {
+    xs: [&'a [f64]; R],
+    ys: [&'a [f64]; N],
+}
+
+impl<const R: usize, const N: usize> Kernel for DotsMany<'_, R, N> {
+    type Output = [[f64; N]; R];
+
+    #[inline(always)]
+    fn run<L: Lane4>(self) -> [[f64; N]; R] {
+        let Self { xs, ys } = self;
+        let len = xs[0].len();
+        let xs = xs.map(|x| &x[..len]);
+        let fours_x = xs.map(|x| x.as_chunks::<4>().0);
+        let ys = ys.map(|y| &y[..len]);
+        let fours_y = ys.map(|y| y.as_chunks::<4>().0);
+        let mut acc = [[L::zero(); N]; R];
+        for k in 0..fours_x[0].len() {
+            let xk = fours_x.map(|x| L::from_array(x[k]));
+            for (j, y) in fours_y.iter().enumerate() {
+                let yk = L::from_array(y[k]);
+                for (acc, &x) in acc.iter_mut().zip(&xk) {
+                    acc[j] += x * yk;
+                }
+            }
+        }
+        let body = len - len % 4;
+        let mut out = [[0.0; N]; R];
+        for ((out, acc), x) in out.iter_mut().zip(&acc).zip(&xs) {
+            for ((o, a), y) in out.iter_mut().zip(acc).zip(&ys) {
+                *o = total(*a);
+                for (xk, yk) in x[body..].iter().zip(&y[body..]) {
+                    *o += xk * yk;
+                }
+            }
+        }
+        out
+    }
+}
+
 /// The four partial sums of a lane accumulator added in the fixed order
 /// of [`dots`].
 #[inline(always)]
@@ -187,6 +240,33 @@ mod tests {
             let want: f64 = x.iter().zip(&y).map(|(a, b)| a * b).sum();
             assert_eq!(dot(&x, &y), want, "{len}");
             assert_eq!(dots(&x, [&y, &x]), [want, dot(&x, &x)]);
+        }
+    }
+
+    /// Many vectors in one pass are each one [`dots`], bit for bit, on
+    /// values whose sums round (so the order shows).
+    #[test]
+    fn many_dots_are_each_ones_bits() {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.3
+        };
+        for len in [0, 1, 3, 4, 5, 8, 11, 1439] {
+            let mut vector = || -> Vec<f64> { (0..len).map(|_| next()).collect() };
+            let xs: [Vec<f64>; 4] = std::array::from_fn(|_| vector());
+            let ys: [Vec<f64>; 3] = std::array::from_fn(|_| vector());
+            let ys = [&ys[0][..], &ys[1], &ys[2]];
+            let many = dots_many([&xs[0][..], &xs[1], &xs[2], &xs[3]], ys);
+            for (x, got) in xs.iter().zip(many) {
+                assert_eq!(
+                    got.map(f64::to_bits),
+                    dots(x, ys).map(f64::to_bits),
+                    "{len}"
+                );
+            }
         }
     }
 

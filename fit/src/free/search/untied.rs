@@ -11,7 +11,7 @@ use super::{GridAxes, GridValues};
 use crate::free::linear::Quadratic;
 use crate::free::model::{LayeredModel, Packed};
 use crate::free::problem::Problem;
-use crate::free::sums::dots;
+use crate::free::sums::{dots, dots_many};
 use crate::model::Param;
 use crate::settings::precision::Precision;
 use laminar_brdf_core::{f32x8, f64x4};
@@ -88,17 +88,42 @@ impl Column {
         &self,
         problem: &Problem<LayeredModel>,
         s: &[f64],
-        [ss, ds]: [f64; 2],
+        sums: [f64; 2],
     ) -> Quadratic<f64> {
         let [x, y, z] = &self.weighted;
+        self.quadratic_of(problem, dots(s, [x, y, z]), sums)
+    }
+
+    /// [`Column::quadratic`] from the cross sums `sb = Σ w S B [1, g1, g2]`.
+    fn quadratic_of(
+        &self,
+        problem: &Problem<LayeredModel>,
+        sb: [f64; 3],
+        [ss, ds]: [f64; 2],
+    ) -> Quadratic<f64> {
         Quadratic {
             dd: problem.dd,
             ds,
             ss,
             db: self.db,
-            sb: dots(s, [x, y, z]),
+            sb,
             bb: self.bb,
         }
+    }
+
+    /// The cross sums `Σ w S B [1, g1, g2]` of this column against each of
+    /// the surface terms `surfaces` (as [`Column::quadratic`] forms them,
+    /// bit for bit), four surface terms per pass over the column.
+    fn cross_sums(&self, surfaces: &[Vec<f64>]) -> Vec<[f64; 3]> {
+        let [x, y, z] = &self.weighted;
+        let ys = [&x[..], y, z];
+        let (fours, rest) = surfaces.as_chunks::<4>();
+        let mut out = Vec::with_capacity(surfaces.len());
+        for four in fours {
+            out.extend(dots_many([&four[0][..], &four[1], &four[2], &four[3]], ys));
+        }
+        out.extend(rest.iter().map(|s| dots(s, ys)));
+        out
     }
 }
 
@@ -137,10 +162,11 @@ fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Ve
             let per_column: Vec<Vec<f64>> = (columns.par_iter())
                 .map(|column| {
                     let mut out = vec![0.0; surfaces.len() * a_len];
-                    for ((s, &sums), out) in (surfaces.iter().zip(&sums)).zip(out.chunks_mut(a_len))
+                    let cross = column.cross_sums(&surfaces);
+                    for ((&sb, &sums), out) in (cross.iter().zip(&sums)).zip(out.chunks_mut(a_len))
                     {
                         objectives(
-                            &column.quadratic(problem, s, sums),
+                            &column.quadratic_of(problem, sb, sums),
                             a_axis,
                             problem.beta,
                             out,
@@ -150,10 +176,12 @@ fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Ve
                 })
                 .collect();
             // In the grid's order: σ/T, then the column, then a.
-            let sse = (0..surfaces.len())
-                .flat_map(|i| (per_column.iter()).flat_map(move |v| &v[i * a_len..(i + 1) * a_len]))
-                .copied()
-                .collect();
+            let mut sse = Vec::with_capacity(surfaces.len() * per_column.len() * a_len);
+            for i in 0..surfaces.len() {
+                for values in &per_column {
+                    sse.extend_from_slice(&values[i * a_len..(i + 1) * a_len]);
+                }
+            }
             GridValues {
                 lens: axes.lens(),
                 sse,
