@@ -132,8 +132,8 @@ pub struct JointChannel {
 pub enum ChannelTest {
     /// Hotelling's T² and its p-value from `F(df1, df2)`: of the contrasts
     /// `a_c − a_1` with the bootstrap's covariance (chromatic), or of the
-    /// channels' σ/T scores over the geometries (shared roughness,
-    /// [`score_test`]).
+    /// channels' σ/T scores over the geometries (shared roughness, a
+    /// robust score test: docs/conventions.md §4c).
     Tested {
         /// T².
         statistic: f64,
