@@ -181,8 +181,7 @@ pub struct JointFit {
     /// channel, σ′/T′ and n shared in both (untied models; the module doc).
     pub shared_roughness: ChannelTest,
     /// The variants fitted, ranked by AICc: this joint fit, σ/T per
-    /// channel (when the shared-roughness test made that fit) and each
-    /// channel alone (when [`crate::Fitter::fit_joint`] made those fits).
+    /// channel (untied models) and each channel alone.
     pub variants: Vec<VariantFit>,
 }
 
@@ -529,7 +528,6 @@ pub fn fit(
             joint.a_box,
             (bootstrapped.as_deref(), joint.shared.len()),
             scenes,
-            |v| v,
         ),
         None => ChannelTest::Untestable("the model has no absorption"),
     };
@@ -566,8 +564,7 @@ pub fn fit(
     for (variant, sse, p) in std::iter::once(joint_variant).chain(nested) {
         fit.add_variant(VariantFit::new(variant, sse, (p, all), weighted));
     }
-    let alone = channel_problems(scenes, model, &built, &layout);
-    fit.add_variant(separately(scenes, (alone, grids), &layout, analysis));
+    fit.add_variant(separately(scenes, (problems, grids), &layout, analysis));
     fit
 }
 
@@ -679,7 +676,7 @@ impl Reporter<'_> {
 /// The test of one value for every channel ([`ChannelTest`]): each
 /// channel's estimate `v` (in `box`'s units) and, per bootstrap resample,
 /// the channels' values from column `first` on; the contrasts
-/// `d_c = t(v_c) − t(v_1)` of the `transform`ed values, their covariance
+/// `d_c = v_c − v_1`, their covariance
 /// `S` over the resamples, `T² = dᵀ S⁻¹ d`, and `(B − p) T² / (p (B − 1))`
 /// against `F(p, B − p)`, `p = C − 1` (Hotelling's, for a covariance
 /// estimated from B draws). Not made with a value on a face of `box`.
@@ -688,7 +685,6 @@ fn channel_test(
     (lo, hi): (f64, f64),
     (bootstrapped, first): (Option<&[Vec<f64>]>, usize),
     scenes: &[Scene],
-    transform: fn(f64) -> f64,
 ) -> ChannelTest {
     let faces: Vec<String> = (scenes.iter().zip(v))
         .filter(|(_, &v)| v <= lo || v >= hi)
@@ -702,8 +698,7 @@ fn channel_test(
         return ChannelTest::Untestable("too few bootstrap resamples for the channels");
     };
     let b = values.len();
-    let contrasts =
-        |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| transform(v[c]) - transform(v[0])).collect() };
+    let contrasts = |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| v[c] - v[0]).collect() };
     let d = DVector::from_vec(contrasts(v));
     let draws: Vec<Vec<f64>> = values.iter().map(|v| contrasts(&v[first..])).collect();
     let mean: Vec<f64> = (0..p)
