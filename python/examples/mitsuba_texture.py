@@ -10,8 +10,10 @@ a PNG.
         python python/examples/mitsuba_texture.py texture.png
 
 With ``--fits FILE --sphere LABEL …`` the spheres are fitted models of a
-fitted-model file instead (the README's picture: CUReT samples on the
-fitted texture). The fit of the 196,608 texels takes a few minutes on two
+fitted-model file instead, and with ``--material FILE LABEL …`` jointly
+fitted materials (``laminar fit-joint --fits FILE``: one material's
+channels as red, green and blue; the README's picture: real coloured
+materials on the fitted texture). The fit of the 196,608 texels takes a few minutes on two
 cores with refinement (``--search-only``: the grid's values, seconds).
 """
 
@@ -107,6 +109,14 @@ def main():
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--fits", help="a fitted-model file whose fits --sphere draws")
     parser.add_argument("--sphere", action="append", default=[], help="a label of --fits: one sphere each")
+    parser.add_argument(
+        "--material",
+        nargs=2,
+        action="append",
+        default=[],
+        metavar=("FILE", "LABEL"),
+        help="a jointly fitted material (sample/model) of a fitted-model file: one sphere each",
+    )
     args = parser.parse_args()
     fits, fit_seconds = fitted_texture(args.texels, refine=not args.search_only)
     print(f"fitted {args.texels}² × 3 texels in {fit_seconds:.1f} s")
@@ -119,6 +129,7 @@ def main():
 
     laminar.mitsuba.register()
     spheres = [{"type": "laminar_native", "filename": args.fits, "select": label} for label in args.sphere]
+    spheres += [{"type": "laminar_native", "filename": f, "material": label} for f, label in args.material]
     scene = mi.load_dict(scene_dict(mi, textured(fits, nearest=False), args.size, args.spp, spheres))
     start = time.perf_counter()
     image = mi.render(scene)

@@ -21,7 +21,9 @@ the light is along ``wo`` and the viewer along ``si.wi``, so with
   ``shape(x) = exp(−x/4)`` (Gaussian, eq. 1) or ``(1 + x)^(−3/2)``
   (exponential, eq. 2);
 - ``L^sb`` the same at the refracted cosines ``sqrt(n² − 1 + cos²)/n`` and
-  ``v_xy² / n²`` (eqs. 3, 4), times the Fresnel transmittances in and out
+  ``v_xy² / n²`` (eqs. 3, 4), with the subsurface's own roughness σ′/T′
+  (``sub_slope``) for the untied models (``exp2``, ``gauss2``) and σ/T for
+  the tied ones, times the Fresnel transmittances in and out
   (eqs. 6, 7), the solid angle ``cos θi / (n² cos θi′)`` (eq. 5) and the
   absorption ``(1 − a cos² θi)(1 − a cos² θs)`` (eqs. 10–13);
 - radiance ``f · cos θ_light = scale · (β L^sb + (1 − β) L^sf)`` (eq. 8),
@@ -39,15 +41,19 @@ parameter changes, from the values without their gradients. Property
 ``sampling``: ``"lobe"`` (the default) or ``"cosine"`` (the cosine lobe
 alone).
 
-Properties: ``filename`` and ``select`` as the ``"laminar"`` plugin (a
-fitted-model file, one label or three), or ``model`` (``exp``, ``gauss``,
-``rh-exp``, ``rh-gauss``) with ``slope``, ``beta``, ``n``, ``a`` and
-``amplitude``, or ``correlation`` (``exp``, ``gauss``) with ``slope``,
-``beta`` (eq. 8's), ``n``, ``a`` and ``scale``, each a float or a texture
-(:func:`textured` makes them from a fitted texture's maps; the lobe table
-then follows the maps' means). Parameters (``mi.traverse``): ``slope``,
-``beta``, ``n``, ``a``, ``scale``. The baselines (Jensen, Oren–Nayar) are
-drawn by the ``"laminar"`` plugin only.
+Properties: ``filename`` with ``select`` or ``material`` as the
+``"laminar"`` plugin (a fitted-model file: one label or three, or a
+jointly fitted material's channels as red, green and blue), or ``model``
+(``exp``, ``gauss``, ``exp2``, ``gauss2``, ``rh-exp``, ``rh-gauss``) with
+its parameters (``slope``, ``sub_slope`` for the untied two, ``beta``,
+``n``, ``a``) and ``amplitude``, or ``correlation`` (``exp``, ``gauss``)
+with ``slope``, ``beta`` (eq. 8's), ``n``, ``a``, ``scale`` and, for the
+untied model, ``sub_slope``, each a float or a texture (:func:`textured`
+makes them from a fitted texture's maps; the lobe table then follows the
+maps' means). Parameters (``mi.traverse``): ``slope``, ``beta``, ``n``,
+``a``, ``scale``, and ``sub_slope`` when the model is untied. The
+baselines (Jensen, Oren–Nayar) are drawn by the ``"laminar"`` plugin
+only.
 """
 
 from __future__ import annotations
@@ -62,8 +68,11 @@ if TYPE_CHECKING:
 #: The plugin type name.
 PLUGIN = "laminar_native"
 
-#: The parameters ``traverse`` exposes, in order.
+#: The parameters ``traverse`` exposes, in order, for the tied models.
 PARAMETERS = ("slope", "beta", "n", "a", "scale")
+
+#: The untied models' parameters: σ′/T′ (``sub_slope``) besides.
+UNTIED_PARAMETERS = PARAMETERS + ("sub_slope",)
 
 #: The share of samples drawn from the lobe's table (the rest from the
 #: cosine lobe).
@@ -77,10 +86,21 @@ TABLE = (32, 64, 128)
 VIEW_MIN = 0.01
 
 
+def model_name(gaussian, untied):
+    """The library's name of the layered model of a correlation, tied or
+    untied, from the models' descriptor (:data:`laminar.MODELS`)."""
+    correlation = "gauss" if gaussian else "exp"
+    for name, d in laminar.MODELS.items():
+        free_a = "a" in d["free_params"]
+        if d["correlation"] == correlation and free_a and ("sub_slope" in d["params"]) == untied:
+            return name
+    raise ValueError(f"no {'untied' if untied else 'tied'} {correlation} model in laminar.MODELS")
+
+
 def eq8_forms(models):
     """The eq. 8 forms (:attr:`laminar.FittedModel.eq8`) of ``models`` (one
-    or three), all of one correlation; ValueError naming the model
-    otherwise."""
+    or three), all of one correlation and all tied or all untied (a tied
+    form gets no ``sub_slope``); ValueError naming the model otherwise."""
     forms = []
     for m in models:
         form = m.eq8
@@ -89,14 +109,11 @@ def eq8_forms(models):
                 f"{m.label}: the native BSDF draws the layered models (exp, gauss and their rh- variants); "
                 f"{m.model} is drawn by the 'laminar' plugin"
             )
-        if "sub_slope" in form:
-            raise ValueError(
-                f"{m.label}: the native BSDF draws the tied layered models; {m.model} (σ′/T′ of its own) "
-                "is drawn by the 'laminar' plugin"
-            )
         forms.append(form)
     if len({f["correlation"] for f in forms}) != 1:
         raise ValueError("select: the channels' fits use different correlations; the native BSDF needs one")
+    if len({"sub_slope" in f for f in forms}) != 1:
+        raise ValueError("select: some channels' fits are untied (σ′/T′ of their own) and some tied; give one kind")
     if len(forms) == 1:
         forms *= 3
     return forms
@@ -156,10 +173,11 @@ def _transmittance(cos_i, cos_t, r):
     return dr.select(cos_i > 0, t, 0.0)
 
 
-def radiance(wi, wo, slope, beta, n, a, scale, gaussian):
+def radiance(wi, wo, slope, beta, n, a, scale, gaussian, sub_slope=None):
     """The fitted radiance ``f · cos θ_light`` (eq. 8) at viewer ``wi`` and
     light ``wo`` (local frame), per channel of the parameters; 0 unless both
-    are above the surface."""
+    are above the surface. ``sub_slope`` is the subsurface's σ′/T′ (eqs.
+    3–4) of an untied model; None ties it to ``slope``."""
     import drjit as dr
 
     cos_i, cos_s = wo.z, wi.z
@@ -175,7 +193,8 @@ def radiance(wi, wo, slope, beta, n, a, scale, gaussian):
     # cosine whose square flushes to zero).
     cos_it = dr.safe_sqrt((n - 1.0) * (n + 1.0) + cos_i * cos_i) / n
     cos_st = dr.safe_sqrt((n - 1.0) * (n + 1.0) + cos_s * cos_s) / n
-    base = _lobe(cos_it, cos_st, vxy2 / n2, inv_slope2, gaussian)
+    inv_sub_slope2 = inv_slope2 if sub_slope is None else dr.rcp(sub_slope * sub_slope)
+    base = _lobe(cos_it, cos_st, vxy2 / n2, inv_sub_slope2, gaussian)
     # cos θi/(n² cos θi′) (eq. 5); at n = 1 it is 1, also where a grazing
     # cos θi′ flushes to zero in f32 (the denominator made safe first).
     refracted = n2 * cos_it
@@ -215,7 +234,8 @@ def _table_coordinates(wi, wo):
 
 def lobe_table(values, gaussian):
     """The radiance (channel mean) on the :data:`TABLE` grid, computed by
-    the library from the parameters ``values`` (``name → three floats``), as
+    the library from the parameters ``values`` (``name → three floats``;
+    with ``sub_slope``, the untied model), as
     float32 ``(views, cos θ, φs)``, each view's row floored at 10⁻⁴ of its
     mean so that every row is a distribution; and the views' cos θ."""
     import numpy as np
@@ -225,10 +245,11 @@ def lobe_table(values, gaussian):
     v, y, x = np.meshgrid(cos_view, np.linspace(0.0, 1.0, rows), np.linspace(0.0, 1.0, cols), indexing="ij")
     theta_i, theta_s = np.arccos(np.ravel(y)), np.arccos(np.ravel(v))
     phi_s = (2.0 * np.ravel(x) - 1.0) * np.pi
-    model = "gauss" if gaussian else "exp"
+    shape = _shape_parameters(values)
+    model = model_name(gaussian, "sub_slope" in shape)
     total = np.zeros(theta_i.size)
     for c in range(3):
-        params = {p: values[p][c] for p in ("slope", "beta", "n", "a")}
+        params = {p: values[p][c] for p in shape}
         fitted = laminar.FittedModel.from_params(model, params, amplitude=values["scale"][c])
         total += fitted.radiance(theta_i, theta_s, phi_s)
     table = total.reshape(views, rows, cols) / 3.0
@@ -236,9 +257,16 @@ def lobe_table(values, gaussian):
     return np.maximum(table, floor).astype(np.float32), cos_view
 
 
+def _shape_parameters(values):
+    """The model's parameters among ``values``' names (all but ``scale``),
+    in the library's order."""
+    return [p for p in ("slope", "sub_slope", "beta", "n", "a") if p in values]
+
+
 def check_values(values, gaussian):
     """Refuses parameter values outside the model's domain: ``values`` maps
-    each of :data:`PARAMETERS` to every value it takes (a colour's channels,
+    each of :data:`PARAMETERS` (and ``sub_slope``, for the untied model) to
+    every value it takes (a colour's channels,
     or every texel of a texture's channels). Each must be a number, ``scale``
     at least 0, and the smallest and the largest of each of the others
     inside the library's domain of that parameter (each domain is an
@@ -246,7 +274,7 @@ def check_values(values, gaussian):
     parameter and the value otherwise."""
     import numpy as np
 
-    for name in PARAMETERS:
+    for name in values:
         v = np.asarray(values[name], dtype=np.float64).ravel()
         bad = ~np.isfinite(v)
         if bad.any():
@@ -254,9 +282,10 @@ def check_values(values, gaussian):
     scale = np.asarray(values["scale"], dtype=np.float64)
     if (scale < 0).any():
         raise ValueError(f"scale: {scale.min()} is below 0; the amplitude is at least 0")
-    model = "gauss" if gaussian else "exp"
+    shape = _shape_parameters(values)
+    model = model_name(gaussian, "sub_slope" in shape)
     for pick in (np.min, np.max):
-        at = {p: float(pick(np.asarray(values[p], dtype=np.float64))) for p in ("slope", "beta", "n", "a")}
+        at = {p: float(pick(np.asarray(values[p], dtype=np.float64))) for p in shape}
         laminar.FittedModel.from_params(model, at)
 
 
@@ -302,7 +331,8 @@ def textured(fits: xarray.Dataset, nearest: bool = True) -> dict[str, object]:
             "wrap_mode": "clamp",
         }
 
-    maps = {name: fits[name].transpose(*dims).values for name in ("slope", "beta", "n", "a")}
+    shape = [p for p in ("slope", "sub_slope", "beta", "n", "a") if p in fits]
+    maps = {name: fits[name].transpose(*dims).values for name in shape}
     maps["scale"] = (fits["amplitude"] * fits["data_scale"]).transpose(*dims).values
     return {"type": PLUGIN, "correlation": correlation, **{name: texture(v) for name, v in maps.items()}}
 
@@ -333,7 +363,8 @@ def register_native():
                     raise ValueError(f"correlation: {correlation!r}; 'exp' or 'gauss'")
                 self.gaussian = correlation == "gauss"
                 self.models = []
-                for name in PARAMETERS:
+                self.parameters = UNTIED_PARAMETERS if "sub_slope" in props else PARAMETERS
+                for name in self.parameters:
                     if name not in props:
                         raise ValueError(f"the laminar_native BSDF with a correlation needs `{name}`")
                     value = props[name]
@@ -341,7 +372,8 @@ def register_native():
             else:
                 if "filename" in props:
                     select = str(props["select"]) if "select" in props else None
-                    self.models = _models(str(props["filename"]), select)
+                    material = str(props["material"]) if "material" in props else None
+                    self.models = _models(str(props["filename"]), select, material)
                 elif "model" in props:
                     model = str(props["model"])
                     amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
@@ -350,29 +382,34 @@ def register_native():
                     self.models = [laminar.FittedModel.from_params(model, params, amplitude)]
                 else:
                     raise ValueError(
-                        "the laminar_native BSDF needs `filename` (a fitted-model file), `model` and its "
-                        "parameters, or `correlation` and parameter maps"
+                        "the laminar_native BSDF needs `filename` (a fitted-model file, with `select` or "
+                        "`material`), `model` and its parameters, or `correlation` and parameter maps"
                     )
                 forms = eq8_forms(self.models)
                 self.gaussian = forms[0]["correlation"] == "gauss"
-                key = {"slope": "slope", "beta": "beta_eq8", "n": "n", "a": "a", "scale": "scale"}
-                for name in PARAMETERS:
-                    setattr(self, name, mi.Color3f(*(f[key[name]] for f in forms)))
+                self.parameters = UNTIED_PARAMETERS if "sub_slope" in forms[0] else PARAMETERS
+                key = {"beta": "beta_eq8"}
+                for name in self.parameters:
+                    setattr(self, name, mi.Color3f(*(f[key.get(name, name)] for f in forms)))
             self.parameters_changed([])
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
             self.m_flags = flags
 
         def _values(self, si):
-            """Each parameter at ``si``: its value, or its texture's there."""
-            out = []
-            for name in PARAMETERS:
+            """Each parameter at ``si`` by name: its value, or its texture's
+            there."""
+            out = {}
+            for name in self.parameters:
                 value = getattr(self, name)
-                out.append(value.eval(si) if isinstance(value, mi.Texture) else value)
+                out[name] = value.eval(si) if isinstance(value, mi.Texture) else value
             return out
 
         def _radiance(self, si, wo):
-            return radiance(si.wi, wo, *self._values(si), self.gaussian)
+            v = self._values(si)
+            return radiance(
+                si.wi, wo, v["slope"], v["beta"], v["n"], v["a"], v["scale"], self.gaussian, v.get("sub_slope")
+            )
 
         def eval(self, ctx, si, wo, active=True):
             return dr.select(active, self._radiance(si, wo), 0.0)
@@ -407,7 +444,7 @@ def register_native():
             return _sample_record(mi, dr, self, si, wo, active)
 
         def traverse(self, callback):
-            for name in PARAMETERS:
+            for name in self.parameters:
                 callback.put(name, getattr(self, name), mi.ParamFlags.Differentiable)
 
         def parameters_changed(self, keys):
@@ -434,9 +471,9 @@ def register_native():
             # Every value checked, whichever sampling and however it was
             # set (at load, or through mi.traverse and update()), texel by
             # texel: the table's build is no longer the only check.
-            texels = {p: every(getattr(self, p)) for p in PARAMETERS}
+            texels = {p: every(getattr(self, p)) for p in self.parameters}
             check_values(texels, self.gaussian)
-            values = {p: host(getattr(self, p), texels[p]) for p in PARAMETERS}
+            values = {p: host(getattr(self, p), texels[p]) for p in self.parameters}
             if self.sampling == "lobe":
                 table, views = lobe_table(values, self.gaussian)
                 self.table = mi.MarginalContinuous2D1(table, [views.tolist()])
