@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render, simd_path
+from ._laminar import BATCH_COLUMNS, BATCH_DTYPES, FLAG_BITS, batch_fields, GRID_AXES, MODELS, FitResult, FittedModel, Measurements, paper_angles, render, simd_path
 from ._laminar import evaluate as _evaluate
 from ._laminar import compare
 from ._laminar import fit_joint
@@ -46,6 +46,8 @@ __all__ = [
     "simd_path",
     "BATCH_DTYPE",
     "BATCH_DTYPES",
+    "batch_dtype",
+    "batch_fields",
     "FLAG_BITS",
     "MODELS",
     "GRID_AXES",
@@ -57,7 +59,9 @@ __all__ = [
 #: None): the library's model descriptor. :data:`GRID_AXES` are the
 #: parameters a ``grid`` may set.
 
-#: The fields of :func:`fit_batch`'s result, in order.
+#: The fields of :func:`fit_batch`'s result for the tied layered models, in
+#: order (:data:`BATCH_COLUMNS`; :func:`batch_fields` gives any layered
+#: model's, the untied ones' with σ′/T′'s fields besides).
 #:
 #: :data:`FLAG_BITS` maps each flag of a parameter to its bit in the
 #: ``*_flags`` fields: ``range_edge`` 1 (the estimate is on a face of the
@@ -66,6 +70,14 @@ __all__ = [
 #: inside the box on that side), ``not_identified`` 16 (the 95% interval
 #: spans the whole box).
 BATCH_DTYPE = np.dtype([(name, np.float64) for name in BATCH_COLUMNS])
+
+
+def batch_dtype(model="exp"):
+    """The structured dtype of :func:`fit_batch`'s result for ``model`` (a
+    layered model): a float64 field per name of :func:`batch_fields`.
+    :data:`BATCH_DTYPE` for the tied models; the untied ones (``exp2``,
+    ``gauss2``) add ``sub_slope`` and its ``*_lo68`` … ``*_flags``."""
+    return np.dtype([(name, np.float64) for name, _ in batch_fields(model)])
 
 
 def _real(name, x):
@@ -168,7 +180,7 @@ def fit_batch(
     geometry: ``geometry`` is K × 4 lab-frame angles (radians) ``theta_i,
     phi_i, theta_v, phi_v``. Each row's result equals :func:`fit` on that row
     alone. Returns a structured array of N rows with the fields of
-    :data:`BATCH_DTYPE`, float64 each: the batch fields that ``laminar
+    :func:`batch_dtype` (``model``), float64 each: the batch fields that ``laminar
     fit-batch`` writes and the Dask/xarray results hold (docs/formats.md):
     ``rms, chi2_dof`` of the estimate (refined when ``refine``),
     ``search_rms, rms_grid, measurements``, the free objective's
@@ -184,13 +196,14 @@ def fit_batch(
     ``refine=False, uncertainty="off"`` is the grid search alone, several
     times faster. ``objective``, ``precision``, ``noise`` and
     ``noise_floor`` as in :func:`fit`. The untied models (``exp2``,
-    ``gauss2``) are not batched: their columns are not in
-    :data:`BATCH_COLUMNS`."""
+    ``gauss2``) have σ′/T′'s fields besides (``sub_slope``, …), after
+    σ/T's."""
     # The arrays are checked (real numbers, two dimensions) by name there.
     columns = _fit_batch(
         geometry, values, model, grid, threads, quantity, refine, uncertainty, objective, precision, noise, noise_floor
     )
-    out = np.empty(len(columns[BATCH_COLUMNS[0]]), dtype=BATCH_DTYPE)
-    for name in BATCH_COLUMNS:
+    dtype = batch_dtype(model)
+    out = np.empty(len(columns[dtype.names[0]]), dtype=dtype)
+    for name in dtype.names:
         out[name] = columns[name]
     return out

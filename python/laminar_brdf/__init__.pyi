@@ -7,6 +7,7 @@ import numpy.typing as npt
 
 from ._laminar import BATCH_COLUMNS as BATCH_COLUMNS
 from ._laminar import BATCH_DTYPES as BATCH_DTYPES
+from ._laminar import batch_fields as batch_fields
 from ._laminar import FLAG_BITS as FLAG_BITS
 from ._laminar import GRID_AXES as GRID_AXES
 from ._laminar import MODELS as MODELS
@@ -22,6 +23,8 @@ from ._laminar import paper_angles as paper_angles
 from ._laminar import simd_path as simd_path
 
 BATCH_DTYPE: np.dtype[np.void]
+
+def batch_dtype(model: LayeredModel = "exp") -> np.dtype[np.void]: ...
 
 def evaluate(
     model: LayeredModel,

@@ -22,6 +22,8 @@ Grid = Optional[Mapping[str, AxisSpec]]
 
 BATCH_COLUMNS: list[str]
 BATCH_DTYPES: list[tuple[str, str]]
+
+def batch_fields(model: LayeredModel = "exp") -> list[tuple[str, str]]: ...
 FLAG_BITS: dict[str, int]
 MODELS: dict[Model, dict[str, object]]
 GRID_AXES: list[str]

@@ -17,8 +17,17 @@ import numpy as np
 
 import laminar_brdf as laminar
 
-#: The fields of the result, in :data:`laminar.BATCH_COLUMNS` order.
+#: The fields of the result for the tied models, in
+#: :data:`laminar.BATCH_COLUMNS` order (:func:`fields` gives any layered
+#: model's).
 FIELDS = tuple(laminar.BATCH_COLUMNS)
+
+
+def fields(model):
+    """The fields of the result for ``model`` (a layered model), in order:
+    :data:`FIELDS`, and for the untied models (``exp2``, ``gauss2``) σ′/T′'s
+    (``sub_slope``, …) after σ/T's (:func:`laminar.batch_fields`)."""
+    return tuple(name for name, _ in laminar.batch_fields(model))
 
 #: Rows per chunk when :func:`fit_dask` is given a numpy array.
 DEFAULT_CHUNK = 4096
@@ -57,12 +66,12 @@ def _check_finite(block, offset):
 
 
 def _fit_chunk(block, geometry, model, options, block_info=None):
-    """One chunk of sets (n × K) → its n × len(FIELDS) results."""
+    """One chunk of sets (n × K) → its n × len(fields(model)) results."""
     offset = block_info[0]["array-location"][0][0] if block_info else 0
     block = np.ascontiguousarray(block, dtype=np.float64)
     _check_finite(block, offset)
     out = laminar.fit_batch(geometry, block, model, threads=1, **options)
-    return np.column_stack([out[name] for name in FIELDS])
+    return np.column_stack([out[name] for name in out.dtype.names])
 
 
 def _seconds_per_set(k, options):
@@ -102,8 +111,14 @@ def _options(grid, quantity, refine, uncertainty, objective):
     return {"grid": grid, "quantity": quantity, "refine": refine, "uncertainty": uncertainty, "objective": objective}
 
 
-#: Each field's dtype (:data:`laminar.BATCH_DTYPES`, the library's kinds).
-DTYPES = {name: np.dtype(dtype) for name, dtype in laminar.BATCH_DTYPES}
+#: Each field's dtype (:func:`laminar.batch_fields`, the library's kinds), of
+#: every layered model (of :data:`laminar.MODELS`).
+DTYPES = {
+    name: np.dtype(dtype)
+    for model, described in laminar.MODELS.items()
+    if described["correlation"] is not None
+    for name, dtype in laminar.batch_fields(model)
+}
 
 
 def _typed(name, column):
@@ -184,7 +199,7 @@ def fit_dask(
     input's.
 
     Returns at once a lazy ``xarray.Dataset`` along ``dim``: one variable
-    per field of :data:`FIELDS` (float64; ``measurements`` int32; the
+    per field of :func:`fields` (``model``) (float64; ``measurements`` int32; the
     ``*_flags`` uint8, with ``flag_masks`` and ``flag_meanings``
     attributes). Nothing runs until the caller computes it or stores it
     (``to_zarr``). Chunks along K are merged into one; each chunk of sets is
@@ -205,27 +220,29 @@ def fit_dask(
     per_task = _chunks_per_task(values.chunks[0], geometry.shape[0], options, sets_per_task)
     values = values.rechunk({0: _merged(values.chunks[0], per_task), 1: -1})
     shared = dask.delayed(geometry, pure=True)
-    fields = da.map_blocks(
+    columns = da.map_blocks(
         _fit_chunk,
         values,
         shared,
         model,
         options,
         dtype=np.float64,
-        chunks=(values.chunks[0], (len(FIELDS),)),
+        chunks=(values.chunks[0], (len(fields(model)),)),
         meta=np.empty((0, 0), dtype=np.float64),
         token="laminar-brdf-fit",
     )
-    variables = {name: xr.Variable((dim,), *_typed(name, fields[:, i])) for i, name in enumerate(FIELDS)}
+    variables = {name: xr.Variable((dim,), *_typed(name, columns[:, i])) for i, name in enumerate(fields(model))}
     return _dataset(variables, None, model, objective, quantity)
 
 
 def to_records(dataset):
     """The computed Dataset of :func:`fit_dask` as the structured array
-    :func:`laminar.fit_batch` returns (every field as float64)."""
+    :func:`laminar.fit_batch` returns (every field as float64; the fields
+    of the Dataset's ``model`` attribute)."""
     n = dataset.sizes[next(iter(dataset.sizes))] if dataset.sizes else 0
-    out = np.empty(n, dtype=laminar.BATCH_DTYPE)
-    for name in FIELDS:
+    dtype = laminar.batch_dtype(dataset.attrs["model"])
+    out = np.empty(n, dtype=dtype)
+    for name in dtype.names:
         out[name] = np.asarray(dataset[name].values, dtype=np.float64)
     return out
 

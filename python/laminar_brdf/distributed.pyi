@@ -6,6 +6,8 @@ import numpy.typing as npt
 from ._laminar import LayeredModel, Objective, Quantity, Uncertainty
 
 FIELDS: tuple[str, ...]
+
+def fields(model: LayeredModel = "exp") -> tuple[str, ...]: ...
 DTYPES: dict[str, np.dtype[Any]]
 DEFAULT_CHUNK: int
 TASK_SECONDS: float

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 import laminar_brdf as laminar
-from laminar_brdf.distributed import FIELDS, _checked, _dataset, _options, _typed, fit_dask
+from laminar_brdf.distributed import _checked, _dataset, _options, _typed, fields, fit_dask
 
 #: The geometry's coordinates along the measurement dimension (radians,
 #: lab frame).
@@ -50,7 +50,7 @@ def fit(
     :func:`laminar.fit_batch` does with the same options.
 
     Returns an ``xarray.Dataset`` of the output fields
-    (:data:`laminar.distributed.FIELDS`), each with ``data``'s other
+    (:func:`laminar.distributed.fields` of ``model``), each with ``data``'s other
     dimensions, in their order, and their coordinates. Lazy when ``data`` is
     dask-backed (chunks along ``dim`` are merged into one); a value that is
     not finite then raises when its chunk runs, naming the set by its index
@@ -75,7 +75,7 @@ def fit(
     options = _options(grid, quantity, refine, uncertainty, objective)
     if isinstance(flat, da.Array):
         fitted = fit_dask(geometry, flat, model, dim="set", sets_per_task=sets_per_task, **options)
-        columns = {name: fitted[name].data.reshape(shape) for name in FIELDS}
+        columns = {name: fitted[name].data.reshape(shape) for name in fields(model)}
     else:
         _checked(geometry, flat, model, options)
         flat = np.ascontiguousarray(flat, dtype=np.float64)
@@ -88,7 +88,7 @@ def fit(
                 "every value must be a finite number"
             )
         out = laminar.fit_batch(geometry, flat, model, **options)
-        columns = {name: out[name].reshape(shape) for name in FIELDS}
+        columns = {name: out[name].reshape(shape) for name in fields(model)}
     # (fit_dask's columns are typed already: dask's astype to their own dtype
     # returns them as they are.)
     variables = {name: xr.Variable(others, *_typed(name, column)) for name, column in columns.items()}

@@ -16,15 +16,38 @@ use std::collections::HashMap;
 /// Sets per batch search in [`fit_batch`] (as `laminar fit-batch`).
 const BLOCK: usize = 256;
 
-/// The batch fields of the layered models (every layered model has the
-/// same, [`BatchRow`]): `fit_batch`'s columns.
-pub(crate) fn batch_row() -> BatchRow {
-    BatchRow::new(&[Model::Exp])
+/// The layered `model` named by `name`, or a ValueError naming the
+/// layered models.
+fn layered(name: &str) -> PyResult<Model> {
+    let model: Model = parse("model", name)?;
+    if model.correlation().is_none() {
+        return Err(PyValueError::new_err(format!(
+            "model: fit_batch fits the layered models ({}), not {model}",
+            layered_names()
+        )));
+    }
+    Ok(model)
+}
+
+/// The fields of `fit_batch`'s result for `model` (a layered model), in
+/// order, each with its dtype: the tied models' `BATCH_DTYPES`, and the
+/// untied models' (`exp2`, `gauss2`) those with σ′/T′'s fields
+/// (`sub_slope`, `sub_slope_lo68`, …) after σ/T's.
+#[pyfunction]
+#[pyo3(signature = (model = "exp"))]
+pub(crate) fn batch_fields(model: &str) -> PyResult<Vec<(String, &'static str)>> {
+    let row = BatchRow::new(&[layered(model)?]);
+    Ok(row
+        .names()
+        .into_iter()
+        .zip(row.kinds().into_iter().map(|k| k.dtype()))
+        .collect())
 }
 
 /// Fits `model` (a layered model) to every row of `values` (N × K) on one
 /// geometry (`geometry`: K × 4 lab-frame angles theta_i, phi_i, theta_v,
-/// phi_v in radians), by the shared-geometry batch search, 256 rows at a time.
+/// phi_v in radians), by the shared-geometry batch search, 256 rows at a time:
+/// a column per field of [`batch_fields`]`(model)`.
 #[pyfunction]
 #[pyo3(signature = (geometry, values, model = "exp", grid = None, threads = None, quantity = "brdf", refine = None, uncertainty = "both", objective = "free", precision = "f64", noise = "given", noise_floor = DEFAULT_FLOOR))]
 #[allow(clippy::too_many_arguments)]
@@ -43,19 +66,7 @@ pub(crate) fn fit_batch<'py>(
     noise: &str,
     noise_floor: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let model: Model = parse("model", model)?;
-    if model.correlation().is_none() {
-        return Err(PyValueError::new_err(format!(
-            "model: fit_batch fits the layered models ({}), not {model}",
-            layered_names()
-        )));
-    }
-    if model.is_untied() {
-        return Err(PyValueError::new_err(format!(
-            "model: fit_batch's columns (BATCH_COLUMNS) are the tied models'; fit {model} \
-             with laminar.fit or laminar.compare"
-        )));
-    }
+    let model = layered(model)?;
     let quantity: Quantity = parse("quantity", quantity)?;
     let named = Named {
         objective,
@@ -92,7 +103,7 @@ pub(crate) fn fit_batch<'py>(
     // The sets are read a block at a time from the caller's array; what
     // grows with N (the result rows) is reserved first.
     let sets = v.nrows();
-    let row = batch_row();
+    let row = BatchRow::new(&[model]);
     let width = row.width();
     let mut out: Vec<f64> = reserve(sets.saturating_mul(width), "the results")?;
     py.detach(|| -> Result<(), String> {

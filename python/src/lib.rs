@@ -43,6 +43,7 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate::evaluate, m)?)?;
     m.add_function(wrap_pyfunction!(fit_result::fit, m)?)?;
     m.add_function(wrap_pyfunction!(batch::fit_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::batch_fields, m)?)?;
     m.add_function(wrap_pyfunction!(fit_result::compare, m)?)?;
     m.add_function(wrap_pyfunction!(joint::fit_joint, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::paper_angles, m)?)?;
@@ -51,14 +52,11 @@ fn _laminar(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fit_result::FitResult>()?;
     m.add_class::<fitted_model::FittedModel>()?;
     m.add_function(wrap_pyfunction!(fitted_model::render, m)?)?;
-    let row = batch::batch_row();
-    m.add("BATCH_COLUMNS", row.names())?;
-    let kinds: Vec<(String, &str)> = row
-        .names()
-        .into_iter()
-        .zip(row.kinds().into_iter().map(|k| k.dtype()))
-        .collect();
-    m.add("BATCH_DTYPES", kinds)?;
+    // The tied layered models' fields (the untied ones: batch_fields).
+    let fields = batch::batch_fields("exp")?;
+    let names: Vec<&str> = fields.iter().map(|(name, _)| name.as_str()).collect();
+    m.add("BATCH_COLUMNS", names)?;
+    m.add("BATCH_DTYPES", fields)?;
     let flags = PyDict::new(m.py());
     for edge in Edge::ALL {
         flags.set_item(edge.to_string(), edge.bit())?;

@@ -96,7 +96,7 @@ def reference(store):
 
 
 def assert_equal_rows(result, expected):
-    for name in FIELDS:
+    for name in expected.dtype.names:
         got = np.asarray(result[name].values, dtype=np.float64)
         assert np.array_equal(got, expected[name], equal_nan=True), name
 
@@ -303,3 +303,49 @@ def test_bad_input_is_named():
     bad.values[2, 1, 0, 7] = np.inf
     with pytest.raises(ValueError, match="y=2, x=1, channel=0 holds inf at measurement=7"):
         laminar.xarray.fit(bad, quantity="radiance")
+
+
+def test_the_untied_model_is_batched_lazily_with_its_own_fields():
+    """``exp2`` (σ′/T′ free): fit_dask and laminar.xarray.fit give
+    fit_batch's rows, σ′/T′'s fields included (and typed: its flags uint8),
+    and the fitted maps make an untied textured material."""
+    import laminar_brdf.xarray
+
+    g, data = labelled_cube(4, 3, channels=3)
+    sets = data.values.reshape(-1, 198)  # (y, x, channel) row-major, as xarray.fit
+    lazy = fit_dask(g, da.from_array(sets, chunks=(10, 198)), "exp2", quantity="radiance", uncertainty="jacobian")
+    assert tuple(lazy.data_vars) == laminar.distributed.fields("exp2")
+    assert "sub_slope" in lazy and lazy["sub_slope_flags"].dtype == np.uint8
+    with dask.config.set(scheduler="threads"):
+        computed = lazy.compute()
+    expected = laminar.fit_batch(g, sets, "exp2", quantity="radiance", uncertainty="jacobian")
+    assert_equal_rows(computed, expected)
+    records = laminar.distributed.to_records(computed)
+    assert records.dtype == laminar.batch_dtype("exp2")
+    assert np.isfinite(records["sub_slope"]).all()
+    maps = laminar.xarray.fit(data, model="exp2", quantity="radiance", uncertainty="off")
+    assert maps["sub_slope"].dims == ("y", "x", "channel")
+    np.testing.assert_array_equal(
+        maps["sub_slope"].values.reshape(-1),
+        laminar.fit_batch(g, sets, "exp2", quantity="radiance", uncertainty="off")["sub_slope"],
+    )
+    from laminar_brdf.mitsuba_native import textured
+
+    from test_render import mitsuba_variant  # (skips without Mitsuba, unless required)
+
+    mi = mitsuba_variant("llvm_ad_rgb")
+    bsdf = mi.load_dict(textured(maps))
+    assert "sub_slope.data" in mi.traverse(bsdf).keys()
+    # Texel (y, x) = (1, 2) at its uv: each channel the library's exp2 there.
+    si = mi.SurfaceInteraction3f()
+    si.uv = mi.Point2f((2 + 0.5) / 3, (1 + 0.5) / 4)
+    ti, ts, phi = 0.5, 0.7, 2.0
+    si.wi = mi.Vector3f(float(np.sin(ts)), 0.0, float(np.cos(ts)))
+    wo = mi.Vector3f(*(float(v) for v in (np.sin(ti) * np.cos(phi + np.pi), np.sin(ti) * np.sin(phi + np.pi), np.cos(ti))))
+    got = np.array(bsdf.eval(mi.BSDFContext(), si, wo)).ravel()
+    for c in range(3):
+        texel = maps.isel(y=1, x=2, channel=c)
+        params = {p: float(texel[p]) for p in ("slope", "sub_slope", "beta", "n", "a")}
+        model = laminar.FittedModel.from_params("exp2", params, amplitude=float(texel["amplitude"] * texel["data_scale"]))
+        (pti, pts, pps, _) = laminar.mitsuba._paper_angles(si.wi, wo)
+        np.testing.assert_allclose(got[c], model.radiance(pti, pts, pps)[0], rtol=1e-5)
