@@ -747,17 +747,42 @@ fn page_fits_in_chromium_as_the_cli_does() {
         .args(["--format", "json", "--out"])
         .arg(&comparison))
     .unwrap_or_else(|e| panic!("laminar fit --models {every}: {e}"));
+    // Cornell's blue paint (RGB), fitted jointly by the CLI, when the data
+    // are here.
+    let joint = match std::env::var_os("CORNELL_DIR") {
+        Some(cornell) => {
+            let data = Path::new(&cornell).join("krylon_blue_RGB.astm");
+            let out = dir.join("joint.json");
+            run(Command::new(env!("CARGO_BIN_EXE_laminar"))
+                .args(["fit-joint", "--measurements"])
+                .arg(&data)
+                .args(["--model", "exp2", "--noise", "relative", "--fits"])
+                .arg(&out))
+            .unwrap_or_else(|e| panic!("laminar fit-joint: {e}"));
+            Some((data, out))
+        }
+        None => {
+            common::skip_or_fail(
+                "LAMINAR_REQUIRE_CORNELL",
+                "the page's joint fit",
+                "CORNELL_DIR is not set",
+            );
+            None
+        }
+    };
     let screenshot = root.join("target/web-test/page.png");
-    let out = stdout(
-        Command::new("node")
-            .arg(root.join("web/tests/browser.mjs"))
-            .arg(&site)
-            .arg(&expected)
-            .arg(&screenshot)
-            .arg(&comparison)
-            .env("CHROMIUM", &chromium),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let mut browser = Command::new("node");
+    browser
+        .arg(root.join("web/tests/browser.mjs"))
+        .arg(&site)
+        .arg(&expected)
+        .arg(&screenshot)
+        .arg(&comparison)
+        .env("CHROMIUM", &chromium);
+    if let Some((data, out)) = &joint {
+        browser.arg(data).arg(out);
+    }
+    let out = stdout(&mut browser).unwrap_or_else(|e| panic!("{e}"));
     let _ = writeln!(
         std::io::stderr(),
         "Chromium page test passed; screenshot {}; {out}",

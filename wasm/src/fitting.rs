@@ -196,6 +196,30 @@ pub fn compare(
     Ok(fits::json(&fits.map_err(error)?))
 }
 
+/// One fit of the layered `model` across every channel of `measurements`
+/// (σ/T, σ′/T′ of an untied model and n shared; a, β and the amplitude per
+/// channel), with `settings`, as `laminar fit-joint --fits` does
+/// ([`laminar_brdf_fit::Fitter::fit_joint`]; JavaScript:
+/// [`crate::js::fitting::fit_joint`]): the fitted-model file of the one
+/// material, its channels in file order. Progress is not reported.
+///
+/// # Errors
+/// For an unknown or a baseline model, fewer than two channels, a channel
+/// that cannot be fitted, or the paper objective.
+pub fn fit_joint(
+    measurements: &Measurements,
+    model: &str,
+    settings: &Settings,
+) -> Result<String, JsError> {
+    let model = model.parse::<Model>().map_err(error)?;
+    let scenes = (measurements.set.channel_names().into_iter())
+        .map(|channel| measurements.set.scene(channel).map_err(error))
+        .collect::<Result<Vec<_>, _>>()?;
+    let fitter = settings.fitter().map_err(error)?;
+    let joint = fitter.fit_joint(&scenes, model).map_err(error)?;
+    Ok(fits::json_materials(&[fits::MaterialEntry::new(&joint)]))
+}
+
 /// The normalised prediction of a fitted model at each geometry of
 /// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
 /// predicted at its own geometries (`laminar predict`). `fits_json` is a

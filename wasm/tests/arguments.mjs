@@ -38,7 +38,7 @@ for (const simd of [false, true]) {
   ];
   const exports = [
     ['validateParams', 4], ['totalRadiance', 6], ['totalRadianceF32', 6], ['components', 6],
-    ['curetSamples', 3], ['fit', 4], ['compare', 4], ['predict', 3], ['fromCsv', 4], ['fromCuret', 4], ['scene', 1],
+    ['curetSamples', 3], ['fit', 4], ['compare', 4], ['fitJoint', 3], ['predict', 3], ['fromCsv', 4], ['fromCuret', 4], ['scene', 1],
     ['predictFitted', 2],
   ];
   const call = (name, args) => {

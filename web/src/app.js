@@ -3,11 +3,11 @@
 //
 // The evaluation-only package (laminar-brdf/eval, about 40 KiB gzip) loads
 // first, so the lobe viewer works at once; the whole package (measurements,
-// prediction; about 370 KiB) follows, and the controls that need it are
+// prediction; about 570 KiB gzip) follows, and the controls that need it are
 // enabled when it has arrived.
 import { load as loadEvaluation } from './laminar-brdf/eval/index.js';
 import { load } from './laminar-brdf/index.js';
-import { lobe, scatter } from './plot.js';
+import { lobe, scatter, spectrum } from './plot.js';
 import { measurementsFrom } from './source.js';
 
 const E = await loadEvaluation();
@@ -24,7 +24,7 @@ const NEEDS_WHOLE = ['files', 'example'];
 for (const id of NEEDS_WHOLE) $(id).disabled = true;
 
 let source = null; // see source.js
-let fitting = null; // { channel, model, models, source } of the last fit asked for
+let fitting = null; // { channel, model, models, joint, noise, source } of the last fit asked for
 let busy = false; // a fit is under way
 const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
 
@@ -43,16 +43,22 @@ function useSource(s) {
     $('channel').replaceChildren(...channels.map((c) => new Option(c, c)));
     const what = s.kind === 'file' ? s.name : `CUReT sample ${s.sample} of ${s.brdfName}`;
     status('loaded', `${what}: ${m.length} measurements, channels ${channels.join(', ')}.`);
-    $('fit').disabled = busy;
-    $('compare').disabled = busy;
+    enableFits();
   } catch (e) {
     source = null;
-    $('fit').disabled = true;
-    $('compare').disabled = true;
+    enableFits();
     status('loaded', String(e.message ?? e), true);
   } finally {
     m?.free();
   }
+}
+
+/** The fit buttons: enabled when a source is loaded and no fit is under
+ * way; the joint fit when the source has two channels or more. */
+function enableFits() {
+  $('fit').disabled = busy || source === null;
+  $('compare').disabled = busy || source === null;
+  $('fit-joint').disabled = busy || source === null || $('channel').options.length < 2;
 }
 
 function fileSource(name, bytes) {
@@ -106,17 +112,21 @@ for (const id of ['angles', 'quantity']) {
 $('sample').addEventListener('change', () => useSource({ ...source, sample: Number($('sample').value) }));
 
 // Fitting, in the worker: one fit (or one comparison) at a time.
-function startFit(models) {
-  fitting = { channel: $('channel').value, model: $('model').value, models, source };
+function startFit(models, joint = false) {
+  fitting = { channel: $('channel').value, model: $('model').value, models, joint, noise: $('noise').value, source };
+  if (joint && !MODELS.find((m) => m.name === fitting.model)?.correlation) {
+    const layered = MODELS.filter((m) => m.correlation).map((m) => m.name);
+    return status('fit-status', `The joint fit takes a layered model (${layered.join(', ')}), not ${fitting.model}.`, true);
+  }
   busy = true;
-  $('fit').disabled = true;
-  $('compare').disabled = true;
+  enableFits();
   $('progress').removeAttribute('value');
-  status('fit-status', 'searching the grid…');
+  status('fit-status', joint ? 'fitting every channel, bootstrapping…' : 'searching the grid…');
   worker.postMessage(fitting);
 }
 $('fit').addEventListener('click', () => startFit(null));
 $('compare').addEventListener('click', () => startFit(MODELS.map((m) => m.name)));
+$('fit-joint').addEventListener('click', () => startFit(null, true));
 worker.onmessage = ({ data }) => {
   if (data.progress) {
     const [done, total] = data.progress;
@@ -126,15 +136,17 @@ worker.onmessage = ({ data }) => {
     return;
   }
   busy = false;
-  $('fit').disabled = source === null;
-  $('compare').disabled = source === null;
+  enableFits();
   if (data.error) {
     $('progress').value = 0;
     return status('fit-status', data.error, true);
   }
   $('progress').value = $('progress').max;
   status('fit-status', `done in ${(data.ms / 1000).toFixed(2)} s`);
-  showFit(data.json);
+  $('results').hidden = fitting.joint;
+  $('joint-results').hidden = !fitting.joint;
+  if (fitting.joint) showJoint(data.json);
+  else showFit(data.json);
 };
 
 /** The searched parameters in the model's order (σ/T, β, n, a). */
@@ -189,21 +201,69 @@ function showFit(json) {
     + (g ? ` Graphics measures: cos θi-weighted RMS ${fmt(g.cosine_rms)} (Ngan et al.), cube-root distance ${fmt(g.cube_root)} (Forés et al.).` : '');
   $('fit-json').textContent = json;
   $('download').href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
-  $('results').hidden = false;
   const m = measurementsFrom(L, fitting.source);
   try {
     const scene = m.scene(fitting.channel);
     const select = compared ? `${entry.sample}/${entry.channel}/${entry.model}` : undefined;
-    scatter($('scatter'), scene.data, L.predict(json, select, scene.angles));
+    scatter($('scatter'), [{ name: entry.channel, measured: scene.data, model: L.predict(json, select, scene.angles) }]);
   } finally {
     m.free();
   }
-  const layered = entry.fitted.beta_eq8 !== null;
-  if (layered) {
+  // The lobe viewer draws the tied layered models (an untied fit's σ′/T′
+  // has no slider).
+  const tied = entry.fitted.beta_eq8 !== null && !('sub_slope' in entry.fitted.params);
+  if (tied) {
     const p = entry.fitted.params;
     const correlation = MODELS.find((m) => m.name === entry.model)?.correlation;
     setSliders({ model: correlation, slope: p.slope, beta: entry.fitted.beta_eq8, n: p.n, a: p.a ?? 0 });
   }
+}
+
+/** `[lo, hi]` of a jointly fitted value's interval at `level` (68 or 95), as the page shows it. */
+const interval = (v, level) => (v?.intervals ? `[${fmt(v.intervals[`lo${level}`])}, ${fmt(v.intervals[`hi${level}`])}]` : '–');
+
+/** A p-value as the page shows it: 'not tested' when there is none. */
+const pValue = (p) => (p === null || p === undefined ? 'not tested' : `p = ${Number(p).toPrecision(2)}`);
+
+/** The joint fit's tables of a fitted-model file's material (the browser test forms the CLI's the same way). */
+export const jointRows = (material) => ({
+  shared: Object.entries(material.shared).map(([name, v]) => [name, fmt(v.value), interval(v, 68), interval(v, 95)]),
+  channels: material.channels.map((c) => [
+    c.channel, fmt(c.a?.value), interval(c.a, 68), interval(c.a, 95), fmt(c.beta), fmt(c.amplitude), c.lack_of_fit ? 'lack of fit' : 'ok',
+  ]),
+  variants: Object.entries(material.variants).sort((x, y) => x[1] - y[1]).map(([name, d]) => [name.replace(/_/g, ' '), fmt(d)]),
+});
+
+function showJoint(json) {
+  const material = JSON.parse(json).materials[0];
+  const rows = jointRows(material);
+  $('shared').tBodies[0].replaceChildren(...tableRows(rows.shared));
+  $('joint-channels').tBodies[0].replaceChildren(...tableRows(rows.channels));
+  $('variants').tBodies[0].replaceChildren(...tableRows(rows.variants));
+  const intervals = material.resamples > 0 ? `${material.resamples} bootstrap resamples of the geometries` : 'no resamples, no intervals';
+  $('joint-summary').textContent = `${material.sample}/${material.model}, one fit across ${material.channels.length} channels `
+    + `(${material.measurements} measurements each, ${material.parameters} parameters; ${intervals}).`;
+  $('joint-tests').textContent = `One a for every channel (is the absorption chromatic?): ${pValue(material.chromatic_p)}. `
+    + `One σ/T for every channel (is the roughness shared?): ${pValue(material.roughness_p)}. `
+    + 'The variants below are ranked by AICc: the joint fit, σ/T per channel, and each channel fitted alone.';
+  $('joint-json').textContent = json;
+  $('download-joint').href = URL.createObjectURL(new Blob([json], { type: 'application/json' }));
+  spectrum($('spectrum'), material.channels);
+  const m = measurementsFrom(L, fitting.source);
+  try {
+    scatter($('scatter'), material.channels.map((c) => {
+      const scene = m.scene(c.channel);
+      return { name: c.channel, measured: scene.data, model: L.predict(json, `${material.sample}/${c.channel}/${material.model}`, scene.angles) };
+    }), { log: true });
+  } finally {
+    m.free();
+  }
+  // The lobe viewer draws the tied models (one σ/T): an untied fit's
+  // σ′/T′ has no slider, so only a tied material sets them.
+  const first = material.channels[0];
+  const p = first.fitted.params;
+  const correlation = MODELS.find((x) => x.name === material.model)?.correlation;
+  if (!('sub_slope' in p)) setSliders({ model: correlation, slope: p.slope, beta: first.fitted.beta_eq8, n: p.n, a: p.a ?? 0 });
 }
 
 // The lobe and its sliders.

@@ -10,10 +10,11 @@ self.onmessage = async ({ data }) => {
   try {
     m = measurementsFrom(L, data.source);
     const start = performance.now();
-    const options = { onProgress: (done, total) => self.postMessage({ progress: [done, total] }) };
-    const json = data.models
-      ? L.compare(m, data.channel, data.models, options)
-      : L.fit(m, data.channel, data.model, options);
+    const options = { noise: data.noise, onProgress: (done, total) => self.postMessage({ progress: [done, total] }) };
+    let json;
+    if (data.joint) json = L.fitJoint(m, data.model, options);
+    else if (data.models) json = L.compare(m, data.channel, data.models, options);
+    else json = L.fit(m, data.channel, data.model, options);
     self.postMessage({ json, ms: performance.now() - start });
   } catch (e) {
     self.postMessage({ error: String(e?.message ?? e) });

@@ -5,16 +5,18 @@
 // measures the package's speed in the browser.
 //
 // Then compares every model and checks the ranking against `laminar fit`
-// with every model.
+// with every model; and, given Cornell's krylon_blue_RGB.astm, fits its
+// three channels jointly (exp2, relative noise) and checks the page's
+// material, tables and spectrum against `laminar fit-joint --fits`.
 //
-// node web/tests/browser.mjs DIST EXPECTED_FITS_JSON SCREENSHOT.png EXPECTED_COMPARISON_JSON
+// node web/tests/browser.mjs DIST EXPECTED_FITS_JSON SCREENSHOT.png EXPECTED_COMPARISON_JSON [KRYLON_BLUE_RGB.astm EXPECTED_JOINT_JSON]
 // prints one JSON line of measurements; exits non-zero on any failure.
 import { createServer } from 'node:http';
 import { readFile, writeFile } from 'node:fs/promises';
 import { extname, join, normalize } from 'node:path';
 import { chromium } from 'playwright-core';
 
-const [dist, expectedFile, screenshot, comparisonFile] = process.argv.slice(2);
+const [dist, expectedFile, screenshot, comparisonFile, jointData, jointFile] = process.argv.slice(2);
 const expected = await readFile(expectedFile, 'utf8');
 const comparison = await readFile(comparisonFile, 'utf8');
 const BENCH = new URL('../../wasm/bench/speed.js', import.meta.url);
@@ -157,12 +159,61 @@ try {
     check(!(await page.isDisabled('#fit')), 'CUReT files loaded but no fit offered');
   }
 
+  // A joint fit of Cornell's blue paint (RGB), when given: the page's
+  // material is `laminar fit-joint --fits`'s byte for byte, its tables show
+  // that file's numbers, and the spectrum draws each channel's a and bands.
+  let joint = null;
+  if (jointData) {
+    await page.setInputFiles('#files', jointData);
+    await page.waitForFunction(() => document.querySelector('#loaded').textContent.startsWith('krylon_blue_RGB.astm'));
+    await page.selectOption('#model', 'exp2');
+    await page.selectOption('#noise', 'relative');
+    await page.waitForSelector('#fit-joint:enabled');
+    const started = Date.now();
+    await page.click('#fit-joint');
+    await page.waitForSelector('#joint-results:not([hidden])', { timeout: 300_000 });
+    const seconds = (Date.now() - started) / 1000;
+    check(await page.isHidden('#results'), 'the single fit\'s results stay shown beside the joint fit\'s');
+    const wantJoint = await readFile(jointFile, 'utf8');
+    const pageJoint = await page.textContent('#joint-json');
+    if (pageJoint !== wantJoint) {
+      await writeFile(`${jointFile}.page`, pageJoint);
+      check(false, `the page's joint fit differs from \`laminar fit-joint --fits\` (the page's: ${jointFile}.page)`);
+    }
+    const material = JSON.parse(wantJoint).materials[0];
+    const iv = (v, l) => (v?.intervals ? `[${fmt(v.intervals[`lo${l}`])}, ${fmt(v.intervals[`hi${l}`])}]` : '–');
+    const cells = (id) => page.$$eval(`#${id} tbody tr`, (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+    const shared = await cells('shared');
+    const wantShared = Object.entries(material.shared).map(([k, v]) => [k, fmt(v.value), iv(v, 68), iv(v, 95)]);
+    check(JSON.stringify(shared) === JSON.stringify(wantShared), `shared ${JSON.stringify(shared)} != ${JSON.stringify(wantShared)}`);
+    check(shared.map((r) => r[0]).join() === 'n,slope,sub_slope', `shared parameters ${shared.map((r) => r[0])}`);
+    const channels = await cells('joint-channels');
+    const wantChannels = material.channels.map((c) => [c.channel, fmt(c.a?.value), iv(c.a, 68), iv(c.a, 95), fmt(c.beta), fmt(c.amplitude), c.lack_of_fit ? 'lack of fit' : 'ok']);
+    check(JSON.stringify(channels) === JSON.stringify(wantChannels), `channels ${JSON.stringify(channels)} != ${JSON.stringify(wantChannels)}`);
+    const variants = await cells('variants');
+    check(variants.length === Object.keys(material.variants).length && variants[0][1] === fmt(0), `variants ${JSON.stringify(variants)}`);
+    const tests = await page.textContent('#joint-tests');
+    const p = (v) => (v === null ? 'not tested' : `p = ${Number(v).toPrecision(2)}`);
+    check(tests.includes(`chromatic?): ${p(material.chromatic_p)}`) && tests.includes(`shared?): ${p(material.roughness_p)}`), `tests: ${tests}`);
+    const figure = await page.evaluate(() => ({
+      points: document.querySelectorAll('#spectrum-points circle').length,
+      bands: document.querySelectorAll('#spectrum .band68, #spectrum .band95').length,
+      series: [...document.querySelectorAll('#scatter .points')].map((g) => [g.dataset.channel, g.childElementCount]),
+    }));
+    const withA = material.channels.filter((c) => c.a).length;
+    check(figure.points === withA && figure.bands === 2, `spectrum: ${JSON.stringify(figure)}`);
+    const wantSeries = material.channels.map((c) => [c.channel, material.measurements]);
+    check(JSON.stringify(figure.series) === JSON.stringify(wantSeries), `scatter series ${JSON.stringify(figure.series)}`);
+    await page.screenshot({ path: screenshot.replace(/\.png$/, '-joint.png'), fullPage: true });
+    joint = { seconds, shared, chromatic: material.chromatic_p, roughness: material.roughness_p };
+  }
+
   // Speed in this browser (main thread), as wasm/bench/node.mjs measures it in node.
   const speed = await page.evaluate(async () => {
     const { measure } = await import('/__bench/speed.js');
     return measure((await import('./laminar-brdf/index.js')).load);
   });
-  console.log(JSON.stringify({ build, progress, rows, points, bad, curet, chromium: browser.version(), speed }));
+  console.log(JSON.stringify({ build, progress, rows, points, bad, curet, joint, chromium: browser.version(), speed }));
 } finally {
   await browser.close();
   server.close();

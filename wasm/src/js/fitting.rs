@@ -242,6 +242,31 @@ pub fn compare(
     )?)
 }
 
+/// One fit of the layered `model` (`exp2` and `gauss2` free the
+/// subsurface's σ′/T′) across every channel of `measurements`, as `laminar
+/// fit-joint --fits` does: σ/T, σ′/T′ and n shared, a, β and the amplitude
+/// per channel, with the pairs bootstrap's intervals (`options.resamples`,
+/// `options.seed`), the tests of one a and of one σ/T for every channel, and
+/// the variants' ΔAICc. Returns the fitted-model file of the one material
+/// (`materials[0]`); `predict` selects a channel's fit by
+/// `sample/channel/model`. `options` as `fit`'s (`options.noise:
+/// 'relative'` for goniometer data); `onProgress` is not called.
+///
+/// # Errors
+/// A `TypeError` for an argument or option of the wrong type (named); an
+/// `Error` for an unknown or a baseline model, a wrong option value, fewer
+/// than two channels, or a channel that cannot be fitted.
+#[wasm_bindgen(js_name = fitJoint)]
+pub fn fit_joint(
+    measurements: &Measurements,
+    #[wasm_bindgen(unchecked_param_type = "string")] model: JsValue,
+    options: Option<FitOptions>,
+) -> Result<String, JsValue> {
+    let model = string(&model, "model")?;
+    let (settings, _) = settings_of(options)?;
+    Ok(fitting::fit_joint(measurements, &model, &settings)?)
+}
+
 /// The normalised prediction of a fitted model at each geometry of
 /// `angles` (flat (θi, θs, φs) triples, radians): exactly what the fit
 /// predicted at its own geometries (`laminar predict`). `fitsJson` is a
