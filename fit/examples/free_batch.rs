@@ -51,15 +51,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         count,
         5,
     );
+    // `LAMINAR_MODEL`: the model fitted (exp unless told).
+    let model: Model = match std::env::var("LAMINAR_MODEL") {
+        Ok(name) => name.parse()?,
+        Err(_) => Model::Exp,
+    };
     let fitter = Fitter::new(Grid::user())?
         .objective(Objective::Free)
         .analysis(analysis())
         .threads(threads)?;
     let start = Instant::now();
     let fits = if std::env::var_os("LAMINAR_ONE_AT_A_TIME").is_some() {
-        sets.iter().map(|s| fitter.fit(s, Model::Exp)).collect()
+        sets.iter().map(|s| fitter.fit(s, model)).collect()
     } else {
-        fitter.fit_batch(&sets, Model::Exp)
+        fitter.fit_batch(&sets, model)
     };
     let seconds = start.elapsed().as_secs_f64();
     let rms: f64 = fits.iter().map(|f| f.best.rms).sum::<f64>() / count as f64;

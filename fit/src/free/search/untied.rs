@@ -133,6 +133,10 @@ pub(crate) fn surface_sums(problem: &Problem<LayeredModel>, s: &[f64]) -> [f64; 
     dots(s, [&ws, &problem.weighted_data])
 }
 
+/// Columns of one grid-stage task: each task writes its columns' values
+/// into one segment of every σ/T's row of the grid.
+const COLUMNS_PER_TASK: usize = 8;
+
 fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Vec<GridValues> {
     let model = &problems[0].model;
     let axis = |p: Param| axes.of(p).expect("an untied model's grid has this axis");
@@ -157,31 +161,35 @@ fn values<L: Packed>(problems: &[&Problem<LayeredModel>], axes: &GridAxes) -> Ve
             let sums: Vec<[f64; 2]> = surfaces.iter().map(|s| surface_sums(problem, s)).collect();
             // Column by column (its three vectors stay in the first-level
             // cache while every σ/T's surface term passes over them), each
-            // column's values per σ/T then a.
+            // column's values per σ/T then a, written in place: the grid's
+            // order is σ/T, then the column, then a, so a block of columns
+            // owns one segment of each σ/T's row.
             let a_len = a_axis.len();
-            let per_column: Vec<Vec<f64>> = (columns.par_iter())
-                .map(|column| {
-                    let mut out = vec![0.0; surfaces.len() * a_len];
-                    let cross = column.cross_sums(&surfaces);
-                    for ((&sb, &sums), out) in (cross.iter().zip(&sums)).zip(out.chunks_mut(a_len))
-                    {
-                        objectives(
-                            &column.quadratic_of(problem, sb, sums),
-                            a_axis,
-                            problem.beta,
-                            out,
-                        );
-                    }
-                    out
-                })
+            let mut sse = vec![0.0; surfaces.len() * columns.len() * a_len];
+            let blocks = columns.len().div_ceil(COLUMNS_PER_TASK);
+            let mut segments: Vec<Vec<&mut [f64]>> = (0..blocks)
+                .map(|_| Vec::with_capacity(surfaces.len()))
                 .collect();
-            // In the grid's order: σ/T, then the column, then a.
-            let mut sse = Vec::with_capacity(surfaces.len() * per_column.len() * a_len);
-            for i in 0..surfaces.len() {
-                for values in &per_column {
-                    sse.extend_from_slice(&values[i * a_len..(i + 1) * a_len]);
+            for row in sse.chunks_mut(columns.len() * a_len) {
+                for (block, segment) in row.chunks_mut(COLUMNS_PER_TASK * a_len).enumerate() {
+                    segments[block].push(segment);
                 }
             }
+            (segments.into_par_iter())
+                .zip(columns.par_chunks(COLUMNS_PER_TASK))
+                .for_each(|(mut rows, block)| {
+                    for (j, column) in block.iter().enumerate() {
+                        let cross = column.cross_sums(&surfaces);
+                        for ((&sb, &sums), row) in cross.iter().zip(&sums).zip(&mut rows) {
+                            objectives(
+                                &column.quadratic_of(problem, sb, sums),
+                                a_axis,
+                                problem.beta,
+                                &mut row[j * a_len..(j + 1) * a_len],
+                            );
+                        }
+                    }
+                });
             GridValues {
                 lens: axes.lens(),
                 sse,
