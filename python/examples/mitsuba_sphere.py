@@ -7,7 +7,10 @@ a PNG.
         python python/examples/mitsuba_sphere.py fits.json 49/avg/exp sphere.png
 
 Three comma-separated labels (the r, g and b fits of one sample) give an
-RGB material; one gives grey. ``--plugin laminar_native`` draws it with the
+RGB material; one gives grey. With ``--material`` the label is a jointly
+fitted material's (``sample/model``, from ``laminar fit-joint --fits``): its
+channels as red, green and blue, or, in a spectral variant (``--variant
+llvm_ad_spectral``, the native plugin), its channels' wavelengths. ``--plugin laminar_native`` draws it with the
 Dr.Jit-native BSDF in symbolic mode; ``--compare`` renders with both plugins
 in one run and prints their times (the first render, which compiles, and
 the fastest of ``--repeat`` after it). Needs ``pip install "laminar-brdf[mitsuba]"`` and,
@@ -53,15 +56,16 @@ def scene_dict(mi, bsdf, size, spp):
     }
 
 
-def fitted_bsdf(filename, select, plugin="laminar"):
-    """The BSDF dict of the fit(s) ``select`` of the fitted-model file."""
+def fitted_bsdf(filename, select, plugin="laminar", material=False):
+    """The BSDF dict of the fit(s) ``select`` of the fitted-model file, or
+    of its jointly fitted material ``select`` when ``material``."""
     bsdf = {"type": plugin, "filename": filename}
     if select:
-        bsdf["select"] = select
+        bsdf["material" if material else "select"] = select
     return bsdf
 
 
-def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="laminar", repeat=0):
+def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="laminar", repeat=0, material=False):
     """The rendered image (size × size × 3, linear) and seconds taken; with
     ``repeat``, also the fastest of that many renders after the first. The
     native plugin renders in symbolic mode, the numpy one in wavefront mode
@@ -80,7 +84,7 @@ def render(filename, select, size=128, spp=64, variant="llvm_ad_rgb", plugin="la
     # The numpy plugin turns symbolic mode off as it loads, on the loading
     # thread only (Dr.Jit's flags are per thread): load it on this one.
     scene = mi.load_dict(
-        scene_dict(mi, fitted_bsdf(filename, select, plugin), size, spp),
+        scene_dict(mi, fitted_bsdf(filename, select, plugin, material), size, spp),
         parallel=plugin == "laminar_native",
     )
     start = time.perf_counter()
@@ -106,6 +110,7 @@ def main():
     parser.add_argument("--variant", default="llvm_ad_rgb")
     parser.add_argument("--plugin", default="laminar", choices=["laminar", "laminar_native"])
     parser.add_argument("--compare", action="store_true", help="time both plugins in this run")
+    parser.add_argument("--material", action="store_true", help="SELECT is a jointly fitted material (sample/model)")
     parser.add_argument("--repeat", type=int, default=2, help="renders after the first, with --compare")
     args = parser.parse_args()
     import mitsuba as mi
@@ -114,7 +119,7 @@ def main():
         rows = []
         for plugin in ("laminar", "laminar_native"):
             image, first, warm = render(
-                args.fits, args.select, args.size, args.spp, args.variant, plugin, args.repeat
+                args.fits, args.select, args.size, args.spp, args.variant, plugin, args.repeat, args.material
             )
             rows.append((plugin, first, warm))
         print(f"| plugin, {args.size}², {args.spp} spp, {args.variant} | first render (s) | fastest of {args.repeat} after (s) |")
@@ -124,7 +129,9 @@ def main():
             print(f"| {plugin} ({mode}) | {first:.2f} | {warm:.2f} |")
         print(f"speed-up, warm: {rows[0][2] / rows[1][2]:.1f}×; first: {rows[0][1] / rows[1][1]:.1f}×")
     else:
-        image, seconds = render(args.fits, args.select, args.size, args.spp, args.variant, args.plugin)
+        image, seconds = render(
+            args.fits, args.select, args.size, args.spp, args.variant, args.plugin, material=args.material
+        )
         print(f"{args.out}: {args.size} × {args.size}, {args.spp} spp, {seconds:.2f} s ({args.variant}, {args.plugin})")
     mi.util.write_bitmap(args.out, image)
 

@@ -30,6 +30,10 @@ cosine-weighted: its pdf is exact and cheap, and the fitted lobes of this
 model family are broad (the subsurface term is diffuse-like), so the
 variance stays low; a lobe-following mixture is not implemented.
 
+The plugins serve the RGB variants; in a spectral one ``"laminar_native"``
+draws a material fitted per wavelength (:mod:`laminar.mitsuba_native`)
+and ``"laminar"`` refuses to load.
+
 On the JIT variants the evaluation leaves Dr.Jit for numpy, so a scene
 must render in wavefront mode: loading a ``"laminar"`` BSDF turns Dr.Jit's
 symbolic loops and calls off, on the thread that loads it only (Dr.Jit's
@@ -85,16 +89,19 @@ def _paper_angles(wi, wo):
 
 def _check_variant(mi):
     """Refuses a variant the plugins cannot serve: they return three
-    channels (``mi.Color3f``), and a spectral variant's ``Spectrum`` has 4
-    wavelengths and a mono one 1 (the render died with ``std::bad_cast``
+    channels (``mi.Color3f``) in the RGB variants, and the native one a
+    spectrum of a material fitted per wavelength in the (unpolarised)
+    spectral variants; a mono variant's ``Spectrum`` has 1 value and a
+    polarised one is a matrix (the render died with ``std::bad_cast``
     after loading)."""
     if mi.variant() is None:
         raise RuntimeError("set a Mitsuba variant (mi.set_variant) before laminar.mitsuba.register()")
-    if not mi.variant().endswith("_rgb"):
+    if not (mi.variant().endswith("_rgb") or mi.variant().endswith("_spectral")):
         raise ValueError(
             f"Mitsuba variant {mi.variant()!r}: the laminar BSDFs serve the RGB variants "
-            "(scalar_rgb, llvm_ad_rgb, cuda_ad_rgb, ...), not spectral or mono ones; "
-            "set an RGB variant before laminar.mitsuba.register()"
+            "(scalar_rgb, llvm_ad_rgb, cuda_ad_rgb, ...) and, for materials fitted per wavelength, "
+            "the spectral ones (scalar_spectral, llvm_ad_spectral, ...), not mono or polarised ones; "
+            "set one of those before laminar.mitsuba.register()"
         )
 
 
@@ -141,6 +148,11 @@ def register() -> None:
 
         def __init__(self, props):
             mi.BSDF.__init__(self, props)
+            if mi.is_spectral:
+                raise ValueError(
+                    f"the 'laminar' plugin draws the RGB variants, not {mi.variant()!r}; in a spectral "
+                    "variant draw a material fitted per wavelength with 'laminar_native'"
+                )
             if "filename" in props:
                 self.filename = str(props["filename"])
                 self.select = str(props["select"]) if "select" in props else None

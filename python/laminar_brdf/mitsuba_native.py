@@ -41,6 +41,13 @@ parameter changes, from the values without their gradients. Property
 ``sampling``: ``"lobe"`` (the default) or ``"cosine"`` (the cosine lobe
 alone).
 
+In a spectral variant (``scalar_spectral``, ``llvm_ad_spectral``, …) the
+BSDF draws a material fitted per wavelength (``filename`` and
+``material``, its channels named by a wavelength: ``450nm``, ``532``):
+each parameter an ``irregular`` spectrum over the channels' wavelengths,
+linear between them and held at the end values out to Mitsuba's range,
+evaluated at the wavelengths each ray carries.
+
 Properties: ``filename`` with ``select`` or ``material`` as the
 ``"laminar"`` plugin (a fitted-model file: one label or three, or a
 jointly fitted material's channels as red, green and blue), or ``model``
@@ -84,6 +91,47 @@ TABLE = (32, 64, 128)
 
 #: The smallest viewer cos θ of the table (the sampling clamps to it).
 VIEW_MIN = 0.01
+
+
+def channel_wavelengths(models):
+    """The wavelength (nm) each of ``models`` (a material's channels) is
+    named by: its channel's leading number (``450nm``, ``532``), as
+    ``laminar fit-joint --plot`` reads it; ValueError naming a channel that
+    has none, or two channels of one wavelength."""
+    import re
+
+    out = []
+    for m in models:
+        channel = m.label.rsplit("/", 2)[-2]
+        found = re.match(r"\d+(\.\d+)?", channel)
+        if not found or float(found.group()) <= 0:
+            raise ValueError(
+                f"{m.label}: channel {channel!r} is not named by a wavelength (450nm, 532, ...); "
+                "a spectral variant draws materials fitted per wavelength"
+            )
+        out.append(float(found.group()))
+    if len(set(out)) != len(out):
+        raise ValueError(f"the material's channels name a wavelength twice: {sorted(out)}")
+    return out
+
+
+def spectrum(mi, wavelengths, values):
+    """An ``irregular`` spectrum of ``values`` at ``wavelengths`` (nm, any
+    order), linear between them and held at the end values out to
+    Mitsuba's range (``MI_CIE_MIN`` to ``MI_CIE_MAX``, 360–830 nm)."""
+    pairs = sorted(zip(wavelengths, values))
+    lo, hi = float(mi.MI_CIE_MIN), float(mi.MI_CIE_MAX)
+    if pairs[0][0] > lo:
+        pairs.insert(0, (lo, pairs[0][1]))
+    if pairs[-1][0] < hi:
+        pairs.append((hi, pairs[-1][1]))
+    return mi.load_dict(
+        {
+            "type": "irregular",
+            "wavelengths": ", ".join(repr(float(w)) for w, _ in pairs),
+            "values": ", ".join(repr(float(v)) for _, v in pairs),
+        }
+    )
 
 
 def model_name(gaussian, untied):
@@ -356,6 +404,12 @@ def register_native():
             self.sampling = str(props["sampling"]) if "sampling" in props else "lobe"
             if self.sampling not in ("lobe", "cosine"):
                 raise ValueError(f"sampling: {self.sampling!r}; 'lobe' or 'cosine'")
+            if mi.is_spectral and "material" not in props:
+                raise ValueError(
+                    f"Mitsuba variant {mi.variant()!r}: in a spectral variant the laminar_native BSDF draws a "
+                    "material fitted per wavelength (`filename` and `material`, from laminar fit-joint --fits); "
+                    "fits, parameters and maps are drawn in the RGB variants"
+                )
             if "correlation" in props:
                 # Maps: each parameter a float or a texture (textured()).
                 correlation = str(props["correlation"])
@@ -373,7 +427,13 @@ def register_native():
                 if "filename" in props:
                     select = str(props["select"]) if "select" in props else None
                     material = str(props["material"]) if "material" in props else None
-                    self.models = _models(str(props["filename"]), select, material)
+                    if mi.is_spectral:
+                        # Every channel: the spectral variant samples wavelengths.
+                        if select is not None:
+                            raise ValueError("give `select` (fits) or `material` (a joint fit), not both")
+                        self.models = laminar.FittedModel.from_material(str(props["filename"]), material or None)
+                    else:
+                        self.models = _models(str(props["filename"]), select, material)
                 elif "model" in props:
                     model = str(props["model"])
                     amplitude = float(props["amplitude"]) if "amplitude" in props else 1.0
@@ -389,8 +449,15 @@ def register_native():
                 self.gaussian = forms[0]["correlation"] == "gauss"
                 self.parameters = UNTIED_PARAMETERS if "sub_slope" in forms[0] else PARAMETERS
                 key = {"beta": "beta_eq8"}
-                for name in self.parameters:
-                    setattr(self, name, mi.Color3f(*(f[key.get(name, name)] for f in forms)))
+                if mi.is_spectral:
+                    # Each parameter a spectrum over the channels' wavelengths,
+                    # linear between them (eval at si.wavelengths).
+                    nm = channel_wavelengths(self.models)
+                    for name in self.parameters:
+                        setattr(self, name, spectrum(mi, nm, [f[key.get(name, name)] for f in forms]))
+                else:
+                    for name in self.parameters:
+                        setattr(self, name, mi.Color3f(*(f[key.get(name, name)] for f in forms)))
             self.parameters_changed([])
             flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
             self.m_components = [flags]
@@ -454,7 +521,8 @@ def register_native():
                 # Every value the parameter takes: a colour's channels, or
                 # every texel of a texture's channels.
                 if isinstance(value, mi.Texture):
-                    data = [v for k, v in mi.traverse(value).items() if k.endswith("data")]
+                    # A bitmap's texels, or a spectrum's values.
+                    data = [v for k, v in mi.traverse(value).items() if k.endswith("data") or k == "values"]
                     if len(data) != 1:
                         raise ValueError("a parameter's texture must be a bitmap (its texels are checked)")
                     return np.array(dr.detach(data[0]), dtype=np.float64).ravel()

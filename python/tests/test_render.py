@@ -234,24 +234,30 @@ def test_a_fitted_curet_sample_renders_in_mitsuba(tmp_path):
     assert lit > 2 * away > 0, (lit, away)
 
 
-def test_spectral_and_mono_variants_are_refused_by_name():
-    """The plugins return three channels: a spectral or mono variant is
-    refused at register() naming it (both plugins loaded, then
-    ``mi.render`` died with ``std::bad_cast``: issue 55, item 8)."""
+def test_mono_and_polarised_variants_are_refused_by_name():
+    """The plugins return three channels, or a spectrum of a material
+    fitted per wavelength: a mono or polarised variant is refused at
+    register() naming it (both plugins loaded, then ``mi.render`` died with
+    ``std::bad_cast``: issue 55, item 8), and the numpy plugin refuses a
+    spectral one when a BSDF is loaded."""
     mi = mitsuba_variant("scalar_rgb")
     import laminar_brdf.mitsuba
 
     tried = 0
-    for variant in ("scalar_spectral", "scalar_mono", "llvm_ad_spectral", "llvm_ad_mono"):
+    for variant in ("scalar_mono", "llvm_ad_mono", "llvm_ad_spectral_polarized", "scalar_spectral_polarized"):
         if variant not in mi.variants():
             continue
         mi.set_variant(variant)
         with pytest.raises(ValueError, match=f"variant '{variant}'.*RGB variants"):
             laminar.mitsuba.register()
         tried += 1
-    mi.set_variant("scalar_rgb")
     assert tried > 0, mi.variants()
-
+    mi = mitsuba_variant("scalar_spectral")
+    with pytest.raises(Exception, match="'laminar' plugin draws the RGB variants, not 'scalar_spectral'"):
+        mi.load_dict({"type": "laminar", "model": "exp", "slope": 0.5, "beta": 0.3, "n": 1.5, "a": 0.1})
+    with pytest.raises(Exception, match="spectral variant the laminar_native BSDF draws a material"):
+        mi.load_dict({"type": "laminar_native", "model": "exp", "slope": 0.5, "beta": 0.3, "n": 1.5, "a": 0.1})
+    mi.set_variant("scalar_rgb")
 
 
 def test_a_joint_material_renders_as_one_rgb_bsdf(tmp_path):

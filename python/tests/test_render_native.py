@@ -604,3 +604,56 @@ def test_a_joint_untied_material_is_one_native_rgb_bsdf(tmp_path):
     assert native.shape == reference.shape == (32, 32, 3)
     assert len({round(float(reference[..., c].sum()), 3) for c in range(3)}) == 3  # coloured
     np.testing.assert_allclose(native, reference, rtol=1e-4, atol=1e-6 * reference.max())
+
+
+def test_a_material_fitted_per_wavelength_is_a_spectral_bsdf(tmp_path):
+    """``laminar fit-joint --fits`` of channels named by wavelength
+    (450nm, 550nm, 650nm) in ``llvm_ad_spectral``: each parameter a spectrum
+    over the channels' wavelengths, so the eval at a channel's wavelength is
+    the library's prediction of that channel (≤ 10⁻⁵), between two the
+    model at the parameters interpolated linearly, beyond the last the last
+    channel's; a sphere renders, and its colour follows the absorption (a
+    grows with the wavelength here: the red is darker than the blue).
+    Channels not named by a wavelength are refused by name."""
+    from conftest import cli, geometry, radiance
+
+    g = geometry(150)
+    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
+    for names, stem in ((("450nm", "550nm", "650nm"), "paint"), (("r", "g", "b"), "rgb")):
+        with open(tmp_path / f"{stem}.csv", "w") as f:
+            f.write("theta_i,phi_i,theta_v,phi_v," + ",".join(names) + "\n")
+            for row, *v in zip(g, *values):
+                f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
+        cli("fit-joint", "--measurements", tmp_path / f"{stem}.csv", "--quantity", "radiance", "--model", "exp2",
+            "--uncertainty", "off", "--folds", 0, "--fits", tmp_path / f"{stem}.json")
+    mi = mitsuba_variant("llvm_ad_spectral")
+    path = str(tmp_path / "paint.json")
+    bsdf = mi.load_dict({"type": "laminar_native", "filename": path, "material": "paint/exp2"})
+    models = laminar.FittedModel.from_material(path, "paint/exp2")
+    wi, wo = pairs(2_000, 13)
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(wi)
+    si.wavelengths = mi.Spectrum(450.0, 550.0, 650.0, 500.0)
+    got = np.array(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(wo)))
+    got = got.reshape(4, -1) if got.shape[0] == 4 else got.T
+    for c, m in enumerate(models):
+        want = library(m, wi, wo)
+        assert np.abs(got[c] - want).max() <= 1e-5 * want.max(), m.label
+    # 500 nm: halfway between the first two channels' a, β and scale.
+    first, second = models[0].eq8, models[1].eq8
+    half = {k: 0.5 * (first[k] + second[k]) for k in ("slope", "sub_slope", "n", "a", "beta_eq8", "scale")}
+    params = {"slope": half["slope"], "sub_slope": half["sub_slope"], "beta": half["beta_eq8"], "n": half["n"], "a": half["a"]}
+    between = library(laminar.FittedModel.from_params("exp2", params, amplitude=half["scale"]), wi, wo)
+    assert np.abs(got[3] - between).max() <= 1e-5 * between.max()
+    si.wavelengths = mi.Spectrum(700.0, 800.0, 380.0, 400.0)
+    beyond = np.array(bsdf.eval(mi.BSDFContext(), si, mi.Vector3f(wo)))
+    beyond = beyond.reshape(4, -1) if beyond.shape[0] == 4 else beyond.T
+    np.testing.assert_allclose(beyond[0], got[2], rtol=1e-6)
+    np.testing.assert_allclose(beyond[2], got[0], rtol=1e-6)
+    image = np.array(mi.render(sphere_scene(mi, {"type": "laminar_native", "filename": path, "material": "paint/exp2"}, 32, 16), seed=2))
+    assert image.shape == (32, 32, 3) and np.isfinite(image).all() and image.max() > 0
+    lit = image.sum(axis=2) > 0.1 * image.sum(axis=2).max()
+    red, _, blue = image[lit].sum(axis=0)
+    assert red < blue, (red, blue)
+    with pytest.raises(Exception, match="channel 'r' is not named by a wavelength"):
+        mi.load_dict({"type": "laminar_native", "filename": str(tmp_path / "rgb.json"), "material": "rgb/exp2"})
