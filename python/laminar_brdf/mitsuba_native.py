@@ -305,10 +305,15 @@ def lobe_table(values, gaussian):
     return np.maximum(table, floor).astype(np.float32), cos_view
 
 
+#: The layered models' parameters, in the library's order: the untied
+#: models' (σ′/T′ besides), from the models' descriptor.
+LAYERED_PARAMETERS = tuple(max((d["params"] for d in laminar.MODELS.values() if d["correlation"]), key=len))
+
+
 def _shape_parameters(values):
     """The model's parameters among ``values``' names (all but ``scale``),
     in the library's order."""
-    return [p for p in ("slope", "sub_slope", "beta", "n", "a") if p in values]
+    return [p for p in LAYERED_PARAMETERS if p in values]
 
 
 def check_values(values, gaussian):
@@ -379,8 +384,7 @@ def textured(fits: xarray.Dataset, nearest: bool = True) -> dict[str, object]:
             "wrap_mode": "clamp",
         }
 
-    shape = [p for p in ("slope", "sub_slope", "beta", "n", "a") if p in fits]
-    maps = {name: fits[name].transpose(*dims).values for name in shape}
+    maps = {name: fits[name].transpose(*dims).values for name in _shape_parameters(fits)}
     maps["scale"] = (fits["amplitude"] * fits["data_scale"]).transpose(*dims).values
     return {"type": PLUGIN, "correlation": correlation, **{name: texture(v) for name, v in maps.items()}}
 
