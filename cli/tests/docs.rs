@@ -4,8 +4,10 @@
 //!   through the built binary, in the order of its page, in a directory of
 //!   its own holding the files the pages name (`felt.csv`,
 //!   `directions.csv`, `geometry.csv`, `values.npy`), and must succeed;
-//!   `$CURET_DIR` is the CUReT directory (skipped, with a message, without
-//!   it; `LAMINAR_REQUIRE_CURET=1` makes that an error);
+//!   `$CURET_DIR`, `$CORNELL_DIR` and `$RGL_DIR` are the data directories
+//!   (a command on one is skipped, with a message, without it; the
+//!   `LAMINAR_REQUIRE_CURET`, `_CORNELL` and `_RGL` variables make that an
+//!   error);
 //! - every other command must be one [`RUN_ELSEWHERE`] names, with the file
 //!   that runs it, and that file must still mention it.
 //!
@@ -287,16 +289,53 @@ fn fixtures(dir: &Path) {
     std::fs::write(dir.join("values.npy"), values).expect("write");
 }
 
-/// The `laminar` arguments of `command`, or `None` for another program.
-fn laminar_args(command: &str, curet: Option<&Path>) -> Option<Vec<String>> {
+/// The real-data directories the docs' commands name besides CUReT's:
+/// (the variable, a file it holds, the variable that makes its absence
+/// an error).
+const DATA_DIRS: [(&str, &str, &str); 2] = [
+    (
+        "CORNELL_DIR",
+        "krylon_blue_RGB.astm",
+        "LAMINAR_REQUIRE_CORNELL",
+    ),
+    (
+        "RGL_DIR",
+        "cc_iris_purple_gem_rgb.bsdf",
+        "LAMINAR_REQUIRE_RGL",
+    ),
+];
+
+/// Each data directory variable with its directory when it is set and
+/// holds its data: `CURET_DIR` ([`curet_dir`]) and [`DATA_DIRS`].
+fn data_dirs() -> Vec<(&'static str, Option<PathBuf>)> {
+    let mut dirs = vec![("CURET_DIR", curet_dir().ok())];
+    for (name, file, require) in DATA_DIRS {
+        let dir = std::env::var_os(name).map(PathBuf::from);
+        match dir.filter(|d| d.join(file).is_file()) {
+            Some(d) => dirs.push((name, Some(d))),
+            None => {
+                let why = format!("{name} is not set, or lacks {file}");
+                common::skip_or_fail(require, &format!("the docs' commands on ${name}"), &why);
+                dirs.push((name, None));
+            }
+        }
+    }
+    dirs
+}
+
+/// The `laminar` arguments of `command`, each `$NAME` of `dirs` that is
+/// set replaced by its directory, or `None` for another program.
+fn laminar_args(command: &str, dirs: &[(&str, Option<PathBuf>)]) -> Option<Vec<String>> {
     let rest = command
         .strip_prefix("laminar ")
         .or_else(|| command.strip_prefix(CARGO_RUN))
         .or((command == "laminar").then_some(""))?;
-    let expanded = match curet {
-        Some(dir) => rest.replace("$CURET_DIR", &dir.display().to_string()),
-        None => rest.to_string(),
-    };
+    let mut expanded = rest.to_string();
+    for (name, dir) in dirs {
+        if let Some(dir) = dir {
+            expanded = expanded.replace(&format!("${name}"), &dir.display().to_string());
+        }
+    }
     Some(shlex::split(&expanded).unwrap_or_else(|| panic!("`{command}` does not split")))
 }
 
@@ -310,6 +349,7 @@ fn every_command_of_the_docs_runs() {
             why,
         );
     }
+    let dirs = data_dirs();
     let mut ran = 0;
     let mut skipped = 0;
     let mut elsewhere = 0;
@@ -319,12 +359,12 @@ fn every_command_of_the_docs_runs() {
         let mut unwritten: Vec<String> = Vec::new();
         if commands
             .iter()
-            .any(|c| laminar_args(&c.text, None).is_some())
+            .any(|c| laminar_args(&c.text, &[]).is_some())
         {
             fixtures(dir.path());
         }
         for c in commands {
-            let Some(args) = laminar_args(&c.text, curet.as_deref().ok()) else {
+            let Some(args) = laminar_args(&c.text, &dirs) else {
                 let (_, file, needle) = RUN_ELSEWHERE
                     .iter()
                     .find(|(start, _, _)| c.text.starts_with(start))
@@ -346,13 +386,16 @@ fn every_command_of_the_docs_runs() {
                 elsewhere += 1;
                 continue;
             };
-            // Without CUReT, a command on it is skipped, and so is every
-            // later one that reads what a skipped one would have written.
+            // Without its data, a command on them is skipped, and so is
+            // every later one that reads what a skipped one would have
+            // written.
             let reads_skipped = args.iter().any(|a| unwritten.contains(a));
-            if curet.is_err() && (c.text.contains("$CURET_DIR") || reads_skipped) {
+            let lacks_data = (dirs.iter())
+                .any(|(name, dir)| dir.is_none() && c.text.contains(&format!("${name}")));
+            if lacks_data || reads_skipped {
                 let outs = args
                     .windows(2)
-                    .filter(|w| w[0] == "--out")
+                    .filter(|w| w[0] == "--out" || w[0] == "--fits")
                     .map(|w| w[1].clone());
                 unwritten.extend(outs);
                 skipped += 1;
@@ -364,7 +407,7 @@ fn every_command_of_the_docs_runs() {
         }
     }
     eprintln!(
-        "docs: {ran} laminar commands ran, {skipped} skipped without CUReT, {elsewhere} run by other tests"
+        "docs: {ran} laminar commands ran, {skipped} skipped without their data, {elsewhere} run by other tests"
     );
     assert!(
         ran + skipped >= 20,
@@ -399,7 +442,7 @@ fn comments_and_continuations_are_read_as_a_shell_does() {
     assert_eq!(
         laminar_args(
             "laminar fit --data \"$CURET_DIR\" --samples 1",
-            Some(Path::new("/c d"))
+            &[("CURET_DIR", Some(PathBuf::from("/c d")))]
         ),
         Some(
             ["fit", "--data", "/c d", "--samples", "1"]
@@ -407,5 +450,5 @@ fn comments_and_continuations_are_read_as_a_shell_does() {
                 .to_vec()
         )
     );
-    assert_eq!(laminar_args("cc -o x", None), None);
+    assert_eq!(laminar_args("cc -o x", &[]), None);
 }
