@@ -29,6 +29,7 @@ def fields(model):
     (``sub_slope``, …) after σ/T's (:func:`laminar.batch_fields`)."""
     return tuple(name for name, _ in laminar.batch_fields(model))
 
+
 #: Rows per chunk when :func:`fit_dask` is given a numpy array.
 DEFAULT_CHUNK = 4096
 

@@ -12,8 +12,9 @@
 //!   example (the CLI's synthetic scene).
 //! * [`fitting`]: the fitting library's fit (the free-amplitude objective
 //!   on its grid unless told), refinement and uncertainty, returning the
-//!   fitted-model file of `laminar fit --format json`; prediction with a
-//!   fitted model.
+//!   fitted-model file of `laminar fit --format json`; one fit across a
+//!   file's channels (`laminar fit-joint --fits`'s material); prediction
+//!   with a fitted model.
 //!
 //! * [`js`]: the exports, each argument's type checked first (a
 //!   `TypeError` naming it).
