@@ -82,8 +82,29 @@ def laminar_paper(theta_i, phi_i, theta_v, phi_v):
 
 def write_csv(path, g, values, channel="value"):
     """A long-format CSV measurement file (lab frame, radians)."""
+    return write_channels(path, g, {channel: values})
+
+
+def write_channels(path, g, channels):
+    """A long-format CSV measurement file (lab frame, radians) of several
+    channels: ``channels`` maps each name to its values."""
     with open(path, "w") as f:
-        f.write(f"theta_i,phi_i,theta_v,phi_v,{channel}\n")
-        for row, v in zip(g, values):
-            f.write(",".join(repr(float(x)) for x in (*row, v)) + "\n")
+        f.write(",".join(["theta_i", "phi_i", "theta_v", "phi_v", *channels]) + "\n")
+        for row, *v in zip(g, *channels.values()):
+            f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
     return path
+
+
+def paint_material(directory, model, names=("r", "g", "b"), stem="paint"):
+    """A jointly fitted material of ``model``: three channels ``names`` of
+    the exp model (σ/T 0.6, a 0.05, 0.3 and 0.6) at 150 geometries, written
+    as ``stem.csv`` in ``directory`` and fitted by ``laminar fit-joint
+    --fits stem.json`` (no intervals, no folds). The CSV's and the fitted-
+    model file's paths."""
+    g = geometry(150)
+    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
+    data = write_channels(directory / f"{stem}.csv", g, dict(zip(names, values)))
+    path = directory / f"{stem}.json"
+    cli("fit-joint", "--measurements", data, "--quantity", "radiance", "--model", model,
+        "--uncertainty", "off", "--folds", 0, "--fits", path)
+    return data, path

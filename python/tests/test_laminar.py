@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import laminar_brdf as laminar
-from conftest import GRID, GRID_ARGS, cli, cli_fits, geometry, radiance, write_csv
+from conftest import GRID, GRID_ARGS, cli, cli_fits, geometry, radiance, write_channels, write_csv
 
 
 def test_evaluate_broadcasts_and_equals_the_cli(tmp_path):
@@ -140,11 +140,7 @@ def test_fit_joint_equals_the_cli(tmp_path):
 
     g = geometry()
     r, b = radiance(g, a=0.1, seed=3), radiance(g, a=0.6, seed=4)
-    path = tmp_path / "paint.csv"
-    with open(path, "w") as f:
-        f.write("theta_i,phi_i,theta_v,phi_v,r,b\n")
-        for row, x, y in zip(g, r, b):
-            f.write(",".join(repr(float(v)) for v in (*row, x, y)) + "\n")
+    path = write_channels(tmp_path / "paint.csv", g, {"r": r, "b": b})
     channels = [laminar.Measurements.from_csv(path, quantity="radiance", channel=c) for c in ("r", "b")]
     joint = laminar.fit_joint(channels, "exp", grid=GRID, noise="relative", resamples=30, seed=2)
     text = cli("fit-joint", "--measurements", path, "--quantity", "radiance", "--model", "exp", *GRID_ARGS,

@@ -266,18 +266,9 @@ def test_a_joint_material_renders_as_one_rgb_bsdf(tmp_path):
     fits (``from_file`` with ``sample/channel/model``) and the joint fit's
     own predictions; the Mitsuba plugin's ``material`` draws them as red,
     green and blue."""
-    from conftest import geometry, radiance
+    from conftest import paint_material
 
-    g = geometry(150)
-    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
-    data = tmp_path / "paint.csv"
-    with open(data, "w") as f:
-        f.write("theta_i,phi_i,theta_v,phi_v,r,g,b\n")
-        for row, *v in zip(g, *values):
-            f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
-    path = tmp_path / "paint.json"
-    cli("fit-joint", "--measurements", data, "--quantity", "radiance", "--model", "exp",
-        "--uncertainty", "off", "--folds", 0, "--fits", path)
+    data, path = paint_material(tmp_path, "exp")
     models = laminar.FittedModel.from_material(str(path))
     assert [m.label for m in models] == ["paint/r/exp", "paint/g/exp", "paint/b/exp"]
     channels = [laminar.Measurements.from_csv(data, quantity="radiance", channel=c) for c in "rgb"]

@@ -554,19 +554,10 @@ def test_a_joint_untied_material_is_one_native_rgb_bsdf(tmp_path):
     amplitude, the shared σ/T, σ′/T′ and n) as red, green and blue, each
     within 10⁻⁵ of the library's prediction of that channel, samples its
     lobe, and renders a sphere with the numpy plugin's image."""
-    from conftest import cli, geometry, radiance
+    from conftest import paint_material
 
     mi = mitsuba_variant("llvm_ad_rgb")
-    g = geometry(150)
-    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
-    data = tmp_path / "paint.csv"
-    with open(data, "w") as f:
-        f.write("theta_i,phi_i,theta_v,phi_v,r,g,b\n")
-        for row, *v in zip(g, *values):
-            f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
-    path = tmp_path / "paint.json"
-    cli("fit-joint", "--measurements", data, "--quantity", "radiance", "--model", "exp2",
-        "--uncertainty", "off", "--folds", 0, "--fits", path)
+    _, path = paint_material(tmp_path, "exp2")
     models = laminar.FittedModel.from_material(str(path), "paint/exp2")
     assert [m.model for m in models] == ["exp2"] * 3
     bsdf = mi.load_dict({"type": "laminar_native", "filename": str(path), "material": "paint/exp2"})
@@ -580,10 +571,8 @@ def test_a_joint_untied_material_is_one_native_rgb_bsdf(tmp_path):
         assert rel.max() <= 1e-5, (m.label, rel.max())
     assert not np.array_equal(got[0], got[2])  # the channels' absorption differs
     # Tied and untied channels are not one material.
-    tied = tmp_path / "tied.json"
-    cli("fit-joint", "--measurements", data, "--quantity", "radiance", "--model", "exp",
-        "--uncertainty", "off", "--folds", 0, "--fits", tied)
-    mixed = laminar.FittedModel.from_material(str(tied), "paint/exp")[:2] + models[2:]
+    _, tied = paint_material(tmp_path, "exp", stem="tied")
+    mixed = laminar.FittedModel.from_material(str(tied), "tied/exp")[:2] + models[2:]
     from laminar_brdf.mitsuba_native import eq8_forms
 
     with pytest.raises(ValueError, match="untied"):
@@ -615,17 +604,10 @@ def test_a_material_fitted_per_wavelength_is_a_spectral_bsdf(tmp_path):
     channel's; a sphere renders, and its colour follows the absorption (a
     grows with the wavelength here: the red is darker than the blue).
     Channels not named by a wavelength are refused by name."""
-    from conftest import cli, geometry, radiance
+    from conftest import paint_material
 
-    g = geometry(150)
-    values = [radiance(g, slope=0.6, a=a, seed=s) for a, s in ((0.05, 1), (0.3, 2), (0.6, 3))]
-    for names, stem in ((("450nm", "550nm", "650nm"), "paint"), (("r", "g", "b"), "rgb")):
-        with open(tmp_path / f"{stem}.csv", "w") as f:
-            f.write("theta_i,phi_i,theta_v,phi_v," + ",".join(names) + "\n")
-            for row, *v in zip(g, *values):
-                f.write(",".join(repr(float(x)) for x in (*row, *v)) + "\n")
-        cli("fit-joint", "--measurements", tmp_path / f"{stem}.csv", "--quantity", "radiance", "--model", "exp2",
-            "--uncertainty", "off", "--folds", 0, "--fits", tmp_path / f"{stem}.json")
+    paint_material(tmp_path, "exp2", names=("450nm", "550nm", "650nm"))
+    paint_material(tmp_path, "exp2", stem="rgb")
     mi = mitsuba_variant("llvm_ad_spectral")
     path = str(tmp_path / "paint.json")
     bsdf = mi.load_dict({"type": "laminar_native", "filename": path, "material": "paint/exp2"})
