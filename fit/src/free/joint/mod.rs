@@ -57,9 +57,8 @@ use crate::settings::Precision;
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::brent::BrentOpt;
 use laminar_brdf_core::f64x4;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DVector;
 use rayon::prelude::*;
-use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 use std::sync::{Arc, OnceLock};
 
 /// Values of a in each channel's scan before Brent's method.
@@ -697,35 +696,23 @@ fn channel_test(
     let Some(values) = bootstrapped.filter(|v| v.len() > p + 1) else {
         return ChannelTest::Untestable("too few bootstrap resamples for the channels");
     };
-    let b = values.len();
-    let contrasts = |v: &[f64]| -> Vec<f64> { (1..=p).map(|c| v[c] - v[0]).collect() };
-    let d = DVector::from_vec(contrasts(v));
-    let draws: Vec<Vec<f64>> = values.iter().map(|v| contrasts(&v[first..])).collect();
-    let mean: Vec<f64> = (0..p)
-        .map(|i| draws.iter().map(|x| x[i]).sum::<f64>() / b as f64)
-        .collect();
-    let covariance = DMatrix::from_fn(p, p, |i, j| {
-        let sum: f64 = (draws.iter())
-            .map(|x| (x[i] - mean[i]) * (x[j] - mean[j]))
-            .sum();
-        sum / (b - 1) as f64
-    });
+    let contrasts =
+        |v: &[f64]| -> DVector<f64> { DVector::from_iterator(p, (1..=p).map(|c| v[c] - v[0])) };
+    let d = contrasts(v);
+    let draws: Vec<DVector<f64>> = values.iter().map(|v| contrasts(&v[first..])).collect();
+    let (_, covariance) = score_test::mean_and_covariance(&draws);
     let Some(cholesky) = covariance.cholesky() else {
         return ChannelTest::Untestable(
             "the bootstrap's covariance of the channels' values is singular",
         );
     };
     let statistic = d.dot(&cholesky.solve(&d));
-    let (df1, df2) = (p, b - p);
-    let f = (df2 as f64) * statistic / (df1 as f64 * (b - 1) as f64);
-    let p_value = FisherSnedecor::new(df1 as f64, df2 as f64)
-        .map(|dist| dist.sf(f))
-        .unwrap_or(f64::NAN);
+    let (df1, df2, p_value) = score_test::f_calibrated(statistic, p, values.len());
     ChannelTest::Tested {
         statistic,
         df1,
         df2,
-        p_value,
+        p_value: p_value.unwrap_or(f64::NAN),
     }
 }
 

@@ -155,20 +155,38 @@ fn orthonormal(a: DMatrix<f64>) -> Option<DMatrix<f64>> {
 
 /// Hotelling's one-sample test of `draws` having mean zero.
 fn hotelling(draws: &[DVector<f64>]) -> Option<Hotelling> {
+    let (mean, covariance) = mean_and_covariance(draws);
+    let statistic = draws.len() as f64 * mean.dot(&covariance.cholesky()?.solve(&mean));
+    let (df1, df2, p_value) = f_calibrated(statistic, mean.len(), draws.len());
+    Some(Hotelling {
+        statistic,
+        df1,
+        df2,
+        p_value: p_value?,
+    })
+}
+
+/// The mean of `draws` and their covariance (divided by the draws less
+/// one).
+pub(crate) fn mean_and_covariance(draws: &[DVector<f64>]) -> (DVector<f64>, DMatrix<f64>) {
     let (g, p) = (draws.len(), draws[0].len());
     let mean = draws.iter().sum::<DVector<f64>>() / g as f64;
     let covariance = draws.iter().fold(DMatrix::zeros(p, p), |s, u| {
         let d = u - &mean;
         s + &d * d.transpose()
     }) / (g - 1) as f64;
-    let statistic = g as f64 * mean.dot(&covariance.cholesky()?.solve(&mean));
-    let (df1, df2) = (p, g - p);
-    let f = df2 as f64 * statistic / (df1 as f64 * (g - 1) as f64);
-    let p_value = FisherSnedecor::new(df1 as f64, df2 as f64).ok()?.sf(f);
-    Some(Hotelling {
-        statistic,
-        df1,
-        df2,
-        p_value,
-    })
+    (mean, covariance)
+}
+
+/// Hotelling's `T²` of `p` values with a covariance estimated from `n`
+/// draws, calibrated: `(n − p) T² / (p (n − 1))` against `F(p, n − p)`.
+/// The degrees of freedom and the p-value (`None` when the distribution
+/// cannot be formed).
+pub(crate) fn f_calibrated(statistic: f64, p: usize, n: usize) -> (usize, usize, Option<f64>) {
+    let (df1, df2) = (p, n - p);
+    let f = df2 as f64 * statistic / (df1 as f64 * (n - 1) as f64);
+    let p_value = FisherSnedecor::new(df1 as f64, df2 as f64)
+        .ok()
+        .map(|d| d.sf(f));
+    (df1, df2, p_value)
 }
